@@ -1,0 +1,52 @@
+# The front door. `make` builds the reference library; `make test` sets up
+# .venv/ from requirements.txt (and the Debian packages in packages.txt) on
+# first use and runs the test suite; `make grade` grades the examples.
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+BUILD := build
+
+CC ?= cc
+CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
+REF_SRC := $(sort $(wildcard reference/src/*.c))
+REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
+
+.PHONY: all reference venv test sanitize grade grade-all fixtures bundle gradescope bench study clean system-deps
+
+all: reference
+
+reference: $(BUILD)/libenvmap.so
+
+$(BUILD)/libenvmap.so: $(REF_SRC) $(REF_HDR) | $(BUILD)
+	$(CC) $(CFLAGS_REF) -Ireference/include -shared -o $@ $(REF_SRC) -lm
+
+# The reference built with AddressSanitizer and UBSan (used by `make sanitize`).
+$(BUILD)/asan/libenvmap.so: $(REF_SRC) $(REF_HDR)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_REF) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -Ireference/include -shared -o $@ $(REF_SRC) -lm
+
+$(BUILD):
+	@mkdir -p $@
+
+# Debian packages the project needs (bubblewrap for the sandbox, chromium for
+# the report test); installed only when missing and when we may (root).
+system-deps:
+	@bash scripts/install-system-deps.sh
+
+$(VENV)/.installed: requirements.txt
+	$(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/pip install --quiet --upgrade pip
+	$(VENV)/bin/pip install --quiet -r requirements.txt
+	@touch $@
+
+venv: $(VENV)/.installed
+
+test: system-deps venv reference
+	$(PY) -m pytest -n 2 -q tests
+
+sanitize: $(BUILD)/asan/libenvmap.so
+	@true
+
+clean:
+	rm -rf $(BUILD) out

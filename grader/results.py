@@ -1,0 +1,76 @@
+"""What grading produces: the values that flow from checks to score to reports.
+
+Checks return CheckResult; score.py fills in points from the rubric; reports/
+turn a GradeResult into files. Nothing here runs a check or formats a report.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+# Statuses a check can end in. "error" means the harness failed, not the
+# student: it makes the submission ungradable rather than scoring zero.
+PASSED, FAILED, ERROR, SKIPPED = "passed", "failed", "error", "skipped"
+
+# Overall statuses of a graded submission (the gradebook's status column).
+GRADED, BUILD_ERROR, TIMEOUT, UNGRADABLE = "graded", "build-error", "timeout", "ungradable"
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """One named mistake: a stable id (docs/diagnoses.md lists them all), the
+    face it applies to (a FACE_NAMES entry, or None), and a sentence for the
+    student. `hint` says what to do about it."""
+    id: str
+    detail: str
+    face: str | None = None
+    hint: str = ""
+
+    def as_json(self) -> dict:
+        out = {"id": self.id, "detail": self.detail}
+        if self.face is not None:
+            out["face"] = self.face
+        return out
+
+
+@dataclass
+class CheckResult:
+    name: str                      # rubric key, e.g. "read_texture"
+    title: str                     # the sentence the student reads
+    status: str = PASSED
+    fraction: float = 1.0          # share of cases passed, 0..1 (score.py turns it into points)
+    output: str = ""               # Markdown, for the student
+    diagnoses: list[Diagnosis] = field(default_factory=list)
+    artifacts: dict[str, Path] = field(default_factory=dict)  # e.g. "render_submission": PNG path
+    metrics: dict[str, float] = field(default_factory=dict)   # figures for reports and charts
+    duration_s: float = 0.0
+    # Filled in by score.py from the rubric:
+    score: float = 0.0
+    max_score: float = 0.0
+    visibility: str = "visible"
+    tags: list[str] = field(default_factory=list)
+    number: str = ""
+
+
+@dataclass
+class GradeResult:
+    submission: str                # a display name (folder or file name)
+    status: str = GRADED
+    checks: list[CheckResult] = field(default_factory=list)
+    score: float = 0.0
+    max_score: float = 0.0
+    build_log: str = ""            # compiler messages, trimmed
+    warnings: list[str] = field(default_factory=list)   # e.g. "sandbox unavailable: ..."
+    execution_time_s: float = 0.0
+    source_sha256: str = ""
+
+    @property
+    def diagnoses(self) -> list[Diagnosis]:
+        seen, out = set(), []
+        for check in self.checks:
+            for d in check.diagnoses:
+                key = (d.id, d.face, d.detail)
+                if key not in seen:
+                    seen.add(key)
+                    out.append(d)
+        return out
