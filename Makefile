@@ -16,7 +16,7 @@ REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
 all: reference
 
-reference: $(BUILD)/libenvmap.so
+reference: $(BUILD)/libenvmap.so $(BUILD)/reference_submission.so
 
 $(BUILD)/libenvmap.so: $(REF_SRC) $(REF_HDR) | $(BUILD)
 	$(CC) $(CFLAGS_REF) -Ireference/include -shared -o $@ $(REF_SRC) -lm
@@ -25,6 +25,10 @@ $(BUILD)/libenvmap.so: $(REF_SRC) $(REF_HDR) | $(BUILD)
 $(BUILD)/asan/libenvmap.so: $(REF_SRC) $(REF_HDR)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_REF) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -Ireference/include -shared -o $@ $(REF_SRC) -lm
+
+# The reference behind the submission ABI: the speed check's baseline.
+$(BUILD)/reference_submission.so: grader/shim/reference_submission.c grader/shim/submission_abi.h $(REF_SRC) $(REF_HDR) | $(BUILD)
+	$(CC) $(CFLAGS_REF) -Ireference/include -Igrader/shim -shared -o $@ grader/shim/reference_submission.c $(REF_SRC) -lm
 
 $(BUILD):
 	@mkdir -p $@

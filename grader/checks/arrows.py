@@ -1,0 +1,128 @@
+"""The handout's own debugging check, automated: on test_environment_map.hdr
+the red, green and blue arrows must point along +x, +y and +z.
+
+Each arrow ends in a filled disc at its + pole (grader/cubemap/test_map.py).
+The check looks where the submission shows each arrow's disc (small caps
+around the six axis directions) and whether the arrow's whole shape lands
+where the reference puts it; then it draws the mirror sphere rendered with
+the submission's lookup, labelled with what it found.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import PROJECT_ROOT, reference
+from ..results import FAILED, CheckResult, Diagnosis
+from . import check
+from .context import CheckContext, failure_diagnoses, unique_diagnoses
+from .directions import axes, fibonacci_sphere
+
+TEST_MAP = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
+ARROWS = (("red", "+x"), ("green", "+y"), ("blue", "+z"))
+AXIS_NAMES = ("+x", "+y", "+z", "-x", "-y", "-z")   # the order of directions.axes()
+SHAPE_AGREEMENT = 0.9   # share of the reference's arrow pixels the submission must reproduce
+
+
+def colour_class(rgb: np.ndarray) -> np.ndarray:
+    """0, 1, 2 for clearly red, green, blue; -1 for grey or anything else."""
+    rgb = np.nan_to_num(np.asarray(rgb, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+    top = rgb.argmax(axis=1)
+    peak = rgb.max(axis=1)
+    rest = np.sort(rgb, axis=1)[:, 1]
+    return np.where((peak > 0.2) & (rest < 0.5 * peak), top, -1)
+
+
+def axis_caps(radius_deg: float = 2.0, per_cap: int = 24) -> np.ndarray:
+    """(6, per_cap, 3): directions within radius of each axis direction."""
+    rng = np.random.default_rng(7)
+    out = []
+    for a in axes()[[0, 1, 2, 3, 4, 5]]:
+        t = np.deg2rad(radius_deg) * np.sqrt(rng.random(per_cap))
+        phi = 2 * np.pi * rng.random(per_cap)
+        helper = np.array([0.0, 0.0, 1.0]) if abs(a[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+        e1 = np.cross(a, helper); e1 /= np.linalg.norm(e1)
+        e2 = np.cross(a, e1)
+        out.append(np.cos(t)[:, None] * a + np.sin(t)[:, None] * (np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2))
+    return np.stack(out)
+
+
+def disc_axes(classes: np.ndarray) -> list[list[int]]:
+    """For each arrow, the axes whose cap shows its colour (majority)."""
+    return [[i for i in range(6) if np.mean(classes[i] == k) > 0.5] for k in range(3)]
+
+
+@check("arrows", depends=("read_texture",))
+def run(ctx: CheckContext) -> CheckResult:
+    """On test_environment_map.hdr the red, green and blue arrows point along +x, +y and +z."""
+    result = CheckResult("arrows", run.__doc__.strip().splitlines()[0])
+    cube = reference.CubeMap.load_cross(TEST_MAP)
+    ctx.lookups.set_faces(cube.faces)
+    caps = axis_caps()
+    sphere = fibonacci_sphere(6000 if ctx.quick else 20_000)
+    both = np.concatenate([caps.reshape(-1, 3), sphere])
+    outcome = ctx.lookups.fetch(both)
+    diagnoses = failure_diagnoses(outcome)
+    n_caps = caps.shape[0] * caps.shape[1]
+    sub_caps = colour_class(outcome.values[:n_caps]).reshape(caps.shape[:2])
+    sub_sphere = colour_class(outcome.values[n_caps:])
+    ref_sphere = colour_class(cube.fetch(sphere))
+
+    found = disc_axes(sub_caps)
+    verdicts, passed = [], 0
+    for k, (colour, axis) in enumerate(ARROWS):
+        where = [AXIS_NAMES[i] for i in found[k]]
+        shape = float(np.mean(sub_sphere[ref_sphere == k] == k))
+        pole_ok = where == [axis]
+        shape_ok = shape >= SHAPE_AGREEMENT
+        passed += pole_ok + shape_ok
+        if not where:
+            verdicts.append(f"{colour} arrow: missing (no {colour} disc at any axis)")
+            diagnoses.append(Diagnosis("arrow-missing", f"The {colour} arrow's head ({colour} disc at {axis}) appears nowhere along the axes."))
+        elif not pole_ok:
+            verdicts.append(f"{colour} arrow: points toward {' and '.join(where)}, should be {axis}")
+            diagnoses.append(Diagnosis("arrow-wrong", f"The {colour} arrow points toward {' and '.join(where)} instead of {axis}."))
+        elif not shape_ok:
+            verdicts.append(f"{colour} arrow: points to {axis} but is drawn wrongly ({shape:.0%} of it in place)")
+            diagnoses.append(Diagnosis("arrow-wrong", f"The {colour} arrow points toward {axis}, but only {shape:.0%} of it is where it should be: part of it is flipped or on the wrong face."))
+        else:
+            verdicts.append(f"{colour} arrow: points along {axis}")
+        result.metrics[f"{colour}_shape"] = shape
+    result.fraction = passed / 6
+    result.diagnoses = unique_diagnoses(diagnoses)
+    result.output = "\n".join(f"- {v}" for v in verdicts)
+    if passed < 6:
+        result.status = FAILED
+    try:
+        result.artifacts["arrows"] = draw(ctx, cube, verdicts)
+    except Exception as e:  # a picture is a courtesy; its failure must not cost points
+        result.output += f"\n\n(The arrow picture could not be drawn: {e})"
+    return result
+
+
+def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
+    """The mirror sphere of envmap_test.cfg with the reference's and the
+    submission's lookup, side by side, captioned with the verdicts."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .. import fixtures
+    from ..imaging import tone_map
+    scene = reference.Scene.load(fixtures.MAIN_SCENE)
+    scene.set_resolution(192, 192)
+    scene.set_samples(1)
+    escapes = scene.trace()
+    sub = ctx.lookups.fetch(escapes.dirs)
+    images = [escapes.resolve(cube.fetch(escapes.dirs)),
+              escapes.resolve(np.nan_to_num(sub.values, nan=0.0, posinf=0.0, neginf=0.0))]
+    fig, axs = plt.subplots(1, 2, figsize=(8, 4.6), dpi=100)
+    for ax, image, title in zip(axs, images, ("reference", "your fetchColor")):
+        ax.imshow(np.clip(tone_map(image), 0, 1))
+        ax.set_title(title)
+        ax.axis("off")
+    fig.text(0.5, 0.02, "\n".join(verdicts), ha="center", va="bottom", fontsize=9, family="monospace")
+    fig.subplots_adjust(bottom=0.2)
+    path = ctx.artifact("arrows.png")
+    fig.savefig(path, metadata={"Software": None})
+    plt.close(fig)
+    return path

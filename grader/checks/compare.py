@@ -1,0 +1,101 @@
+"""The one comparison of a lookup with the reference, used by every check.
+
+`Comparison` holds which inputs matched, the error of each, and a short
+explanation of the worst mismatches (expected, actual, input) written for a
+student. Tolerances come from float rounding (see `tolerance`), never from
+eyeballing.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import reference
+from .directions import tied_axes
+
+FLOAT_EPS = 2.0 ** -24   # float32 unit roundoff
+NUDGE = 2.0 ** -30       # makes a tied component strictly the largest
+
+
+def tolerance(face_width: int, face_height: int, magnitude: np.ndarray | float) -> np.ndarray | float:
+    """Largest difference from the reference that float rounding explains.
+
+    A student may compute in float rather than double. Then p = u*W carries an
+    error up to W * 2^-24 texels, which moves the colour by at most that times
+    the largest texel difference (<= 2 * magnitude); the three lerps of
+    equations (1)-(3) add about 8 roundings of the magnitude. A factor 4 of
+    margin covers -ffast-math reassociation. With magnitude 1 and W = 64 this
+    is 3.3e-5: the mistakes the checks look for are at least 1e-2.
+    """
+    size = max(face_width, face_height)
+    return 4.0 * (2.0 * size + 8.0) * FLOAT_EPS * np.maximum(magnitude, 1e-30) + 1e-12
+
+
+def tie_alternatives(cube: reference.CubeMap, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
+    """(n, 3, 3) acceptable colours for each direction: the reference colour on
+    each face the direction touches (ASSIGNMENT.md: at ties every touching face
+    is correct). Rows for faces not touched are NaN. Found by nudging each tied
+    component to be strictly largest, so the reference alone decides the colour
+    on that face; the nudge moves (u, v) by ~1e-9 texel."""
+    dirs = np.asarray(dirs, np.float64)
+    tied = tied_axes(dirs)
+    out = np.full((len(dirs), 3, 3), np.nan)
+    for axis in range(3):
+        rows = np.flatnonzero(tied[:, axis])
+        if len(rows) == 0:
+            continue
+        nudged = dirs[rows].copy()
+        # Make this component strictly the largest in magnitude.
+        m = np.abs(nudged).max(axis=1)
+        nudged[:, axis] = np.copysign(m * (1.0 + NUDGE), nudged[:, axis])
+        out[rows, axis] = cube.fetch(nudged, filter)
+    return out
+
+
+@dataclass
+class Comparison:
+    ok: np.ndarray          # (n,) bool
+    error: np.ndarray       # (n,) distance to the nearest acceptable colour
+    tolerance: np.ndarray   # (n,)
+
+    @property
+    def fraction(self) -> float:
+        return float(self.ok.mean()) if len(self.ok) else 1.0
+
+    @property
+    def failures(self) -> np.ndarray:
+        """Indices of mismatches, worst first."""
+        bad = np.flatnonzero(~self.ok)
+        return bad[np.argsort(-np.nan_to_num(self.error[bad], nan=np.inf), kind="stable")]
+
+
+def compare(actual: np.ndarray, acceptable: np.ndarray, tol: np.ndarray | float) -> Comparison:
+    """Match actual (n, 3) against acceptable colours (n, 3) or (n, k, 3)
+    (NaN rows ignored). A NaN or infinite actual value never matches."""
+    actual = np.asarray(actual, np.float64)
+    acceptable = np.asarray(acceptable, np.float64)
+    if acceptable.ndim == 2:
+        acceptable = acceptable[:, None, :]
+    with np.errstate(invalid="ignore"):
+        diff = np.abs(actual[:, None, :] - acceptable).max(axis=2)      # (n, k)
+    diff = np.where(np.isnan(acceptable).any(axis=2), np.inf, diff)
+    diff = np.where(np.isfinite(actual).all(axis=1)[:, None], diff, np.inf)
+    error = diff.min(axis=1)
+    tol = np.broadcast_to(np.asarray(tol, np.float64), error.shape)
+    return Comparison(ok=error <= tol, error=error, tolerance=np.array(tol))
+
+
+def format_vector(v) -> str:
+    return "(" + ", ".join(f"{x:.6g}" for x in np.asarray(v, np.float64)) + ")"
+
+
+def explain(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.ndarray, limit: int = 5) -> str:
+    """Markdown lines for the worst mismatches: input, expected, got."""
+    lines = []
+    for i in cmp.failures[:limit]:
+        lines.append(f"- {describe_input(i)}: expected {format_vector(expected[i])}, got {format_vector(actual[i])}")
+    more = len(cmp.failures) - limit
+    if more > 0:
+        lines.append(f"- ... and {more} more")
+    return "\n".join(lines)

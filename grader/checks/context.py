@@ -1,0 +1,74 @@
+"""What every check receives: the submission's isolated lookups, the seed of
+this grading run, and where to put pictures.
+
+`SubmissionLookups` is the shape of grader.worker's runner as the checks use
+it: each call returns an Outcome whose failed inputs have NaN rows and a
+Failure each (crash, timeout, out-of-bounds read, ...), already narrowed down
+to the input that caused it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..results import Diagnosis
+
+# Worker failure kinds -> diagnosis ids (docs/diagnoses.md).
+FAILURE_DIAGNOSIS = {
+    "crash": "crash",
+    "exited": "crash",
+    "protocol": "crash",
+    "exception": "exception",
+    "timeout": "timeout",
+    "out-of-bounds-read": "out-of-bounds-read",
+    "forbidden-syscall": "forbidden-syscall",
+}
+
+
+class SubmissionLookups(Protocol):
+    def set_faces(self, faces: np.ndarray) -> None: ...
+    def fetch(self, dirs: np.ndarray) -> Any: ...
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "after") -> Any: ...
+    def time_fetch(self, dirs: np.ndarray, repeats: int) -> float: ...
+
+
+@dataclass
+class CheckContext:
+    lookups: SubmissionLookups
+    seed: int                         # per submission and course secret: reproducible, not guessable
+    artifacts: Path                   # folder for this submission's pictures
+    findings: dict[str, Any] = field(default_factory=dict)   # what one check tells later ones
+    quick: bool = False               # smaller sets (tests of the harness itself)
+    settings: dict[str, dict] = field(default_factory=dict)  # the rubric's entry per check
+
+    def artifact(self, name: str) -> Path:
+        self.artifacts.mkdir(parents=True, exist_ok=True)
+        return self.artifacts / name
+
+
+def failure_diagnoses(outcome, limit: int = 3) -> list[Diagnosis]:
+    """One diagnosis per distinct failure kind, with the input that caused it."""
+    out, seen = [], set()
+    for failure in getattr(outcome, "failures", []):
+        kind = FAILURE_DIAGNOSIS.get(failure.kind, "crash")
+        if kind in seen:
+            continue
+        seen.add(kind)
+        detail = failure.message if hasattr(failure, "message") else str(failure)
+        out.append(Diagnosis(kind, detail, hint=getattr(failure, "hint", "")))
+        if len(out) >= limit:
+            break
+    return out
+
+
+def unique_diagnoses(diagnoses) -> list[Diagnosis]:
+    """Diagnoses with repeats of the same id on the same face dropped, order kept."""
+    seen, out = set(), []
+    for d in diagnoses:
+        if (d.id, d.face) not in seen:
+            seen.add((d.id, d.face))
+            out.append(d)
+    return out

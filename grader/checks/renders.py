@@ -1,0 +1,65 @@
+"""Full renders with the submission's lookup, against the fixture renders."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import fixtures, reference
+from ..results import FAILED, CheckResult, Diagnosis
+from . import check
+from .context import CheckContext, failure_diagnoses, unique_diagnoses
+from .image_metrics import difference_picture, display, flip, ssim
+
+# Measured on the correct solutions (-O0, -O3, -ffast-math, float and double)
+# and on the zoo of wrong ones; docs/thresholds.md has the numbers.
+SSIM_MIN = 0.98
+FLIP_MAX = 0.03
+
+
+def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
+    """(image, outcome): the fixture's scene traced by the reference, the
+    environment looked up by the submission in its worker."""
+    escapes = fixtures.prepared_scene(fixture).trace()
+    cube = reference.CubeMap.load_cross(fixture.map)
+    ctx.lookups.set_faces(cube.faces)
+    outcome = ctx.lookups.fetch(escapes.dirs)
+    rgb = np.nan_to_num(outcome.values, nan=0.0, posinf=0.0, neginf=0.0)
+    return escapes.resolve(rgb), outcome
+
+
+@check("renders", depends=("read_texture",))
+def run(ctx: CheckContext) -> CheckResult:
+    """Full renders of the mirror and glass spheres with your lookup look like the reference renders."""
+    from ..imaging import write_image
+    result = CheckResult("renders", run.__doc__.strip().splitlines()[0])
+    rows, diagnoses, passed = [], [], 0
+    items = fixtures.render_fixtures()
+    if ctx.quick:
+        items = items[:1]
+    for i, fixture in enumerate(items):
+        image, outcome = render_with_submission(ctx, fixture)
+        diagnoses += failure_diagnoses(outcome)
+        expected = display(reference.read_hdr(fixture.path))
+        got = display(image)
+        s = ssim(expected, got)
+        f_mean, f_map = flip(expected, got)
+        ok = s >= SSIM_MIN and f_mean <= FLIP_MAX
+        passed += ok
+        rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.4f} | {f_mean:.4f} | {'pass' if ok else 'FAIL'} |")
+        result.metrics[f"ssim:{fixture.name}"] = s
+        result.metrics[f"flip:{fixture.name}"] = f_mean
+        if i == 0:
+            result.metrics["ssim"], result.metrics["flip_mean"] = s, f_mean
+            for name, picture in (("render_reference", expected), ("render_submission", got),
+                                  ("render_difference", difference_picture(expected, got)), ("render_flip", f_map)):
+                path = ctx.artifact(f"{name}.png")
+                write_image(path, picture, display_referred=True)
+                result.artifacts[name] = path
+    result.fraction = passed / len(items) if items else 1.0
+    if passed < len(items):
+        result.status = FAILED
+        diagnoses.append(Diagnosis("render-mismatch", f"{len(items) - passed} of {len(items)} renders differ visibly from the reference (SSIM below {SSIM_MIN} or FLIP above {FLIP_MAX})."))
+    result.diagnoses = unique_diagnoses(diagnoses)
+    header = ["| render | SSIM | FLIP | |", "|---|---:|---:|---|"]
+    result.output = (f"Pass: SSIM >= {SSIM_MIN} and mean FLIP <= {FLIP_MAX} on tone-mapped images.\n\n"
+                     + "\n".join(header + rows))
+    return result

@@ -1,0 +1,52 @@
+"""fetchColor's speed against the reference, measured the same way side by side."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import PROJECT_ROOT, reference
+from ..results import FAILED, CheckResult, Diagnosis
+from . import check
+from .context import CheckContext
+from .directions import random_directions
+from .textures import random_faces
+
+BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
+ROUNDS = 5          # interleaved rounds: student, reference, student, ...
+REPEATS = 3         # timed passes over the batch inside the worker per round
+WITHIN = 3.0        # the rubric's `within` overrides this
+
+
+def baseline_library():
+    """build/reference_submission.so, built on first use."""
+    reference.ensure_built()
+    if not BASELINE.exists():
+        import subprocess
+        subprocess.run(["make", "-s", "-C", str(PROJECT_ROOT), str(BASELINE.relative_to(PROJECT_ROOT))], check=True)
+    return BASELINE
+
+
+@check("speed", depends=("fetch_sweep",))
+def run(ctx: CheckContext) -> CheckResult:
+    """fetchColor runs within a few times the reference's time per lookup."""
+    from ..worker.lookups import open_lookups
+    result = CheckResult("speed", run.__doc__.strip().splitlines()[0])
+    faces = reference.CubeMap(random_faces(256, 256, ctx.seed)).faces
+    dirs = random_directions(50_000 if ctx.quick else 200_000, ctx.seed + 2)
+    within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
+    ctx.lookups.set_faces(faces)
+    sub_ns, ref_ns = [], []
+    with open_lookups(baseline_library(), sandbox=getattr(ctx.lookups, "sandboxed", None)) as base:
+        base.set_faces(faces)
+        for _ in range(ROUNDS):
+            sub_ns.append(ctx.lookups.time_fetch(dirs, REPEATS))
+            ref_ns.append(base.time_fetch(dirs, REPEATS))
+    sub, ref = float(np.median(sub_ns)), float(np.median(ref_ns))
+    ratio = sub / ref if ref > 0 else float("inf")
+    result.metrics.update(ns_per_lookup=sub, reference_ns_per_lookup=ref, speed_ratio=ratio)
+    result.output = (f"Your fetchColor: {sub:.1f} ns per lookup; the reference: {ref:.1f} ns "
+                     f"(median of {ROUNDS} interleaved rounds of {len(dirs)} random directions): {ratio:.2f}x. "
+                     f"Full points within {within:g}x.")
+    if ratio > within:
+        result.status, result.fraction = FAILED, 0.0
+        result.diagnoses = [Diagnosis("slow", f"fetchColor takes {ratio:.1f}x the reference's time per lookup (limit {within:g}x).")]
+    return result

@@ -1,0 +1,116 @@
+"""fetchColor where methods fail: degenerate directions, ties moved by one ulp,
+and continuity across the cube's edges."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import reference
+from ..results import FAILED, CheckResult, Diagnosis
+from . import check
+from .compare import compare, tie_alternatives, tolerance
+from .context import CheckContext, failure_diagnoses, unique_diagnoses
+from .directions import corners, edges
+from .sweeps import describe_direction, sweep_filter
+from .textures import random_faces
+
+FACE_SIZE = 16
+TINY = 5e-324          # the smallest denormal
+HUGE = 1e308
+
+
+def degenerate_directions() -> np.ndarray:
+    """Zero, NaN and infinite components: any answer is fine, crashing is not."""
+    nan, inf = np.nan, np.inf
+    return np.array([
+        [0, 0, 0], [-0.0, -0.0, -0.0], [nan, 0, 0], [0, nan, 0], [0, 0, nan], [nan, nan, nan],
+        [inf, 0, 0], [0, -inf, 0], [0, 0, inf], [inf, inf, inf], [-inf, inf, -inf], [inf, nan, 1],
+    ], np.float64)
+
+
+def extreme_directions() -> np.ndarray:
+    """Finite, non-zero directions of extreme length: the answer must be finite."""
+    return np.array([
+        [TINY, 0, 0], [0, TINY, 0], [0, 0, -TINY], [TINY, TINY, TINY], [1e-310, -2e-310, 3e-310],
+        [HUGE, 0, 0], [0, -HUGE, 0], [HUGE, HUGE, HUGE], [HUGE, 1, 1], [1, HUGE, -HUGE],
+        [1e-300, 1e-300, 1], [1, 1e-300, 1e-300], [1e300, 1e-300, 0],
+    ], np.float64)
+
+
+def ulp_moved(dirs: np.ndarray) -> np.ndarray:
+    """Each direction with every component moved one ulp up and one ulp down."""
+    return np.concatenate([np.nextafter(dirs, np.inf), np.nextafter(dirs, -np.inf)])
+
+
+def edge_pairs(k: int = 8, offset: float = 1e-7):
+    """Directions just either side of each of the 12 edges: (a, b, edge index)."""
+    on = edges(k)
+    a, b = on.copy(), on.copy()
+    for i, d in enumerate(on):
+        tied = np.flatnonzero(np.abs(d) == np.abs(d).max())
+        a[i, tied[0]] *= 1 + offset
+        b[i, tied[1]] *= 1 + offset
+    return a, b, np.repeat(np.arange(12), k)
+
+
+@check("stability", depends=("read_texture",))
+def run(ctx: CheckContext) -> CheckResult:
+    """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
+    result = CheckResult("stability", run.__doc__.strip().splitlines()[0])
+    cube = reference.CubeMap(random_faces(FACE_SIZE, FACE_SIZE, ctx.seed + 1))
+    ctx.lookups.set_faces(cube.faces)
+    filter, slack = sweep_filter(ctx)
+    tol = tolerance(FACE_SIZE, FACE_SIZE, 1.0) + slack
+    parts, lines, diagnoses = [], [], []
+
+    # 1. Degenerate directions: only crashing is wrong.
+    degenerate = degenerate_directions()
+    outcome = ctx.lookups.fetch(degenerate)
+    crashed = len({f.index for f in outcome.failures})
+    parts.append(("zero, NaN and infinite directions do not crash", len(degenerate), len(degenerate) - crashed))
+    diagnoses += failure_diagnoses(outcome)
+
+    # 2. Extreme but valid directions: finite and equal to the reference.
+    extreme = extreme_directions()
+    outcome = ctx.lookups.fetch(extreme)
+    diagnoses += failure_diagnoses(outcome)
+    finite = np.isfinite(outcome.values).all(axis=1)
+    failed = {f.index for f in outcome.failures}
+    nan_rows = [i for i in np.flatnonzero(~finite) if i not in failed]
+    if nan_rows:
+        diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero. Divide by the major component's magnitude, never by a squared length (which underflows or overflows)."))
+    expected = np.concatenate([cube.fetch(extreme, filter)[:, None], tie_alternatives(cube, extreme, filter)], axis=1)
+    cmp = compare(outcome.values, expected, tol)
+    parts.append(("tiny and huge directions give the reference colour", len(extreme), int(cmp.ok.sum())))
+    for i in cmp.failures[:3]:
+        lines.append(f"- {describe_direction(extreme[i])}: expected {expected[i, 0]}, got {outcome.values[i]}")
+
+    # 3. Ties moved by one ulp: either touching face is right.
+    ties = ulp_moved(np.concatenate([corners(), edges(4)]))
+    outcome = ctx.lookups.fetch(ties)
+    diagnoses += failure_diagnoses(outcome)
+    expected = np.concatenate([cube.fetch(ties, filter)[:, None], tie_alternatives(cube, ties, filter)], axis=1)
+    cmp = compare(outcome.values, expected, tol)
+    parts.append(("edges and corners moved by one ulp", len(ties), int(cmp.ok.sum())))
+
+    # 4. Continuity: the jump across each edge is no larger than the reference's own.
+    a, b, edge = edge_pairs()
+    out_a, out_b = ctx.lookups.fetch(a), ctx.lookups.fetch(b)
+    ref_jump = np.abs(cube.fetch(a, filter) - cube.fetch(b, filter)).max(axis=1)
+    with np.errstate(invalid="ignore"):
+        sub_jump = np.abs(out_a.values - out_b.values).max(axis=1)
+    bad = ~(sub_jump <= ref_jump + 2 * tol)
+    bad_edges = sorted({int(e) for e in edge[bad]})
+    parts.append(("no seam larger than the reference's at the 12 edges", 12, 12 - len(bad_edges)))
+    if bad_edges:
+        diagnoses.append(Diagnosis("discontinuous-seam", f"The colour jumps across {len(bad_edges)} of the 12 cube edges where the reference is continuous: neighbouring faces disagree about (u, v) along their shared edge."))
+
+    total = sum(n for _, n, _ in parts)
+    ok = sum(k for _, _, k in parts)
+    result.fraction = ok / total
+    result.diagnoses = unique_diagnoses(diagnoses)
+    table = ["| case | tried | passed |", "|---|---:|---:|"] + [f"| {name} | {n} | {k} |" for name, n, k in parts]
+    result.output = "\n".join(table + ([""] + lines if lines else []))
+    if ok < total:
+        result.status = FAILED
+    return result
+

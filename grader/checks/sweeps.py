@@ -1,0 +1,86 @@
+"""fetchColor over direction sweeps, compared per face with the reference."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import reference
+from ..results import FAILED, CheckResult, Diagnosis
+from . import check
+from .compare import compare, explain, tie_alternatives, tolerance
+from .context import CheckContext, failure_diagnoses
+from .directions import sweep_sets
+from .textures import coordinate_faces
+
+SWEEP_FACE_SIZE = (32, 32)
+
+
+def sweep_filter(ctx: CheckContext) -> tuple[str, float]:
+    """The filter to judge fetchColor with, and the position tolerance in texels.
+
+    fetchColor is judged on its own: when readTexture is wrong, its mapping
+    still earns credit if every sample lands within a texel of the right spot.
+    """
+    if ctx.findings.get("read_texture_ok", True):
+        return "bilinear", 0.0
+    if ctx.findings.get("read_texture_mistake") == "nearest-neighbor":
+        return "nearest", 1.01
+    return "bilinear", 1.01
+
+
+def describe_direction(d) -> str:
+    return "fetchColor(Vector3(" + ", ".join(f"{x:.9g}" for x in d) + "))"
+
+
+@check("fetch_sweep", depends=("read_texture",))
+def run(ctx: CheckContext) -> CheckResult:
+    """fetchColor picks the right face and (u, v) for every direction: the whole sphere, each face, edge, corner and axis, at any length."""
+    result = CheckResult("fetch_sweep", run.__doc__.strip().splitlines()[0])
+    w, h = SWEEP_FACE_SIZE
+    faces = coordinate_faces(w, h)
+    cube = reference.CubeMap(faces)
+    ctx.lookups.set_faces(cube.faces)
+    filter, slack = sweep_filter(ctx)
+    sets = sweep_sets(ctx.seed, fibonacci=20_000 if ctx.quick else 100_000)
+
+    rows, lines, diagnoses = [], [], []
+    total = matched = 0
+    per_face_bad = np.zeros(6, np.int64)
+    per_face_all = np.zeros(6, np.int64)
+    nan_inputs = []
+    for name, dirs in sets.items():
+        outcome = ctx.lookups.fetch(dirs)
+        expected, ref_faces = cube.fetch_with_faces(dirs, filter)
+        acceptable = np.concatenate([expected[:, None, :], tie_alternatives(cube, dirs, filter)], axis=1)
+        tol = tolerance(w, h, float(max(w, h) + 1)) + slack
+        cmp = compare(outcome.values, acceptable, tol)
+        diagnoses += failure_diagnoses(outcome)
+        failed_inputs = {f.index for f in getattr(outcome, "failures", [])}
+        nan_rows = np.flatnonzero(~np.isfinite(outcome.values).all(axis=1))
+        fresh_nan = [i for i in nan_rows if i not in failed_inputs]
+        if fresh_nan and not nan_inputs:
+            nan_inputs.append(dirs[fresh_nan[0]])
+        total += len(dirs)
+        matched += int(cmp.ok.sum())
+        np.add.at(per_face_all, ref_faces[ref_faces >= 0], 1)
+        np.add.at(per_face_bad, ref_faces[(ref_faces >= 0) & ~cmp.ok], 1)
+        rows.append((name, len(dirs), int(cmp.ok.sum())))
+        if cmp.fraction < 1.0 and len(lines) < 12:
+            lines.append(f"**{name}**:")
+            lines.append(explain(cmp, lambda i: describe_direction(dirs[i]), outcome.values, expected, limit=3))
+    if nan_inputs:
+        diagnoses.append(Diagnosis("nan-output", f"{describe_direction(nan_inputs[0])} returned NaN or infinity for a finite, non-zero direction."))
+    result.fraction = matched / total if total else 0.0
+    result.metrics.update(cases=total, matched=matched)
+    table = ["| direction set | cases | match |", "|---|---:|---:|"]
+    table += [f"| {name} | {n} | {ok / n:.1%} |" for name, n, ok in rows]
+    table += ["", "| face | directions | match |", "|---|---:|---:|"]
+    table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.1%} |" for k in range(6)]
+    ctx.findings["sweep_per_face_bad"] = per_face_bad
+    result.diagnoses = diagnoses
+    if matched < total:
+        result.status = FAILED
+        result.output = (f"{total - matched} of {total} directions give a colour different from the reference.\n\n"
+                         + "\n".join(table) + "\n\nWorst cases:\n\n" + "\n".join(lines))
+    else:
+        result.output = f"All {total} directions match the reference.\n\n" + "\n".join(table)
+    return result

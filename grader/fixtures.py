@@ -1,0 +1,167 @@
+"""fixtures/: what the checks compare against, regenerated from the reference
+with one command (`make fixtures`), and a manifest that says when they are stale.
+
+fixtures/manifest.json records the SHA-256 of every fixture file and of
+everything that produced it (reference sources, scene files, maps, this
+generator's version). The grader checks it at start and refuses stale
+fixtures with a message naming what changed (`--allow-stale` overrides).
+Everything here is deterministic: two runs write identical bytes.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import PROJECT_ROOT, reference
+
+FIXTURES = PROJECT_ROOT / "fixtures"
+MANIFEST = FIXTURES / "manifest.json"
+# Bump when what this module writes changes meaning.
+GENERATOR_VERSION = 1
+
+# Full renders: small enough to keep in git, large enough that every mistake
+# in the zoo moves SSIM well past its threshold (docs/fixtures.md).
+RENDER_SIZE = (128, 128)
+RENDER_SPP = 4
+MAIN_SCENE = PROJECT_ROOT / "envmap_test.cfg"
+
+
+class StaleFixtures(Exception):
+    pass
+
+
+@dataclass(frozen=True)
+class RenderFixture:
+    scene: Path        # scene file (camera, spheres)
+    map: Path          # environment map it is rendered with
+
+    @property
+    def name(self) -> str:
+        return f"{self.scene.stem}--{self.map.stem}"
+
+    @property
+    def path(self) -> Path:
+        return FIXTURES / "renders" / f"{self.name}.hdr"
+
+
+def maps() -> list[Path]:
+    return sorted((PROJECT_ROOT / "Cubemap").glob("*.hdr"))
+
+
+def render_fixtures() -> list[RenderFixture]:
+    """The main scene with every map in Cubemap/, then every extra scene in
+    scenes/ with its own map."""
+    out = [RenderFixture(MAIN_SCENE, m) for m in maps()]
+    for scene_path in sorted((PROJECT_ROOT / "scenes").glob("*.cfg")):
+        out.append(RenderFixture(scene_path, reference.Scene.load(scene_path).environment_path))
+    return out
+
+
+def prepared_scene(fixture: RenderFixture) -> reference.Scene:
+    scene = reference.Scene.load(fixture.scene)
+    scene.set_resolution(*RENDER_SIZE)
+    scene.set_samples(RENDER_SPP)
+    return scene
+
+
+def inputs() -> list[Path]:
+    """Everything the fixtures depend on."""
+    ref = sorted((PROJECT_ROOT / "reference").glob("src/*.[ch]")) + [reference.HEADER]
+    scenes = [MAIN_SCENE] + sorted((PROJECT_ROOT / "scenes").glob("*.cfg"))
+    return ref + scenes + maps() + [Path(__file__)]
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _rel(path: Path) -> str:
+    return path.resolve().relative_to(PROJECT_ROOT).as_posix()
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
+    with os.fdopen(fd, "wb") as f:
+        f.write(data)
+    os.replace(tmp, path)
+
+
+def generate(progress=print) -> dict:
+    """Regenerate every fixture and the manifest; returns the manifest."""
+    files: list[Path] = []
+    for fixture in render_fixtures():
+        cube = reference.CubeMap.load_cross(fixture.map)
+        image = prepared_scene(fixture).render(cube, "bilinear")
+        fixture.path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = fixture.path.with_suffix(".tmp.hdr")
+        reference.write_hdr(tmp, image)
+        os.replace(tmp, fixture.path)
+        files.append(fixture.path)
+        progress(f"  rendered {_rel(fixture.path)}")
+    for path in write_sweeps():
+        files.append(path)
+        progress(f"  wrote {_rel(path)}")
+    manifest = {
+        "generator_version": GENERATOR_VERSION,
+        "inputs": {_rel(p): _sha256(p) for p in inputs()},
+        "files": {_rel(p): _sha256(p) for p in files},
+        "render": {"width": RENDER_SIZE[0], "height": RENDER_SIZE[1], "samples_per_pixel": RENDER_SPP},
+    }
+    _write_atomic(MANIFEST, (json.dumps(manifest, indent=2, sort_keys=True) + "\n").encode())
+    return manifest
+
+
+def write_sweeps() -> list[Path]:
+    """The deterministic sweep directions with the reference's colours on the
+    test map, as raw .npy (byte-stable): a regression net for the reference."""
+    from .checks.directions import sweep_sets
+    test_map = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
+    if not test_map.exists():
+        return []
+    cube = reference.CubeMap.load_cross(test_map)
+    out = []
+    sets = {k: v for k, v in sweep_sets(seed=0, fibonacci=20_000).items() if "random" not in k}
+    dirs = np.concatenate(list(sets.values()))
+    rgb = cube.fetch(dirs, "bilinear").astype(np.float32)
+    for name, array in (("sweep_directions", dirs), ("sweep_expected_test_map", rgb)):
+        path = FIXTURES / "sweeps" / f"{name}.npy"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(path, "wb") as f:
+            np.save(f, array, allow_pickle=False)
+        out.append(path)
+    return out
+
+
+def check_stale() -> None:
+    """Raise StaleFixtures naming what changed since `make fixtures` last ran."""
+    if not MANIFEST.exists():
+        raise StaleFixtures("fixtures/manifest.json is missing: run `make fixtures`.")
+    manifest = json.loads(MANIFEST.read_text())
+    problems = []
+    if manifest.get("generator_version") != GENERATOR_VERSION:
+        problems.append("the fixture generator changed")
+    recorded = manifest.get("inputs", {})
+    current = {_rel(p): _sha256(p) for p in inputs()}
+    for name in sorted(set(recorded) | set(current)):
+        if name not in current:
+            problems.append(f"{name} was removed")
+        elif name not in recorded:
+            problems.append(f"{name} is new")
+        elif recorded[name] != current[name]:
+            problems.append(f"{name} changed")
+    for name, digest in sorted(manifest.get("files", {}).items()):
+        path = PROJECT_ROOT / name
+        if not path.exists():
+            problems.append(f"fixture {name} is missing")
+        elif _sha256(path) != digest:
+            problems.append(f"fixture {name} was edited by hand")
+    if problems:
+        raise StaleFixtures("Fixtures are stale: " + "; ".join(problems)
+                            + ". Run `make fixtures` to regenerate them (or pass --allow-stale).")

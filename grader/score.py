@@ -1,0 +1,54 @@
+"""Points from the rubric (grader/rubric.toml) for checks that have run."""
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from .results import ERROR, GRADED, SKIPPED, UNGRADABLE, GradeResult
+
+RUBRIC = Path(__file__).with_name("rubric.toml")
+VISIBILITIES = {"visible", "hidden", "after_due_date", "after_published"}
+PARTIAL = {"fraction", "all"}
+
+
+class RubricError(Exception):
+    pass
+
+
+def load_rubric(path: Path = RUBRIC) -> dict:
+    """The rubric, validated: a mistake in it is the instructor's, reported as such."""
+    try:
+        rubric = tomllib.loads(Path(path).read_text())
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        raise RubricError(f"{path}: {e}") from e
+    for name, entry in rubric.get("checks", {}).items():
+        if not isinstance(entry.get("points"), (int, float)) or entry["points"] < 0:
+            raise RubricError(f"{path}: checks.{name}.points must be a number >= 0")
+        if entry.get("partial", "fraction") not in PARTIAL:
+            raise RubricError(f"{path}: checks.{name}.partial must be one of {sorted(PARTIAL)}")
+        if entry.get("visibility", "visible") not in VISIBILITIES:
+            raise RubricError(f"{path}: checks.{name}.visibility must be one of {sorted(VISIBILITIES)}")
+    return rubric
+
+
+def apply(result: GradeResult, rubric: dict) -> GradeResult:
+    """Fill in each check's points and the totals; a harness error anywhere
+    makes the submission ungradable (never a zero charged to the student)."""
+    entries = rubric.get("checks", {})
+    for number, check in enumerate(result.checks, start=1):
+        entry = entries.get(check.name, {})
+        check.max_score = float(entry.get("points", 0))
+        check.visibility = entry.get("visibility", "visible")
+        check.tags = list(entry.get("tags", []))
+        check.number = str(number)
+        if check.status in (ERROR, SKIPPED):
+            check.score = 0.0
+        elif entry.get("partial", "fraction") == "all":
+            check.score = check.max_score if check.fraction >= 1.0 else 0.0
+        else:
+            check.score = round(check.max_score * min(max(check.fraction, 0.0), 1.0), 2)
+    result.max_score = float(sum(float(e.get("points", 0)) for e in entries.values()))
+    result.score = round(sum(c.score for c in result.checks), 2)
+    if result.status == GRADED and any(c.status == ERROR for c in result.checks):
+        result.status = UNGRADABLE
+    return result
