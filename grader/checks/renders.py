@@ -45,8 +45,8 @@ def run(ctx: CheckContext) -> CheckResult:
         ok = s >= SSIM_MIN and f_mean <= FLIP_MAX
         passed += ok
         rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.4f} | {f_mean:.4f} | {'pass' if ok else 'FAIL'} |")
-        result.metrics[f"ssim:{fixture.name}"] = s
-        result.metrics[f"flip:{fixture.name}"] = f_mean
+        result.metrics[f"ssim_{fixture.name}"] = s
+        result.metrics[f"flip_mean_{fixture.name}"] = f_mean
         if i == 0:
             result.metrics["ssim"], result.metrics["flip_mean"] = s, f_mean
             for name, picture in (("render_reference", expected), ("render_submission", got),

@@ -1,0 +1,359 @@
+"""The catalogue of diagnosis ids: what each one means, in plain words.
+
+Checks attach a grader.results.Diagnosis (id, face, detail) to what they
+find; reports look the id up here for the title, the explanation and what to
+do about it. The words are written for a student who has the handout; the
+conventions they cite are ASSIGNMENT.md's. docs/diagnoses.md is generated
+from this table (`python -m grader.diagnoses > docs/diagnoses.md`), and a test
+checks that the two agree.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+# Kinds, in the order reports list them: what stops grading first, then the
+# mapping (fetchColor), the filtering (readTexture), and what renders show.
+KINDS = {
+    "build": "Building",
+    "runtime": "Running",
+    "mapping": "fetchColor: from a direction to a face and (u, v)",
+    "filtering": "readTexture: from (u, v) to a colour",
+    "render": "What the renders show",
+    "speed": "Speed",
+}
+
+
+@dataclass(frozen=True)
+class DiagnosisInfo:
+    id: str
+    kind: str          # a KINDS key
+    title: str         # one line, plain words
+    explanation: str   # what happened and why it matters
+    what_to_do: str    # the fix, or how to find it
+
+
+_ENTRIES = [
+    # ---- building ---------------------------------------------------------
+    DiagnosisInfo(
+        "build-error", "build",
+        "Your code did not compile",
+        "The compiler stopped with errors, so none of the checks could run. The "
+        "compiler's messages are shown below the score.",
+        "Fix the first error in the log first: later errors are often caused by "
+        "it. Build with the student template (`make`, or `make selfcheck` to run "
+        "the visible checks too) before you submit.",
+    ),
+    DiagnosisInfo(
+        "load-error", "build",
+        "Your compiled code could not be loaded",
+        "The code compiled, but the library built from it could not be "
+        "loaded, for example because a function it declares is never defined, "
+        "or because code that runs when it loads (a global object's "
+        "constructor) failed. This is more often a build problem than a "
+        "mistake in your lookup.",
+        "Build and run the student template locally (`make selfcheck`). Define "
+        "every function you declare, and do no work in global variables' "
+        "initialisers. If it works locally, tell your instructor.",
+    ),
+    # ---- running ----------------------------------------------------------
+    DiagnosisInfo(
+        "crash", "runtime",
+        "Your code crashed",
+        "The program stopped with a signal (for example SIGSEGV, a segmentation "
+        "fault) while running your code. The grader repeated the failing batch "
+        "to find the first input that crashes; it is named in the details.",
+        "Call your function with exactly that input from a small test and run "
+        "it under a debugger. Usual causes: a texel index outside the face "
+        "(x = -1 or x = W, as the handout warns), a face pointer that was never "
+        "set because no branch of the face choice was taken (every comparison "
+        "with NaN is false), dividing an integer by zero, or a function that "
+        "calls itself without end (a stack overflow).",
+    ),
+    DiagnosisInfo(
+        "out-of-bounds-read", "runtime",
+        "readTexture read outside the face",
+        "Your code read memory just before or just after the texels it was "
+        "given. The grader puts an inaccessible page right next to the "
+        "texture, so such a read is caught every time, even where a normal "
+        "program would silently read a neighbouring face or garbage. The "
+        "handout warns about exactly this: reading x = -1 or x = W.",
+        "Clamp both lattice points to the face: x0 and x1 = x0 + 1 to "
+        "`[0, W-1]`, y0 and y1 = y0 + 1 to `[0, H-1]`. Remember that u = 1 "
+        "gives `u*W = W`, and that x1 goes past the edge whenever x0 = W-1.",
+    ),
+    DiagnosisInfo(
+        "exception", "runtime",
+        "Your code threw a C++ exception that nobody caught",
+        "An exception (for example std::out_of_range from vector::at, or "
+        "std::bad_alloc when memory runs out) left fetchColor or readTexture, "
+        "which ends the program.",
+        "Find which call throws for the input named in the details. A lookup "
+        "needs no allocation and no checked container access: index the "
+        "texel buffer directly, with clamped indices. For std::bad_alloc, look "
+        "for memory allocated on every call or in a loop.",
+    ),
+    DiagnosisInfo(
+        "timeout", "runtime",
+        "Your code took too long and was stopped",
+        "A check did not finish within its time limit. Only that check lost its "
+        "points; the other checks still ran.",
+        "Look for a loop that may never end, for example one that searches for "
+        "the face or walks along the ray, and what it does for a zero, NaN or "
+        "infinite direction. A lookup is a few comparisons, one division and "
+        "four texel reads: it needs no loop.",
+    ),
+    DiagnosisInfo(
+        "exited", "runtime",
+        "Your code ended the program",
+        "The program stopped in the middle of a check without crashing, for "
+        "example through exit() or quick_exit(). The checks that were running "
+        "could not finish.",
+        "Remove calls that end the program from fetchColor and readTexture. "
+        "For an input you cannot handle, return a colour (black, for instance) "
+        "instead.",
+    ),
+    DiagnosisInfo(
+        "forbidden-syscall", "runtime",
+        "Your code tried something the grader does not allow",
+        "Your code tried to start a process, open a file or a network "
+        "connection, or another operation that is blocked while grading. A "
+        "lookup only needs arithmetic and reads from the texture it is given.",
+        "Remove debugging code that writes files, calls system() or starts "
+        "programs. Print to the terminal while you debug locally, and take it "
+        "out before submitting.",
+    ),
+    DiagnosisInfo(
+        "protocol", "runtime",
+        "Your code disturbed the grader's connection to it",
+        "The grader talks to your code through a pipe, and the replies it got "
+        "were garbled: your code wrote to a file descriptor it does not own, or "
+        "wrote over memory that is not its own (past the end of an array, "
+        "through an uninitialised pointer).",
+        "Write only into the colour you return. Check every array index and "
+        "pointer in fetchColor and readTexture, and remove code that writes to "
+        "files or descriptors.",
+    ),
+    DiagnosisInfo(
+        "nan-output", "runtime",
+        "Your code returned NaN or infinity",
+        "For some finite, non-zero direction your code returned a colour that "
+        "is not a number (NaN) or is infinite. One such pixel spoils a whole "
+        "render.",
+        "Divide only by m, the absolute value of the largest component, which "
+        "is never zero for a non-zero direction; dividing by another "
+        "component divides by zero on the axes. Do not square the direction "
+        "in float (1e30 squared overflows, 1e-30 squared becomes 0): the "
+        "pyramid projection needs no length. Check that every variable is set "
+        "on every path.",
+    ),
+    # ---- mapping (fetchColor) --------------------------------------------
+    DiagnosisInfo(
+        "wrong-face", "mapping",
+        "fetchColor read from the wrong face",
+        "For directions that exit through one face, your code read the colour "
+        "from another face (the details say which). The face is the one along "
+        "the axis with the largest absolute component, + or - by its sign; "
+        "faces are stored in the order +X, -X, +Y, -Y, +Z, -Z, face k "
+        "starting `k*W*H*3` floats into the buffer.",
+        "Compare absolute values (fabs) when choosing the axis, then use the "
+        "sign to choose between + and -. Check the face index you pass to "
+        "readTexture against the order above, and the offset (the factor 3 "
+        "for RGB is easy to forget). Rendering the test map is a quick check: "
+        "the red, green and blue arrows must point along +x, +y and +z.",
+    ),
+    DiagnosisInfo(
+        "u-flipped", "mapping",
+        "On this face, u runs the wrong way",
+        "The face's picture is mirrored left to right: where the correct u is "
+        "0.2 your code uses 0.8. On the face named, u should be the value in "
+        "the table of ASSIGNMENT.md (for example `(1 + z/m)/2` on +X but "
+        "`(1 - z/m)/2` on -X).",
+        "Check the sign in front of the component that gives u on this face. "
+        "Each face has its own sign: they are chosen so that neighbouring "
+        "faces of the cross meet without a jump.",
+    ),
+    DiagnosisInfo(
+        "v-flipped", "mapping",
+        "On this face, v runs the wrong way",
+        "The face's picture is upside down: where the correct v is 0.2 your "
+        "code uses 0.8. v = 0 is the bottom row of the face (y = 0 in the "
+        "buffer), not the top. On the face named, v should be the value in "
+        "the table of ASSIGNMENT.md (for example `(1 - z/m)/2` on -Y, and "
+        "`(1 - y/m)/2` on +Z, the back face that sits upside down in the cross).",
+        "Check the sign in front of the component that gives v on this face, "
+        "and that you did not turn rows around (row 0 of the buffer is the "
+        "bottom of the face).",
+    ),
+    DiagnosisInfo(
+        "uv-swapped", "mapping",
+        "On this face, u and v are swapped",
+        "Your code used the component that should give v for u and the other "
+        "way round, so the face appears turned on its diagonal. Reading texel "
+        "(x, y) at `addr[3*(x*H + y)]` instead of `addr[3*(y*W + x)]` looks the "
+        "same on a square face.",
+        "Take u and v from the components the table of ASSIGNMENT.md names "
+        "for this face, and index texels as `addr[3*(y*W + x)]` with x from u "
+        "and y from v.",
+    ),
+    DiagnosisInfo(
+        "not-normalized", "mapping",
+        "(u, v) was not computed by dividing by the largest component",
+        "The point where the ray meets the face is found by dividing the "
+        "direction by m, the absolute value of its largest component (the "
+        "handout's pyramid with the cube centre at its apex). Your (u, v) "
+        "change with the direction's length, or follow another curve, for "
+        "example because the components were used as they are, divided by "
+        "the length of the direction, or turned into angles.",
+        "Compute `m = |largest component|` and use `(1 + a/m)/2` with the signs "
+        "from the table. Directions are not unit length and need not be "
+        "normalised first; if you normalise, you must still divide by m.",
+    ),
+    DiagnosisInfo(
+        "discontinuous-seam", "mapping",
+        "Colours jump where two faces meet",
+        "Moving a direction across the edge between two faces changes the "
+        "colour by much more than the handout's method does there. The "
+        "handout's bilinear lookup clamps inside each face, so a small step "
+        "there (the difference between two neighbouring texels) is expected "
+        "and costs nothing; this is larger. Usually one of the two faces has u or v running the "
+        "wrong way, or (u, v) go wrong near the edge of the face.",
+        "Use the table in ASSIGNMENT.md: its signs make neighbouring faces of "
+        "the cross continuous. The details name the edge; compare the two "
+        "faces' formulas along it.",
+    ),
+    # ---- filtering (readTexture) -----------------------------------------
+    DiagnosisInfo(
+        "nearest-neighbor", "filtering",
+        "readTexture still returns the nearest texel",
+        "readTexture returns a single texel, as the starting code does, so "
+        "renders show blocks. The assignment asks for bilinear interpolation "
+        "of the four texels around `p = (u*W, v*H)`.",
+        "Implement the handout's equations (1)-(3): take the lattice points "
+        "around p, alpha and beta the fractional parts of p's x and y, "
+        "`c0 = (1-alpha) c00 + alpha c10`, `c1 = (1-alpha) c01 + alpha c11`, "
+        "`c = (1-beta) c0 + beta c1`.",
+    ),
+    DiagnosisInfo(
+        "half-texel-offset", "filtering",
+        "readTexture is shifted by half a texel",
+        "Your interpolation is centred half a texel away from the handout's: "
+        "for example `p = (u*W - 0.5, v*H - 0.5)`, the texel-centre convention "
+        "of OpenGL. The handout defines the pixel position as `p = (u*W, v*H)`, "
+        "with the lattice points at whole numbers around it, and the grader "
+        "follows the handout.",
+        "Use `p = (u*W, v*H)` without adding or subtracting 0.5; "
+        "`x0 = floor(p.x)`, `alpha = p.x - x0` (and the same for y), then clamp.",
+    ),
+    DiagnosisInfo(
+        "weights-swapped", "filtering",
+        "readTexture mixes the four texels with the wrong weights",
+        "The interpolation weights are the wrong way round: for example "
+        "`alpha c00 + (1-alpha) c10` instead of `(1-alpha) c00 + alpha c10`, or "
+        "alpha used for the vertical direction and beta for the horizontal. "
+        "The nearer texel must get the larger weight.",
+        "Follow equations (1)-(3) exactly: alpha is the fractional part of "
+        "`u*W` and weighs c10 and c11 (the texels to the right); beta is the "
+        "fractional part of `v*H` and weighs c1 (the row above).",
+    ),
+    # ---- renders ----------------------------------------------------------
+    DiagnosisInfo(
+        "arrow-wrong", "render",
+        "An axis arrow on the test map points the wrong way",
+        "This is the handout's own debugging check: rendered with "
+        "`test_environment_map.hdr`, the red, green and blue arrows must point "
+        "along +x, +y and +z. In your render the arrow named in the details "
+        "points another way, so some face is chosen or oriented wrongly.",
+        "Render `envmap_test.cfg` with the test map and compare the arrows with "
+        "the axes; the annotated picture in the report shows which arrow is "
+        "off. The mapping diagnoses listed with this one usually name the "
+        "face to fix.",
+    ),
+    DiagnosisInfo(
+        "arrow-missing", "render",
+        "An axis arrow on the test map is missing",
+        "Rendered with `test_environment_map.hdr`, one of the red, green and "
+        "blue arrows does not appear at all: the part of the map that holds "
+        "it is never read, usually because a face is never chosen or the face "
+        "offset into the buffer is wrong.",
+        "Check that each of the six faces can be chosen and that face k is "
+        "read from `k*W*H*3` floats into the buffer, in the order "
+        "+X, -X, +Y, -Y, +Z, -Z.",
+    ),
+    DiagnosisInfo(
+        "render-mismatch", "render",
+        "Your render differs from the reference",
+        "A scene rendered with your lookup was compared with the same scene "
+        "rendered with the reference lookup, using SSIM (structure) and FLIP "
+        "(how different they look to a person). The difference is larger than "
+        "correct solutions ever show, even compiled with other settings.",
+        "Look at the difference and FLIP pictures in the HTML report: bright "
+        "areas are where your render is wrong. The mapping and readTexture "
+        "diagnoses listed with this one usually name the cause.",
+    ),
+    # ---- speed ------------------------------------------------------------
+    DiagnosisInfo(
+        "slow", "speed",
+        "Your lookups are much slower than they need to be",
+        "Measured in the same run, your fetchColor takes several times as long "
+        "per lookup as the reference, beyond the generous band that gets full "
+        "points.",
+        "A lookup needs a few comparisons, one division per coordinate and "
+        "four texel reads. Look for work that can go: allocating or copying "
+        "per call, trigonometry (atan2, acos) or pow, loops over texels, "
+        "printing while grading.",
+    ),
+]
+
+CATALOGUE: dict[str, DiagnosisInfo] = {e.id: e for e in _ENTRIES}
+_ORDER = {e.id: i for i, e in enumerate(_ENTRIES)}
+
+
+def describe(diagnosis_id: str) -> DiagnosisInfo:
+    """The catalogue entry for an id; an id a check invented without adding it
+    here still gets a readable (if generic) entry rather than an error."""
+    if diagnosis_id in CATALOGUE:
+        return CATALOGUE[diagnosis_id]
+    return DiagnosisInfo(
+        diagnosis_id, "runtime", diagnosis_id.replace("-", " ").capitalize(),
+        "The grader found this problem; the details say where.",
+        "Read the details and the failing check's output.",
+    )
+
+
+def sort_key(diagnosis_id: str) -> tuple[int, str]:
+    """Catalogue order (what stops grading first), unknown ids last."""
+    return (_ORDER.get(diagnosis_id, len(_ORDER)), diagnosis_id)
+
+
+def catalogue_markdown() -> str:
+    """docs/diagnoses.md, generated from the table above."""
+    lines = [
+        "# Diagnoses",
+        "",
+        "<!-- Generated by `python -m grader.diagnoses > docs/diagnoses.md` from",
+        "     grader/diagnoses.py; edit that file, not this one. -->",
+        "",
+        "Each mistake the grader recognises has a stable id. Reports show it in",
+        "plain words with what to do about it; `results.json` lists it under",
+        '`extra_data.diagnoses` as `{"id": ..., "face": ..., "detail": ...}`',
+        "(`face` only where it applies). Conventions are those of",
+        "`ASSIGNMENT.md`.",
+        "",
+    ]
+    for kind, heading in KINDS.items():
+        entries = [e for e in _ENTRIES if e.kind == kind]
+        lines += [f"## {heading}", ""]
+        for e in entries:
+            lines += [
+                f"### `{e.id}`: {e.title}",
+                "",
+                e.explanation,
+                "",
+                f"**What to do:** {e.what_to_do}",
+                "",
+            ]
+    return "\n".join(lines).rstrip("\n") + "\n"
+
+
+if __name__ == "__main__":
+    print(catalogue_markdown(), end="")

@@ -1,0 +1,465 @@
+"""report.html: one self-contained page a student opens in any browser.
+
+Images are embedded as data URIs and the CSS is inline; there is no
+JavaScript and nothing is fetched (a Content-Security-Policy says so, which
+also neutralises anything that slipped through escaping). Everything the
+student controls (compiler messages, printed output, exception messages,
+the submission's name) is escaped; check outputs are Markdown rendered with
+raw HTML turned off and images disabled.
+"""
+from __future__ import annotations
+
+import base64
+import re
+import struct
+from html import escape
+from pathlib import Path
+
+from markdown_it import MarkdownIt
+
+from ..results import BUILD_ERROR, UNGRADABLE, CheckResult
+from .markdown import all_correct
+from .text import clean, figure, points, seconds, truncate_middle
+from .view import (STATE_ERROR, STATE_FAILED, STATE_PARTIAL, STATE_PASSED,
+                   STATE_SKIPPED, DiagnosisGroup, ReportView, check_output,
+                   check_state)
+
+# Artifacts the page places in their own sections; others go with their check.
+RENDER_ARTIFACT = re.compile(r"^render_(reference|submission|difference|flip)(?:[_:./-](.+))?$")
+RENDER_ROLES = {
+    "reference": ("Reference", "the scene with the reference lookup"),
+    "submission": ("Your code", "the same scene with your lookup"),
+    "difference": ("Difference", "brighter where your render differs more"),
+    "flip": ("FLIP error map", "brighter where a viewer sees a difference"),
+}
+ARROWS_ARTIFACT = "arrows"
+CHART_ARTIFACT = "speed_accuracy_chart"
+
+# Figures people can read without knowing the metric's name.
+METRIC_LABELS = {
+    "ssim": ("SSIM", "1 means identical"),
+    "flip_mean": ("FLIP mean error", "0 means identical"),
+    "ns_per_lookup": ("time per lookup", "nanoseconds"),
+    "speed_ratio": ("time relative to the reference", "1 means as fast"),
+}
+
+STATE_CLASS = {
+    STATE_PASSED: "passed", STATE_PARTIAL: "partial", STATE_FAILED: "failed",
+    STATE_ERROR: "error", STATE_SKIPPED: "skipped",
+}
+STATE_MARK = {
+    STATE_PASSED: "✓", STATE_PARTIAL: "◐", STATE_FAILED: "✗",
+    STATE_ERROR: "!", STATE_SKIPPED: "–",
+}
+
+_markdown = MarkdownIt("commonmark", {"html": False}).enable("table").disable("image")
+
+
+def e(text: object) -> str:
+    """Escape any text for HTML, attribute values included."""
+    return escape(clean(str(text)), quote=True)
+
+
+def markdown_html(text: str) -> str:
+    return _markdown.render(clean(truncate_middle(text)))
+
+
+def catalogue_html(text: str) -> str:
+    """The catalogue's sentences are Markdown (formulas in `code`)."""
+    return _markdown.renderInline(text)
+
+
+# ---- images -----------------------------------------------------------------
+
+def _image_mime(data: bytes) -> str | None:
+    if data.startswith(b"\x89PNG\r\n\x1a\n"):
+        return "image/png"
+    if data.startswith(b"\xff\xd8\xff"):
+        return "image/jpeg"
+    head = data[:512].lstrip()
+    if head.startswith(b"<svg") or (head.startswith(b"<?xml") and b"<svg" in data[:4096]):
+        return "image/svg+xml"
+    return None
+
+
+def _png_size(data: bytes) -> tuple[int, int] | None:
+    if data.startswith(b"\x89PNG\r\n\x1a\n") and data[12:16] == b"IHDR":
+        return struct.unpack(">II", data[16:24])
+    return None
+
+
+def image_tag(path: Path | None, alt: str, css_class: str = "") -> str:
+    """An <img> with the file embedded, or a placeholder saying it is missing."""
+    try:
+        data = Path(path).read_bytes() if path is not None else b""
+    except OSError:
+        data = b""
+    mime = _image_mime(data)
+    if mime is None:
+        return f'<div class="missing" role="img" aria-label="{e(alt)}">image not available</div>'
+    size = _png_size(data)
+    dims = f' width="{size[0]}" height="{size[1]}"' if size else ""
+    cls = f' class="{css_class}"' if css_class else ""
+    uri = f"data:{mime};base64,{base64.b64encode(data).decode('ascii')}"
+    return f'<img{cls} src="{uri}" alt="{e(alt)}"{dims}>'
+
+
+def _figure(path: Path | None, caption: str, note: str = "", css_class: str = "") -> str:
+    note_html = f'<span class="note">{e(note)}</span>' if note else ""
+    return (f"<figure>{image_tag(path, caption, css_class)}"
+            f"<figcaption>{e(caption)}{note_html}</figcaption></figure>")
+
+
+# ---- sections ---------------------------------------------------------------
+
+def _score_class(score: float, max_score: float, status: str) -> str:
+    if max_score <= 0 or status == UNGRADABLE:   # no verdict to colour
+        return "skipped"
+    fraction = score / max_score
+    return "passed" if fraction >= 0.999 else "partial" if fraction >= 0.5 else "failed"
+
+
+def _header(view: ReportView) -> str:
+    pct = 0.0 if view.max_score <= 0 else max(0.0, min(100.0, 100 * view.score / view.max_score))
+    counts = view.counts()
+    passed = counts.get(STATE_PASSED, 0)
+    status_cls = "passed" if view.status == "graded" else "failed"
+    checks_line = f"{passed} of {len(view.checks)} checks passed" if view.checks else ""
+    return f"""
+<header class="hero">
+  <div class="who">
+    <p class="eyebrow">Cube-map environment mapping · feedback</p>
+    <h1>{e(view.submission)}</h1>
+    <p class="meta"><span class="badge {status_cls}">{e(view.status_text)}</span>
+      {checks_line}</p>
+  </div>
+  <div class="ring {_score_class(view.score, view.max_score, view.status)}" style="--p:{pct:.1f}"
+       role="img" aria-label="score {e(points(view.score))} of {e(points(view.max_score))}">
+    <div><strong>{e(points(view.score))}</strong><span>of {e(points(view.max_score))}</span></div>
+  </div>
+</header>"""
+
+
+def _notices(view: ReportView) -> str:
+    out = []
+    if view.status_explanation:
+        out.append(f'<div class="callout failed"><strong>{e(view.status_text.capitalize())}.</strong> '
+                   f"{e(view.status_explanation)}</div>")
+    for w in view.warnings:
+        out.append(f'<div class="callout partial"><strong>Warning.</strong> {e(w)}</div>')
+    return "\n".join(out)
+
+
+def _pill(state: str) -> str:
+    return f'<span class="pill {STATE_CLASS[state]}">{STATE_MARK[state]} {e(state)}</span>'
+
+
+def _score_table(view: ReportView) -> str:
+    if not view.checks and not view.hidden:
+        return ""
+    rows = []
+    for c in view.checks:
+        state = check_state(c)
+        pct = 0.0 if c.max_score <= 0 else max(0.0, min(100.0, 100 * c.score / c.max_score))
+        rows.append(
+            f"<tr><td>{_pill(state)}</td><td class=\"num\">{e(c.number)}</td>"
+            f"<td>{e(c.title)}</td>"
+            f'<td class="pts"><span class="bar {STATE_CLASS[state]}"><span style="width:{pct:.1f}%"></span></span>'
+            f"{e(points(c.score))} / {e(points(c.max_score))}</td></tr>")
+    for h in view.hidden:
+        many = h.count != 1
+        rows.append(f'<tr class="hidden-row"><td><span class="pill skipped">hidden</span></td><td></td>'
+                    f"<td>{h.count} more check{'s' if many else ''}, {e(h.when)}; "
+                    f"not counted here</td><td class=\"pts\">{e(points(h.max_score))} points</td></tr>")
+    rows.append(f'<tr class="total"><td></td><td></td><td>Total</td>'
+                f'<td class="pts">{e(points(view.score))} / {e(points(view.max_score))}</td></tr>')
+    return f"""
+<section>
+  <h2>Checks</h2>
+  <table class="checks">
+    <thead><tr><th>Result</th><th>#</th><th>Check</th><th class="pts">Points</th></tr></thead>
+    <tbody>
+      {"".join(rows)}
+    </tbody>
+  </table>
+</section>"""
+
+
+def _diagnosis_card(group: DiagnosisGroup) -> str:
+    info = group.info
+    findings = []
+    for d in group.findings:
+        where = f'<span class="chip">{e(d.face)}</span> ' if d.face else ""
+        hint = f' <em class="hint">{e(d.hint)}</em>' if d.hint else ""
+        findings.append(f"<li>{where}{e(d.detail)}{hint}</li>")
+    kind = "partial" if info.kind in ("speed",) else "failed"
+    return f"""
+<article class="diagnosis {kind}">
+  <h3>{e(info.title)} <code class="id">{e(info.id)}</code></h3>
+  <ul class="findings">{"".join(findings)}</ul>
+  <p>{catalogue_html(info.explanation)}</p>
+  <p class="todo"><strong>What to do.</strong> {catalogue_html(info.what_to_do)}</p>
+</article>"""
+
+
+def _diagnoses(view: ReportView) -> str:
+    if not view.diagnoses:
+        if view.checks and view.score >= view.max_score:
+            return ('<section><div class="callout passed"><strong>All correct.</strong> '
+                    f"{e(all_correct(view))}</div></section>")
+        return ""
+    cards = "".join(_diagnosis_card(g) for g in view.diagnoses)
+    return f'<section><h2>What to fix</h2>{cards}</section>'
+
+
+def _render_groups(view: ReportView) -> dict[str, tuple[CheckResult, dict[str, Path]]]:
+    groups: dict[str, tuple[CheckResult, dict[str, Path]]] = {}
+    for check, name, path in view.artifacts():
+        m = RENDER_ARTIFACT.match(name)
+        if m:
+            groups.setdefault(m.group(2) or "", (check, {}))[1][m.group(1)] = path
+    return groups
+
+
+def _metric(check: CheckResult, name: str, suffix: str) -> float | None:
+    for key in ([f"{name}_{suffix}", f"{name}:{suffix}"] if suffix else []) + [name]:
+        if key in check.metrics:
+            return check.metrics[key]
+    return None
+
+
+def _figures_line(items: list[tuple[str, float | None]]) -> str:
+    parts = []
+    for name, value in items:
+        if value is None:
+            continue
+        label, meaning = METRIC_LABELS.get(name, (name, ""))
+        meaning_html = f' <span class="note">({e(meaning)})</span>' if meaning else ""
+        parts.append(f"<span><strong>{e(label)}</strong> {e(figure(value))}{meaning_html}</span>")
+    return f'<p class="figures">{"".join(parts)}</p>' if parts else ""
+
+
+def _renders(view: ReportView) -> str:
+    groups = _render_groups(view)
+    if not groups:
+        return ""
+    blocks = []
+    for suffix in sorted(groups):
+        check, paths = groups[suffix]
+        title = f"<h3>{e(suffix.replace('_', ' '))}</h3>" if suffix else ""
+        figs = "".join(_figure(paths.get(role), caption, note, "pixels")
+                       for role, (caption, note) in RENDER_ROLES.items() if role in paths)
+        figures = _figures_line([("ssim", _metric(check, "ssim", suffix)),
+                                 ("flip_mean", _metric(check, "flip_mean", suffix))])
+        blocks.append(f'<div class="render-set">{title}<div class="renders">{figs}</div>{figures}</div>')
+    return f"<section><h2>Renders</h2>{''.join(blocks)}</section>"
+
+
+def _arrows_and_speed(view: ReportView) -> str:
+    cards = []
+    arrows = view.artifact(ARROWS_ARTIFACT)
+    if arrows is not None:
+        cards.append(
+            '<div class="card"><h2>Axis arrows</h2>'
+            + _figure(arrows, "The test map rendered with your code",
+                      "red, green and blue arrows must point along +x, +y and +z", "pixels")
+            + "</div>")
+    chart = view.artifact(CHART_ARTIFACT)
+    ns, ratio = view.metric("ns_per_lookup"), view.metric("speed_ratio")
+    if chart is not None or ns is not None or ratio is not None:
+        body = _figure(chart, "Speed against accuracy", "your lookup is the marked point") if chart else ""
+        cards.append(f'<div class="card"><h2>Speed</h2>{body}'
+                     f'{_figures_line([("ns_per_lookup", ns), ("speed_ratio", ratio)])}</div>')
+    return f'<section class="pair">{"".join(cards)}</section>' if cards else ""
+
+
+def _is_placed(name: str) -> bool:
+    return bool(RENDER_ARTIFACT.match(name)) or name in (ARROWS_ARTIFACT, CHART_ARTIFACT)
+
+
+def _details(view: ReportView) -> str:
+    items = []
+    for c in view.checks:
+        state = check_state(c)
+        output = check_output(c)
+        body = markdown_html(output) if output else ""
+        if c.metrics:
+            rows = "".join(f"<tr><td><code>{e(k)}</code></td><td>{e(figure(v))}</td></tr>"
+                           for k, v in sorted(c.metrics.items()))
+            body += f'<table class="metrics"><tbody>{rows}</tbody></table>'
+        extra = [(n, p) for n, p in sorted(c.artifacts.items()) if not _is_placed(n)]
+        if extra:
+            body += '<div class="gallery">' + "".join(
+                _figure(Path(p), n.replace("_", " ")) for n, p in extra) + "</div>"
+        if not body:
+            continue
+        open_attr = " open" if state not in (STATE_PASSED, STATE_SKIPPED) else ""
+        items.append(
+            f"<details{open_attr}><summary>{_pill(state)} <span class=\"num\">{e(c.number)}</span> "
+            f"{e(c.title)} <span class=\"pts\">{e(points(c.score))} / {e(points(c.max_score))}</span>"
+            f'</summary><div class="output">{body}</div></details>')
+    return f"<section><h2>Details of each check</h2>{''.join(items)}</section>" if items else ""
+
+
+def _build_log(view: ReportView) -> str:
+    if not view.build_log.strip():
+        return ""
+    failed = view.status == BUILD_ERROR
+    title = "Compiler messages" if failed else "Compiler messages (warnings)"
+    return (f'<section><details{" open" if failed else ""} class="log"><summary>{title}</summary>'
+            f"<pre>{e(truncate_middle(view.build_log))}</pre></details></section>")
+
+
+def _footer(view: ReportView) -> str:
+    parts = [f"graded in {e(seconds(view.execution_time_s))}"]
+    if view.source_sha256:
+        parts.append(f"source sha256 <code>{e(view.source_sha256[:16])}…</code>")
+    if not view.complete and view.hidden:
+        parts.append("hidden checks are not shown")
+    return f'<footer>{" · ".join(parts)}</footer>'
+
+
+def render(view: ReportView) -> str:
+    body = "\n".join(s for s in (
+        _header(view), _notices(view),
+        _build_log(view) if view.status == BUILD_ERROR else "",
+        _score_table(view), _diagnoses(view), _renders(view), _arrows_and_speed(view),
+        _details(view),
+        _build_log(view) if view.status != BUILD_ERROR else "",
+        _footer(view)) if s)
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta http-equiv="Content-Security-Policy" content="default-src 'none'; img-src data:; style-src 'unsafe-inline'">
+<meta name="color-scheme" content="light dark">
+<title>Feedback: {e(view.submission)}</title>
+<style>{CSS}</style>
+</head>
+<body>
+<main>
+{body}
+</main>
+</body>
+</html>
+"""
+
+
+CSS = """
+:root {
+  color-scheme: light dark;
+  --bg: #f5f6f8; --card: #ffffff; --text: #1c2129; --muted: #5c6773; --border: #e1e5ea;
+  --code-bg: #f0f2f5; --accent: #0b63ce;
+  --passed: #1a7f37; --passed-bg: #dcf5e3; --partial: #9a6700; --partial-bg: #fff4c2;
+  --failed: #c9252d; --failed-bg: #ffe9e8; --skipped: #6e7781; --skipped-bg: #eef0f2;
+  --track: #e6e9ee;
+}
+@media (prefers-color-scheme: dark) {
+  :root {
+    --bg: #0e1116; --card: #161b22; --text: #e6edf3; --muted: #9da7b3; --border: #2d333b;
+    --code-bg: #0b0e13; --accent: #58a6ff;
+    --passed: #3fb950; --passed-bg: rgba(63,185,80,.14); --partial: #d29922; --partial-bg: rgba(210,153,34,.16);
+    --failed: #f85149; --failed-bg: rgba(248,81,73,.14); --skipped: #8b949e; --skipped-bg: rgba(139,148,158,.14);
+    --track: #2d333b;
+  }
+}
+* { box-sizing: border-box; }
+html { background: var(--bg); }
+body { margin: 0; color: var(--text); background: var(--bg);
+  font: 16px/1.55 system-ui, -apple-system, "Segoe UI", Roboto, "Noto Sans", "Liberation Sans", sans-serif; }
+main { max-width: 1120px; margin: 0 auto; padding: 32px 24px 48px; }
+h1, h2, h3 { line-height: 1.25; margin: 0 0 .6em; }
+h1 { font-size: 1.9rem; letter-spacing: -.01em; overflow-wrap: anywhere; }
+h2 { font-size: 1.3rem; }
+h3 { font-size: 1.08rem; }
+section { margin: 28px 0; }
+code, pre { font-family: ui-monospace, "SFMono-Regular", Menlo, Consolas, "DejaVu Sans Mono", monospace; font-size: .88em; }
+code { background: var(--code-bg); padding: .1em .35em; border-radius: 4px; }
+pre { background: var(--code-bg); border: 1px solid var(--border); border-radius: 8px; padding: 14px 16px;
+  overflow-x: auto; white-space: pre-wrap; overflow-wrap: anywhere; margin: .6em 0; }
+pre code { background: none; padding: 0; }
+a { color: var(--accent); }
+.hero { display: flex; justify-content: space-between; align-items: center; gap: 24px;
+  background: var(--card); border: 1px solid var(--border); border-radius: 14px; padding: 24px 28px; }
+.eyebrow { margin: 0 0 .3em; color: var(--muted); font-size: .85rem; text-transform: uppercase; letter-spacing: .08em; }
+.meta { margin: 0; color: var(--muted); }
+.badge { display: inline-block; padding: .15em .7em; border-radius: 999px; font-weight: 600; font-size: .85rem;
+  margin-right: .5em; }
+.badge.passed { color: var(--passed); background: var(--passed-bg); }
+.badge.failed { color: var(--failed); background: var(--failed-bg); }
+.ring { --c: var(--skipped); flex: none; width: 132px; height: 132px; border-radius: 50%; display: grid; place-items: center;
+  background: conic-gradient(var(--c) calc(var(--p) * 1%), var(--track) 0); }
+.ring > div { width: 104px; height: 104px; border-radius: 50%; background: var(--card); display: grid;
+  place-content: center; text-align: center; }
+.ring strong { font-size: 1.75rem; line-height: 1.1; letter-spacing: -.02em; }
+.ring span { color: var(--muted); font-size: .85rem; }
+.ring.passed { --c: var(--passed); } .ring.partial { --c: var(--partial); } .ring.failed { --c: var(--failed); }
+.callout { border-radius: 10px; padding: 12px 16px; margin: 12px 0; border: 1px solid var(--border);
+  border-left-width: 5px; background: var(--card); }
+.callout.failed { border-left-color: var(--failed); }
+.callout.partial { border-left-color: var(--partial); }
+.callout.passed { border-left-color: var(--passed); }
+table { border-collapse: collapse; width: 100%; }
+table.checks { background: var(--card); border: 1px solid var(--border); border-radius: 12px; overflow: hidden;
+  border-collapse: separate; border-spacing: 0; }
+.checks th, .checks td { padding: 10px 14px; border-bottom: 1px solid var(--border); text-align: left; vertical-align: middle; }
+.checks th { font-size: .8rem; text-transform: uppercase; letter-spacing: .06em; color: var(--muted); font-weight: 600; }
+.checks tr:last-child td { border-bottom: none; }
+.checks .total td { font-weight: 700; }
+.checks .hidden-row td { color: var(--muted); font-style: italic; }
+.num { color: var(--muted); font-variant-numeric: tabular-nums; white-space: nowrap; }
+.pts { text-align: right !important; white-space: nowrap; font-variant-numeric: tabular-nums; }
+.bar { display: inline-block; width: 72px; height: 6px; border-radius: 3px; background: var(--track);
+  margin-right: 10px; vertical-align: middle; overflow: hidden; }
+.bar > span { display: block; height: 100%; background: var(--c, var(--skipped)); }
+.bar.passed { --c: var(--passed); } .bar.partial { --c: var(--partial); } .bar.failed { --c: var(--failed); }
+.pill { display: inline-block; padding: .1em .65em; border-radius: 999px; font-size: .82rem; font-weight: 600; white-space: nowrap; }
+.pill.passed { color: var(--passed); background: var(--passed-bg); }
+.pill.partial { color: var(--partial); background: var(--partial-bg); }
+.pill.failed { color: var(--failed); background: var(--failed-bg); }
+.pill.error, .pill.skipped { color: var(--skipped); background: var(--skipped-bg); }
+.diagnosis { background: var(--card); border: 1px solid var(--border); border-left: 5px solid var(--failed);
+  border-radius: 12px; padding: 16px 20px; margin: 14px 0; }
+.diagnosis.partial { border-left-color: var(--partial); }
+.diagnosis p { margin: .5em 0; }
+.id { font-size: .75rem; color: var(--muted); font-weight: 500; margin-left: .3em; }
+.chip { display: inline-block; font: 600 .8rem/1.4 ui-monospace, Menlo, Consolas, monospace; padding: .05em .5em;
+  border-radius: 6px; border: 1px solid var(--border); background: var(--code-bg); margin-right: .25em; }
+.findings { margin: .4em 0 .6em; padding-left: 1.2em; }
+.findings li { margin: .25em 0; }
+.hint { color: var(--muted); }
+.todo { background: var(--passed-bg); border-radius: 8px; padding: 10px 14px; }
+.card { background: var(--card); border: 1px solid var(--border); border-radius: 12px; padding: 18px 20px; }
+.render-set { background: var(--card); border: 1px solid var(--border); border-radius: 12px; padding: 18px 20px; margin-bottom: 16px; }
+.renders { display: grid; grid-template-columns: repeat(4, minmax(0, 1fr)); gap: 14px; }
+.pair { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 16px; }
+.gallery { display: grid; grid-template-columns: repeat(auto-fill, minmax(220px, 1fr)); gap: 14px; margin-top: 12px; }
+figure { margin: 0; }
+figure img { display: block; width: 100%; height: auto; border-radius: 8px; border: 1px solid var(--border);
+  background: repeating-conic-gradient(var(--track) 0 25%, transparent 0 50%) 0 0 / 16px 16px; }
+img.pixels { image-rendering: pixelated; }
+figcaption { margin-top: .45em; font-weight: 600; font-size: .92rem; }
+figcaption .note, .figures .note { display: block; font-weight: 400; color: var(--muted); font-size: .85rem; }
+.figures { display: flex; flex-wrap: wrap; gap: 8px 28px; margin: 14px 0 0; }
+.figures .note { display: inline; }
+.missing { aspect-ratio: 1; display: grid; place-items: center; border: 1px dashed var(--border); border-radius: 8px;
+  color: var(--muted); font-size: .9rem; }
+details { background: var(--card); border: 1px solid var(--border); border-radius: 12px; margin: 10px 0; }
+details > summary { cursor: pointer; padding: 12px 16px; display: flex; gap: 10px; align-items: center; list-style: none; }
+details > summary::-webkit-details-marker { display: none; }
+details > summary::before { content: "▸"; color: var(--muted); width: 1em; flex: none; transition: transform .15s; }
+details[open] > summary::before { transform: rotate(90deg); }
+details > summary .pts { margin-left: auto; color: var(--muted); }
+details[open] > summary { border-bottom: 1px solid var(--border); }
+.output { padding: 6px 18px 14px; overflow-wrap: anywhere; }
+.output table { margin: .6em 0; }
+.output th, .output td, .metrics td { border: 1px solid var(--border); padding: 4px 10px; text-align: left; }
+.metrics { width: auto; margin-top: .8em; font-variant-numeric: tabular-nums; }
+.log pre { margin: 0; border: none; border-radius: 0 0 12px 12px; max-height: 520px; overflow: auto; }
+footer { color: var(--muted); font-size: .85rem; text-align: center; margin-top: 36px; }
+@media (max-width: 760px) {
+  .renders { grid-template-columns: repeat(2, minmax(0, 1fr)); }
+  .hero { flex-direction: column-reverse; align-items: flex-start; }
+}
+"""

@@ -1,0 +1,103 @@
+"""A terminal summary with rich: colour where the terminal supports it
+(rich decides, and honours NO_COLOR), plain text otherwise."""
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+from rich import box
+from rich.console import Console, Group
+from rich.padding import Padding
+from rich.panel import Panel
+from rich.table import Table
+from rich.text import Text
+
+from ..results import BUILD_ERROR, GradeResult
+from .text import points, seconds
+from .view import (STATE_ERROR, STATE_FAILED, STATE_PARTIAL, STATE_PASSED,
+                   STATE_SKIPPED, ReportView, build_view, check_state)
+
+STATE_STYLE = {
+    STATE_PASSED: ("✓", "green"),
+    STATE_PARTIAL: ("◐", "yellow"),
+    STATE_FAILED: ("✗", "red"),
+    STATE_ERROR: ("!", "magenta"),
+    STATE_SKIPPED: ("-", "dim"),
+}
+LOG_LINES = 15   # compiler messages shown in the terminal; the reports have all
+
+
+def _score_style(view: ReportView) -> str:
+    if view.max_score <= 0:
+        return "dim"
+    fraction = view.score / view.max_score
+    return "green" if fraction >= 0.999 else "yellow" if fraction >= 0.5 else "red"
+
+
+def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Group:
+    parts = []
+    head = Text.assemble(
+        (view.submission, "bold"), "  ",
+        (f"{points(view.score)} / {points(view.max_score)}", f"bold {_score_style(view)}"),
+        "  ", (view.status_text, "dim" if view.status == "graded" else "bold red"),
+        "  ", (f"({seconds(view.execution_time_s)})", "dim"))
+    parts.append(head)
+    if view.status_explanation:
+        parts.append(Text(view.status_explanation, style="red"))
+    for w in view.warnings:
+        parts.append(Text.assemble(("warning: ", "bold yellow"), w))
+
+    if view.status == BUILD_ERROR and view.build_log.strip():
+        lines = view.build_log.strip().splitlines()
+        shown = "\n".join(lines[:LOG_LINES])
+        more = f"\n... {len(lines) - LOG_LINES} more lines in the reports" if len(lines) > LOG_LINES else ""
+        parts.append(Panel(Text(shown + more), title="compiler messages", box=box.ROUNDED,
+                           border_style="red", expand=False))
+
+    if view.checks:
+        table = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
+        table.add_column("", no_wrap=True)
+        table.add_column("#", style="dim", no_wrap=True)
+        table.add_column("check")
+        table.add_column("points", justify="right", no_wrap=True)
+        for c in view.checks:
+            mark, style = STATE_STYLE[check_state(c)]
+            table.add_row(Text(mark, style=style), c.number, c.title,
+                          Text(f"{points(c.score)} / {points(c.max_score)}", style=style))
+        parts.append(table)
+    for h in view.hidden:
+        many = h.count != 1
+        parts.append(Text(f"{h.count} hidden check{'s' if many else ''} "
+                          f"({points(h.max_score)} points), {h.when}", style="dim"))
+
+    for group in view.diagnoses:
+        faces = f" [{', '.join(group.faces)}]" if group.faces else ""
+        parts.append(Text.assemble(("• ", "red"), (group.info.title, "bold"),
+                                   (f"  {group.info.id}{faces}", "dim")))
+        for d in group.findings:
+            where = f"{d.face}: " if d.face else ""
+            parts.append(Padding(Text(f"{where}{d.detail}"), (0, 0, 0, 4), expand=False))
+        parts.append(Padding(Text.assemble(("what to do: ", "cyan"), group.info.what_to_do),
+                             (0, 0, 0, 4), expand=False))
+
+    if report_paths:
+        parts.append(Text("reports:", style="dim"))
+        for name in sorted(report_paths):
+            parts.append(Text(f"  {report_paths[name]}", style="dim"))
+    return Group(*parts)
+
+
+def print_summary(result: GradeResult, console: Console | None = None,
+                  report_paths: dict[str, Path] | None = None,
+                  include_hidden: bool = False) -> None:
+    # highlight=False: rich must not colour numbers inside the student's text.
+    console = console or Console(highlight=False)
+    console.print(summary(build_view(result, include_hidden), report_paths), highlight=False)
+
+
+def summary_text(result: GradeResult, width: int = 100, include_hidden: bool = False) -> str:
+    """The summary as plain text (no colour), e.g. for logs and tests."""
+    console = Console(width=width, color_system=None, force_terminal=False, record=True,
+                      file=io.StringIO(), highlight=False)
+    print_summary(result, console, include_hidden=include_hidden)
+    return "\n".join(line.rstrip() for line in console.export_text().splitlines()) + "\n"

@@ -1,0 +1,195 @@
+"""What a report may show: the one place the visibility rule is applied.
+
+Gradescope hides a test entry by its visibility, but our own reports
+(report.md, report.html, junit.xml, the terminal, the top-level output of
+results.json) are read as they are. So they are built from a ReportView:
+for students (the default) it holds only checks whose visibility is
+"visible", and the diagnoses, artifacts and figures of those checks. A check
+marked "hidden", "after_due_date" or "after_published" (or anything else) is
+reduced to its count and points. Instructors ask for include_hidden=True.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .. import diagnoses as catalogue
+from ..results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED,
+                       TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult)
+from .text import clean
+
+VISIBLE = "visible"
+
+# The sentence a report shows for a submission's overall status.
+STATUS_TEXT = {
+    GRADED: "graded",
+    BUILD_ERROR: "did not compile",
+    TIMEOUT: "timed out",
+    UNGRADABLE: "could not be graded",
+}
+
+# What a student is told when the status is not a plain "graded".
+STATUS_EXPLANATION = {
+    BUILD_ERROR: "Your code did not compile, so the checks could not run. "
+                 "The compiler's messages are below.",
+    TIMEOUT: "Grading your submission took longer than the time allowed and "
+             "was stopped; checks that did not finish score nothing.",
+    UNGRADABLE: "This submission could not be graded because of a problem in "
+                "the grader, not in your code. The score shown is not final: "
+                "please tell your instructor.",
+}
+
+# When a hidden check's results are shown, in Gradescope's terms.
+HIDDEN_WHEN = {
+    "hidden": "not shown to students",
+    "after_due_date": "shown after the due date",
+    "after_published": "shown when grades are published",
+}
+
+# Per-check states for display (finer than Gradescope's passed/failed).
+STATE_PASSED, STATE_PARTIAL, STATE_FAILED, STATE_ERROR, STATE_SKIPPED = (
+    "passed", "partial", "failed", "not run", "skipped")
+
+
+# What a check without output says, by its status.
+DEFAULT_OUTPUT = {
+    ERROR: "This check could not run because of a problem in the grader, not in your code.",
+    SKIPPED: "This check did not run because a check it depends on failed.",
+}
+
+
+def check_output(check: CheckResult) -> str:
+    """The check's output (Markdown), or a sentence saying why there is none."""
+    return clean(check.output).strip() or DEFAULT_OUTPUT.get(check.status, "")
+
+
+def is_visible(check: CheckResult) -> bool:
+    """Only "visible" is visible: an unknown visibility is treated as hidden."""
+    return check.visibility == VISIBLE
+
+
+def check_state(check: CheckResult) -> str:
+    if check.status == PASSED:
+        return STATE_PASSED
+    if check.status == ERROR:
+        return STATE_ERROR
+    if check.status == SKIPPED:
+        return STATE_SKIPPED
+    if check.status == FAILED and check.score > 0:
+        return STATE_PARTIAL
+    return STATE_FAILED
+
+
+@dataclass
+class DiagnosisGroup:
+    """All findings with one id, with the catalogue's words for it."""
+    info: catalogue.DiagnosisInfo
+    findings: list[Diagnosis] = field(default_factory=list)
+
+    @property
+    def faces(self) -> list[str]:
+        return sorted({d.face for d in self.findings if d.face})
+
+
+@dataclass
+class HiddenSummary:
+    count: int
+    max_score: float
+    when: str          # "shown after the due date", ...
+
+
+@dataclass
+class ReportView:
+    submission: str
+    status: str
+    score: float
+    max_score: float
+    checks: list[CheckResult]
+    hidden: list[HiddenSummary]
+    diagnoses: list[DiagnosisGroup]
+    warnings: list[str]
+    build_log: str
+    execution_time_s: float
+    source_sha256: str
+    complete: bool         # True when hidden checks are included
+
+    @property
+    def status_text(self) -> str:
+        return STATUS_TEXT.get(self.status, self.status)
+
+    @property
+    def status_explanation(self) -> str:
+        return STATUS_EXPLANATION.get(self.status, "")
+
+    def counts(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for check in self.checks:
+            state = check_state(check)
+            out[state] = out.get(state, 0) + 1
+        return out
+
+    def artifact(self, name: str) -> Path | None:
+        for check in self.checks:
+            if name in check.artifacts:
+                return Path(check.artifacts[name])
+        return None
+
+    def artifacts(self) -> list[tuple[CheckResult, str, Path]]:
+        """Every artifact of the shown checks, in check order then name order."""
+        return [(c, name, Path(c.artifacts[name]))
+                for c in self.checks for name in sorted(c.artifacts)]
+
+    def metric(self, name: str) -> float | None:
+        for check in self.checks:
+            if name in check.metrics:
+                return check.metrics[name]
+        return None
+
+
+def group_diagnoses(found: list[Diagnosis]) -> list[DiagnosisGroup]:
+    groups: dict[str, DiagnosisGroup] = {}
+    for d in found:
+        groups.setdefault(d.id, DiagnosisGroup(catalogue.describe(d.id))).findings.append(d)
+    return [groups[k] for k in sorted(groups, key=catalogue.sort_key)]
+
+
+def build_view(result: GradeResult, include_hidden: bool = False) -> ReportView:
+    shown = [c for c in result.checks if include_hidden or is_visible(c)]
+    withheld = [] if include_hidden else [c for c in result.checks if not is_visible(c)]
+
+    hidden: dict[str, HiddenSummary] = {}
+    for c in withheld:
+        when = HIDDEN_WHEN.get(c.visibility, "not shown to students")
+        h = hidden.setdefault(when, HiddenSummary(0, 0.0, when))
+        h.count += 1
+        h.max_score += c.max_score
+
+    if withheld:
+        # The total would reveal how the hidden checks went.
+        score = sum(c.score for c in shown)
+        max_score = sum(c.max_score for c in shown)
+    else:
+        score, max_score = result.score, result.max_score
+
+    seen, found = set(), []
+    for c in shown:
+        for d in c.diagnoses:
+            key = (d.id, d.face, d.detail)
+            if key not in seen:
+                seen.add(key)
+                found.append(d)
+
+    return ReportView(
+        submission=clean(result.submission),
+        status=result.status,
+        score=score,
+        max_score=max_score,
+        checks=shown,
+        hidden=sorted(hidden.values(), key=lambda h: h.when),
+        diagnoses=group_diagnoses(found),
+        warnings=[clean(w) for w in result.warnings],
+        build_log=clean(result.build_log),
+        execution_time_s=result.execution_time_s,
+        source_sha256=result.source_sha256,
+        complete=include_hidden,
+    )
