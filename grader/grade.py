@@ -27,6 +27,7 @@ class GradeOptions:
     quick: bool = False             # smaller direction sets (tests of the harness)
     rubric: Path = score.RUBRIC
     only: tuple[str, ...] = ()      # run only these checks (and what they depend on)
+    include_hidden: bool = True     # reports show hidden checks (instructors); False for students
 
 
 def run_seed(secret: str, source_sha256: str) -> int:
@@ -83,7 +84,7 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     result.execution_time_s = time.monotonic() - started
     if write_reports:
         from .reports import write_all
-        write_all(result, out_dir)
+        write_all(result, out_dir, include_hidden=options.include_hidden)
     return result
 
 

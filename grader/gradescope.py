@@ -37,7 +37,7 @@ set -uo pipefail
 root="${AUTOGRADER_ROOT:-/autograder}"
 cd "$root/source"
 mkdir -p "$root/results"
-.venv/bin/python -m grader grade "$root/submission" --out "$root/results" "$@"
+.venv/bin/python -m grader grade "$root/submission" --out "$root/results" --student-view "$@"
 status=$?
 # results.json is written even when grading fails; make sure Gradescope sees one.
 if [ ! -s "$root/results/results.json" ]; then

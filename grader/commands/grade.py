@@ -19,6 +19,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="run the worker with resource limits only (no bubblewrap)")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
+    p.add_argument("--student-view", action="store_true",
+                   help="leave hidden checks out of report.md and report.html (what students see)")
     p.add_argument("--fail-under", type=float, metavar="SCORE",
                    help="exit with status 1 when a score is below SCORE (for CI)")
 
@@ -35,14 +37,16 @@ def run(args) -> int:
         outs = [args.out / s.stem for s in submissions]
     else:
         outs = [args.out or PROJECT_ROOT / "out" / s.name.split(".")[0] for s in submissions]
-    options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale, quick=args.quick)
+    options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale, quick=args.quick,
+                           include_hidden=not args.student_view)
     status = 0
     for submission, out in zip(submissions, outs):
         if not submission.exists():
             print(f"error: {submission} does not exist")
             return 2
         result = grade(submission, out, options)
-        print_summary(result, out)
+        print_summary(result, report_paths={name: out / name for name in ("report.html", "report.md", "results.json")},
+                      include_hidden=not args.student_view)
         if args.fail_under is not None and result.score < args.fail_under:
             status = 1
     return status
