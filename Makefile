@@ -49,6 +49,9 @@ venv: $(VENV)/.installed
 test: system-deps venv reference
 	$(PY) -m pytest -n 2 -q tests
 
+study: venv reference
+	$(PY) -m grader study
+
 sanitize: $(BUILD)/asan/libenvmap.so
 	@true
 
