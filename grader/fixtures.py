@@ -70,19 +70,19 @@ def prepared_scene(fixture: RenderFixture) -> reference.Scene:
     return scene
 
 
-def inputs() -> list[Path]:
+def inputs(project: Path = PROJECT_ROOT) -> list[Path]:
     """Everything the fixtures depend on."""
-    ref = sorted((PROJECT_ROOT / "reference").glob("src/*.[ch]")) + [reference.HEADER]
-    scenes = [MAIN_SCENE] + sorted((PROJECT_ROOT / "scenes").glob("*.cfg"))
-    return ref + scenes + maps() + [Path(__file__)]
+    ref = sorted((project / "reference").glob("src/*.[ch]")) + [project / "reference" / "include" / "envmap.h"]
+    scenes = [project / MAIN_SCENE.name] + sorted((project / "scenes").glob("*.cfg"))
+    return ref + scenes + sorted((project / "Cubemap").glob("*.hdr")) + [project / "grader" / "fixtures.py"]
 
 
 def _sha256(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-def _rel(path: Path) -> str:
-    return path.resolve().relative_to(PROJECT_ROOT).as_posix()
+def _rel(path: Path, project: Path = PROJECT_ROOT) -> str:
+    return path.resolve().relative_to(project.resolve()).as_posix()
 
 
 def _write_atomic(path: Path, data: bytes) -> None:
@@ -139,16 +139,17 @@ def write_sweeps() -> list[Path]:
     return out
 
 
-def check_stale() -> None:
+def check_stale(project: Path = PROJECT_ROOT) -> None:
     """Raise StaleFixtures naming what changed since `make fixtures` last ran."""
-    if not MANIFEST.exists():
+    manifest_path = project / MANIFEST.relative_to(PROJECT_ROOT)
+    if not manifest_path.exists():
         raise StaleFixtures("fixtures/manifest.json is missing: run `make fixtures`.")
-    manifest = json.loads(MANIFEST.read_text())
+    manifest = json.loads(manifest_path.read_text())
     problems = []
     if manifest.get("generator_version") != GENERATOR_VERSION:
         problems.append("the fixture generator changed")
     recorded = manifest.get("inputs", {})
-    current = {_rel(p): _sha256(p) for p in inputs()}
+    current = {_rel(p, project): _sha256(p) for p in inputs(project)}
     for name in sorted(set(recorded) | set(current)):
         if name not in current:
             problems.append(f"{name} was removed")
@@ -157,7 +158,7 @@ def check_stale() -> None:
         elif recorded[name] != current[name]:
             problems.append(f"{name} changed")
     for name, digest in sorted(manifest.get("files", {}).items()):
-        path = PROJECT_ROOT / name
+        path = project / name
         if not path.exists():
             problems.append(f"fixture {name} is missing")
         elif _sha256(path) != digest:
