@@ -49,6 +49,9 @@ venv: $(VENV)/.installed
 test: system-deps venv reference
 	$(PY) -m pytest -n 2 -q tests
 
+bundle: venv
+	$(PY) -m grader bundle
+
 study: venv reference
 	$(PY) -m grader study
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from . import score
 from .checks import all_checks
 from .checks.context import CheckContext
-from .results import BUILD_ERROR, ERROR, FAILED, SKIPPED, TIMEOUT, CheckResult, Diagnosis, GradeResult
+from .results import BUILD_ERROR, ERROR, FAILED, SKIPPED, TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult
 
 
 @dataclass
@@ -46,7 +46,7 @@ def _display_name(path: Path) -> str:
 
 
 def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, write_reports: bool = True) -> GradeResult:
-    from .build import build_submission
+    from .build import HarnessBuildError, build_submission
     options = options or GradeOptions()
     started = time.monotonic()
     submission = Path(submission)
@@ -65,7 +65,16 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
         except StaleFixtures as e:
             raise SystemExit(str(e))
 
-    build = build_submission(submission, sanitize=options.sanitize)
+    try:
+        build = build_submission(submission, sanitize=options.sanitize)
+    except HarnessBuildError as e:   # our own sources failed to build: not the student's fault
+        result.status = UNGRADABLE
+        result.warnings.append(f"The grader could not build its own files: {e}")
+        score.apply(result, rubric)
+        if write_reports:
+            from .reports import write_all
+            write_all(result, out_dir, include_hidden=options.include_hidden)
+        return result
     result.build_log = build.log
     result.warnings += list(build.notes)
     result.source_sha256 = build.sha256 or ""
