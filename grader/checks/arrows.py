@@ -61,7 +61,7 @@ def run(ctx: CheckContext) -> CheckResult:
     sphere = fibonacci_sphere(6000 if ctx.quick else 20_000)
     both = np.concatenate([caps.reshape(-1, 3), sphere])
     outcome = ctx.lookups.fetch(both)
-    diagnoses = failure_diagnoses(outcome)
+    diagnoses = failure_diagnoses(outcome.failures)
     n_caps = caps.shape[0] * caps.shape[1]
     sub_caps = colour_class(outcome.values[:n_caps]).reshape(caps.shape[:2])
     sub_sphere = colour_class(outcome.values[n_caps:])

@@ -25,14 +25,15 @@ FAILURE_DIAGNOSIS = {
     "timeout": "timeout",
     "out-of-bounds-read": "out-of-bounds-read",
     "forbidden-syscall": "forbidden-syscall",
+    "load-error": "crash",
 }
 
 
 class SubmissionLookups(Protocol):
     def set_faces(self, faces: np.ndarray) -> None: ...
     def fetch(self, dirs: np.ndarray) -> Any: ...
-    def read_texture(self, face: int, uv: np.ndarray, placement: str = "after") -> Any: ...
-    def time_fetch(self, dirs: np.ndarray, repeats: int) -> float: ...
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Any: ...
+    def time_fetch(self, dirs: np.ndarray, repeats: int) -> tuple[float | None, Any]: ...
 
 
 @dataclass
@@ -49,16 +50,16 @@ class CheckContext:
         return self.artifacts / name
 
 
-def failure_diagnoses(outcome, limit: int = 3) -> list[Diagnosis]:
-    """One diagnosis per distinct failure kind, with the input that caused it."""
+def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
+    """One diagnosis per distinct failure kind (grader.worker.Failure), with
+    the input that caused it."""
     out, seen = [], set()
-    for failure in getattr(outcome, "failures", []):
+    for failure in failures:
         kind = FAILURE_DIAGNOSIS.get(failure.kind, "crash")
         if kind in seen:
             continue
         seen.add(kind)
-        detail = failure.message if hasattr(failure, "message") else str(failure)
-        out.append(Diagnosis(kind, detail, hint=getattr(failure, "hint", "")))
+        out.append(Diagnosis(kind, failure.describe(), hint=failure.hint))
         if len(out) >= limit:
             break
     return out

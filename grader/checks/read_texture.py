@@ -10,8 +10,10 @@ from .compare import compare, explain, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .textures import coordinate_faces, random_faces
 
-# Square and non-square faces, so a W/H mix-up shows.
-FACE_SIZES = ((16, 16), (13, 7))
+# Square and non-square faces, so a W/H mix-up shows; faces one texel tall,
+# where every row is the last, so reading x = W faults on a guard page on
+# every row (rows are contiguous: elsewhere x = W reads the next row's x = 0).
+FACE_SIZES = ((16, 16), (13, 7), (9, 1))
 # The first and last face: reading past the last face's end leaves the buffer.
 FACES = (0, 5)
 
@@ -86,18 +88,18 @@ def run(ctx: CheckContext) -> CheckResult:
             for face in FACES:
                 expected = cube.read_texture(face, uv, "bilinear")
                 tol = tolerance(w, h, float(np.abs(faces[face]).max()))
-                for placement in ("after", "before"):
+                for placement in ("end", "start"):
                     outcome = ctx.lookups.read_texture(face, uv, placement)
                     cmp = compare(outcome.values, expected, tol)
                     total += len(uv)
                     matched += int(cmp.ok.sum())
-                    diagnoses += failure_diagnoses(outcome)
+                    diagnoses += failure_diagnoses(outcome.failures)
                     if cmp.fraction < 1.0 and len(lines) < 6:
                         name = reference.FACE_NAMES[face]
                         lines.append(f"Face {w}x{h} ({kind} texels), face {name}:")
                         lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
                                              outcome.values, expected, limit=3))
-                    if kind == "coordinate" and placement == "after" and cmp.fraction < 0.99:
+                    if kind == "coordinate" and placement == "end" and cmp.fraction < 0.99:
                         found = recognise(ctx, cube, face, uv, outcome.values, tol)
                         if found:
                             recognised[found[0]] = recognised.get(found[0], 0) + 1

@@ -37,7 +37,7 @@ def run(ctx: CheckContext) -> CheckResult:
         items = items[:1]
     for i, fixture in enumerate(items):
         image, outcome = render_with_submission(ctx, fixture)
-        diagnoses += failure_diagnoses(outcome)
+        diagnoses += failure_diagnoses(outcome.failures)
         expected = display(reference.read_hdr(fixture.path))
         got = display(image)
         s = ssim(expected, got)

@@ -6,7 +6,7 @@ import numpy as np
 from .. import PROJECT_ROOT, reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
-from .context import CheckContext
+from .context import CheckContext, failure_diagnoses
 from .directions import random_directions
 from .textures import random_faces
 
@@ -38,8 +38,14 @@ def run(ctx: CheckContext) -> CheckResult:
     with open_lookups(baseline_library(), sandbox=getattr(ctx.lookups, "sandboxed", None)) as base:
         base.set_faces(faces)
         for _ in range(ROUNDS):
-            sub_ns.append(ctx.lookups.time_fetch(dirs, REPEATS))
-            ref_ns.append(base.time_fetch(dirs, REPEATS))
+            ns, failure = ctx.lookups.time_fetch(dirs, REPEATS)
+            if failure is not None:
+                result.status, result.fraction = FAILED, 0.0
+                result.output = f"fetchColor could not be timed: {failure.describe()}"
+                result.diagnoses = failure_diagnoses([failure])
+                return result
+            sub_ns.append(ns)
+            ref_ns.append(base.time_fetch(dirs, REPEATS)[0])
     sub, ref = float(np.median(sub_ns)), float(np.median(ref_ns))
     ratio = sub / ref if ref > 0 else float("inf")
     result.metrics.update(ns_per_lookup=sub, reference_ns_per_lookup=ref, speed_ratio=ratio)

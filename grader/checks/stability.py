@@ -67,12 +67,12 @@ def run(ctx: CheckContext) -> CheckResult:
     outcome = ctx.lookups.fetch(degenerate)
     crashed = len({f.index for f in outcome.failures})
     parts.append(("zero, NaN and infinite directions do not crash", len(degenerate), len(degenerate) - crashed))
-    diagnoses += failure_diagnoses(outcome)
+    diagnoses += failure_diagnoses(outcome.failures)
 
     # 2. Extreme but valid directions: finite and equal to the reference.
     extreme = extreme_directions()
     outcome = ctx.lookups.fetch(extreme)
-    diagnoses += failure_diagnoses(outcome)
+    diagnoses += failure_diagnoses(outcome.failures)
     finite = np.isfinite(outcome.values).all(axis=1)
     failed = {f.index for f in outcome.failures}
     nan_rows = [i for i in np.flatnonzero(~finite) if i not in failed]
@@ -87,7 +87,7 @@ def run(ctx: CheckContext) -> CheckResult:
     # 3. Ties moved by one ulp: either touching face is right.
     ties = ulp_moved(np.concatenate([corners(), edges(4)]))
     outcome = ctx.lookups.fetch(ties)
-    diagnoses += failure_diagnoses(outcome)
+    diagnoses += failure_diagnoses(outcome.failures)
     expected = np.concatenate([cube.fetch(ties, filter)[:, None], tie_alternatives(cube, ties, filter)], axis=1)
     cmp = compare(outcome.values, expected, tol)
     parts.append(("edges and corners moved by one ulp", len(ties), int(cmp.ok.sum())))

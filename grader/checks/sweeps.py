@@ -53,7 +53,7 @@ def run(ctx: CheckContext) -> CheckResult:
         acceptable = np.concatenate([expected[:, None, :], tie_alternatives(cube, dirs, filter)], axis=1)
         tol = tolerance(w, h, float(max(w, h) + 1)) + slack
         cmp = compare(outcome.values, acceptable, tol)
-        diagnoses += failure_diagnoses(outcome)
+        diagnoses += failure_diagnoses(outcome.failures)
         failed_inputs = {f.index for f in getattr(outcome, "failures", [])}
         nan_rows = np.flatnonzero(~np.isfinite(outcome.values).all(axis=1))
         fresh_nan = [i for i in nan_rows if i not in failed_inputs]

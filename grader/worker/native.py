@@ -1,0 +1,61 @@
+"""Build the worker executable (worker.c) once per machine, into build/worker.
+
+Rebuilt when the content hash of its sources and flags changes (recorded in
+build/worker.sha256), under a file lock so parallel test processes build it
+once; the new binary is renamed into place, so no process runs a half-written
+one.
+"""
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import os
+import subprocess
+import threading
+from pathlib import Path
+
+from .. import PROJECT_ROOT
+
+SOURCES = [Path(__file__).with_name("worker.c"), PROJECT_ROOT / "grader" / "shim" / "submission_abi.h"]
+BINARY = PROJECT_ROOT / "build" / "worker"
+CC = os.environ.get("CC", "cc")
+CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"]
+LIBS = ["-ldl"]
+
+_lock = threading.Lock()
+_checked: Path | None = None
+
+
+class WorkerBuildError(RuntimeError):
+    """worker.c did not compile: a harness problem, never the student's."""
+
+
+def _content_hash() -> str:
+    h = hashlib.sha256()
+    for path in SOURCES:
+        h.update(path.name.encode() + b"\0" + path.read_bytes())
+    h.update(" ".join([CC, *CFLAGS, *LIBS]).encode())
+    return h.hexdigest()
+
+
+def worker_binary() -> Path:
+    """The path of an up-to-date worker executable, building it if needed."""
+    global _checked
+    with _lock:
+        if _checked is not None:
+            return _checked
+        digest = _content_hash()
+        stamp = BINARY.with_name("worker.sha256")
+        BINARY.parent.mkdir(parents=True, exist_ok=True)
+        with open(BINARY.with_name(".worker.lock"), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            if not (BINARY.is_file() and stamp.is_file() and stamp.read_text().strip() == digest):
+                tmp = BINARY.with_name(f".worker.{os.getpid()}")
+                cmd = [CC, *CFLAGS, "-o", str(tmp), str(SOURCES[0]), *LIBS]
+                done = subprocess.run(cmd, capture_output=True, text=True)
+                if done.returncode != 0:
+                    raise WorkerBuildError(f"{' '.join(cmd)} failed:\n{done.stderr}")
+                os.replace(tmp, BINARY)
+                stamp.write_text(digest + "\n")
+        _checked = BINARY
+        return BINARY

@@ -1,0 +1,397 @@
+"""Worker: one worker process (worker.c) with one submission loaded in it.
+
+It runs in the bubblewrap sandbox when it can (sandbox.py), in a fresh
+temporary directory, with an empty environment and resource limits set by
+worker.c itself. Requests go over a private pipe pair; fds 1 and 2 go to a
+capped capture (capture.py). Every call has its own wall-clock timeout: on
+expiry the worker's process group is killed and the call raises
+SubmissionFailure(kind="timeout"). Anything else the submission does wrong
+raises SubmissionFailure too (failures.py); only harness bugs raise
+WorkerHarnessError.
+"""
+from __future__ import annotations
+
+import fcntl
+import os
+import select
+import shutil
+import signal
+import struct
+import subprocess
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import protocol
+from .capture import CappedOutput
+from .failures import (EXCEPTION, EXITED, FORBIDDEN_SYSCALL, LOAD_ERROR, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash,
+                       signal_name)
+from .native import worker_binary
+from .sandbox import INPUT_INSIDE, bwrap_command, fallback_warning, sandbox_problem
+
+LIBRARY_NAME = "submission.so"
+PIPE_BYTES = 1 << 20
+
+
+class WorkerHarnessError(RuntimeError):
+    """The grader's side went wrong (a bad request, a worker that cannot
+    start): never charged to the student."""
+
+
+@dataclass(frozen=True)
+class Limits:
+    address_space_mb: int | None = 2048   # None: unlimited (AddressSanitizer builds need that)
+    cpu_seconds: int | None = 120         # over the worker's life: a backstop to the wall-clock timeouts
+    file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
+    processes: int = 64                   # threads included; applied in the sandbox's own user namespace
+    seccomp: bool = True
+
+
+def _enlarge_pipe(fd: int) -> None:
+    """Fewer round trips through the kernel for large batches (Linux only;
+    the default 64 KiB works too)."""
+    try:
+        fcntl.fcntl(fd, getattr(fcntl, "F_SETPIPE_SZ", 1031), PIPE_BYTES)
+    except OSError:
+        pass
+
+
+def _deadline_left(deadline: float) -> float:
+    return max(0.0, deadline - time.monotonic())
+
+
+class Worker:
+    """A worker process serving one submission. Use as a context manager, or
+    call close(). `mode` is "sandbox" or "plain"; `warning` is the sentence for
+    the report when the sandbox was wanted but unavailable."""
+
+    def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
+                 preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
+                 start_timeout_s: float = 15.0):
+        if sandbox not in ("auto", "sandbox", "plain"):
+            raise ValueError(f"sandbox must be auto, sandbox or plain, not {sandbox!r}")
+        self.library = Path(library)
+        self.limits = limits
+        self.warning: str | None = None
+        problem = sandbox_problem() if sandbox != "plain" else None
+        if sandbox == "sandbox" and problem:
+            raise WorkerHarnessError(f"sandbox requested but unavailable: {problem}")
+        if sandbox == "auto" and problem:
+            self.warning = fallback_warning(problem)
+        self.mode = "plain" if sandbox == "plain" or problem else "sandbox"
+        self._preload = preload
+        self._cap = (output_head, output_tail)
+        self._start_timeout_s = start_timeout_s
+        self._proc: subprocess.Popen | None = None
+        self._output: CappedOutput | None = None
+        self._tmp: Path | None = None
+        self._request_fd = self._response_fd = -1
+        self.start_time_s = 0.0
+
+    # ---- life cycle -------------------------------------------------------
+
+    def __enter__(self) -> "Worker":
+        self.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    @property
+    def alive(self) -> bool:
+        return self._proc is not None and self._proc.poll() is None
+
+    def start(self) -> None:
+        """Start the worker and load the submission (its static initialisers
+        run now). Raises SubmissionFailure when loading fails."""
+        if self._proc is not None:
+            raise WorkerHarnessError("worker already started")
+        began = time.monotonic()
+        binary = worker_binary()
+        self._tmp = Path(tempfile.mkdtemp(prefix="envmap-worker-"))
+        input_dir, cwd = self._tmp / "input", self._tmp / "cwd"
+        input_dir.mkdir()
+        cwd.mkdir()
+        shutil.copyfile(self.library, input_dir / LIBRARY_NAME)
+        request_r, request_w = os.pipe()
+        response_r, response_w = os.pipe()
+        output_r, output_w = os.pipe()
+        for fd in (request_w, response_w):
+            _enlarge_pipe(fd)
+        args = self._limit_args() + [str(request_r), str(response_w)]
+        env = {"PATH": "/usr/bin:/bin", "LANG": "C"}
+        if self._preload:
+            env["LD_PRELOAD"] = ":".join(self._preload)
+        if self.mode == "sandbox":
+            cmd = bwrap_command(binary, input_dir, args + [f"{INPUT_INSIDE}/{LIBRARY_NAME}"], env)
+        else:
+            cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
+        try:
+            self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
+                                          pass_fds=(request_r, response_w), start_new_session=True,
+                                          env=env, cwd=cwd, close_fds=True)
+        except OSError as exc:
+            for fd in (request_r, request_w, response_r, response_w, output_r, output_w):
+                os.close(fd)
+            raise WorkerHarnessError(f"cannot start the worker: {exc}") from exc
+        for fd in (request_r, response_w, output_w):
+            os.close(fd)
+        self._request_fd, self._response_fd = request_w, response_r
+        os.set_blocking(self._request_fd, False)
+        self._output = CappedOutput(output_r, *self._cap)
+        deadline = time.monotonic() + self._start_timeout_s
+        try:
+            status, count, payload = self._receive(None, None, deadline, "loading the submission")
+            if status != protocol.READY or count != 1:
+                self._fail(PROTOCOL, f"expected the ready message, got status {protocol.STATUS_NAMES[status]}")
+        except BaseException:
+            self.close()
+            raise
+        self.start_time_s = time.monotonic() - began
+
+    def _limit_args(self) -> list[str]:
+        lim = self.limits
+        args = ["--fsize", str(lim.file_size_bytes)]
+        if lim.address_space_mb:
+            args += ["--as-mb", str(lim.address_space_mb)]
+        if lim.cpu_seconds:
+            args += ["--cpu-s", str(lim.cpu_seconds)]
+        # Only in the sandbox: outside it, RLIMIT_NPROC counts all of the
+        # grader user's processes (the seccomp filter stops fork either way).
+        if self.mode == "sandbox" and lim.processes:
+            args += ["--nproc", str(lim.processes)]
+        if not lim.seccomp:
+            args.append("--no-seccomp")
+        return args
+
+    def close(self) -> None:
+        """Stop the worker (politely, then by force) and remove its files."""
+        if self._proc is not None:
+            if self._proc.poll() is None:
+                try:
+                    os.write(self._request_fd, b"".join(protocol.request(protocol.QUIT, 0)))
+                except OSError:
+                    pass
+                try:
+                    self._proc.wait(timeout=1.0)
+                except subprocess.TimeoutExpired:
+                    pass
+            self._kill()
+        for fd in (self._request_fd, self._response_fd):
+            if fd >= 0:
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self._request_fd = self._response_fd = -1
+        if self._output is not None:
+            self._output.wait_closed(2.0)
+        if self._tmp is not None:
+            shutil.rmtree(self._tmp, ignore_errors=True)
+            self._tmp = None
+
+    def _kill(self) -> None:
+        """Kill the worker's whole process group and reap it."""
+        if self._proc is None:
+            return
+        try:
+            os.killpg(self._proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        try:
+            self._proc.wait(timeout=5.0)
+        except subprocess.TimeoutExpired:
+            self._proc.kill()
+            self._proc.wait()
+
+    def output(self) -> str:
+        """Everything the submission printed so far (capped)."""
+        return self._output.text() if self._output else ""
+
+    # ---- requests ---------------------------------------------------------
+
+    def set_faces(self, faces: np.ndarray, placement: str = "end", timeout_s: float = 10.0) -> None:
+        """Give the submission six faces (6, H, W, 3) float32 (sub_set_faces),
+        copied into a guarded buffer whose last byte ends a page ("end") or
+        whose first byte starts one ("start")."""
+        faces = np.asarray(faces)
+        if faces.ndim != 4 or faces.shape[0] != 6 or faces.shape[3] != 3:
+            raise ValueError(f"faces must have shape (6, H, W, 3), not {faces.shape}")
+        payload = protocol.set_faces_payload(faces)
+        self._call(protocol.SET_FACES, protocol.PLACEMENTS[placement], payload, 0, 0, timeout_s, "setting the faces")
+
+    def fetch(self, dirs: np.ndarray, timeout_s: float = 10.0) -> np.ndarray:
+        """fetchColor for each direction (n, 3) -> colours (n, 3) float64."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        n = len(dirs)
+        _, payload = self._call(protocol.FETCH, n, dirs.tobytes(), n, n * 24, timeout_s, "fetchColor")
+        return protocol.decode_doubles(payload, n)
+
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end",
+                     timeout_s: float = 10.0) -> np.ndarray:
+        """readTexture(face's own guarded copy, u, v) for each (u, v) (n, 2) -> (n, 3)."""
+        if not 0 <= face < 6:
+            raise ValueError(f"face must be 0..5, not {face}")
+        uv = np.ascontiguousarray(uv, dtype=np.float64).reshape(-1, 2)
+        n = len(uv)
+        head = struct.pack("=ii", face, protocol.PLACEMENTS[placement])
+        _, payload = self._call(protocol.READ_TEXTURE, n, head + uv.tobytes(), n, n * 24, timeout_s,
+                                "readTexture")
+        return protocol.decode_doubles(payload, n)
+
+    def time_fetch_ns(self, dirs: np.ndarray, repeats: int = 5, timeout_s: float = 30.0) -> np.ndarray:
+        """Nanoseconds each of `repeats` sub_fetch_batch calls over `dirs` took,
+        measured inside the worker."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        head = struct.pack("=II", repeats, 0)
+        _, payload = self._call(protocol.TIME_FETCH, len(dirs), head + dirs.tobytes(), repeats, repeats * 8,
+                                timeout_s, "fetchColor")
+        return np.frombuffer(payload, dtype=np.uint64).astype(np.int64)
+
+    def time_fetch(self, dirs: np.ndarray, repeats: int = 5, timeout_s: float = 30.0) -> float:
+        """Median nanoseconds per lookup over `repeats` timed batches."""
+        times = self.time_fetch_ns(dirs, repeats, timeout_s)
+        return float(np.median(times)) / max(1, len(np.reshape(dirs, (-1, 3))))
+
+    def load_cross(self, path: str | os.PathLike, timeout_s: float = 30.0) -> tuple[bool, str]:
+        """loadFromCrossHDR on a copy of `path` visible to the worker:
+        (loaded, message). Afterwards fetch uses the submission's own texels."""
+        name = "cross.hdr"
+        shutil.copyfile(path, self._tmp / "input" / name)
+        inside = f"{INPUT_INSIDE}/{name}" if self.mode == "sandbox" else str(self._tmp / "input" / name)
+        count, payload = self._call(protocol.LOAD_CROSS, 0, inside.encode(), None, None, timeout_s,
+                                    "loadFromCrossHDR")
+        if count not in (0, 1):
+            self._fail(PROTOCOL, f"loadFromCrossHDR reply with count {count}")
+        return bool(count), protocol.decode_text(payload)
+
+    # ---- the exchange -----------------------------------------------------
+
+    def _call(self, op: int, count: int, payload: bytes, expected_count: int | None,
+              expected_bytes: int | None, timeout_s: float, what: str) -> tuple[int, bytes]:
+        if not self.alive:
+            raise WorkerHarnessError("the worker is not running (start it, or start a new one after a failure)")
+        deadline = time.monotonic() + timeout_s
+        self._send(protocol.request(op, count, payload), deadline, what)
+        status, count, reply = self._receive(expected_count, expected_bytes, deadline, what)
+        if status == protocol.OK:
+            return count, reply
+        if status == protocol.EXCEPTION:
+            text = protocol.decode_text(reply)
+            raise SubmissionFailure(EXCEPTION, f"uncaught exception: {text}" if text else "uncaught exception",
+                                    fatal=False, output=self.output(),
+                                    detail="bad_alloc" if "bad_alloc" in text else "")
+        if status in (protocol.ARGUMENT, protocol.BAD_REQUEST):
+            raise WorkerHarnessError(f"{what}: the worker refused the request: {protocol.decode_text(reply)}")
+        self._fail(PROTOCOL, f"unexpected reply status {protocol.STATUS_NAMES[status]} to {what}")
+
+    def _send(self, buffers: list, deadline: float, what: str) -> None:
+        poller = select.poll()
+        poller.register(self._request_fd, select.POLLOUT)
+        for buf in buffers:
+            view = memoryview(buf).cast("B")
+            while len(view):
+                if not poller.poll(_deadline_left(deadline) * 1000):
+                    self._timeout(what, deadline)
+                try:
+                    n = os.write(self._request_fd, view[:1 << 20])
+                except BlockingIOError:
+                    continue
+                except BrokenPipeError:
+                    return      # the worker is gone: its reply (or EOF) says why
+                view = view[n:]
+
+    def _read_exact(self, size: int, deadline: float, what: str) -> bytes | None:
+        """`size` bytes, or None at end of file (the worker exited)."""
+        chunks, got = [], 0
+        while got < size:
+            ready, _, _ = select.select([self._response_fd], [], [], _deadline_left(deadline))
+            if not ready:
+                self._timeout(what, deadline)
+            chunk = os.read(self._response_fd, min(size - got, 1 << 20))
+            if not chunk:
+                if got:
+                    self._fail(PROTOCOL, f"reply cut off after {got} of {size} bytes")
+                return None
+            chunks.append(chunk)
+            got += len(chunk)
+        return b"".join(chunks)
+
+    def _receive(self, expected_count, expected_bytes, deadline, what) -> tuple[int, int, bytes]:
+        head = self._read_exact(protocol.HEADER.size, deadline, what)
+        if head is None:
+            self._exited(what)
+        try:
+            status, count, size = protocol.decode_header(head)
+            protocol.check_reply_size(status, count, size, expected_count, expected_bytes)
+        except protocol.ProtocolViolation as exc:
+            self._fail(PROTOCOL, str(exc))
+        payload = self._read_exact(size, deadline, what) if size else b""
+        if payload is None:
+            self._fail(PROTOCOL, "reply cut off before its payload")
+        if status == protocol.CRASH:
+            try:
+                report = protocol.decode_crash(payload)
+            except protocol.ProtocolViolation as exc:
+                self._fail(PROTOCOL, str(exc))
+            self._finish()
+            raise from_crash(report, self.output(), self.limits.cpu_seconds)
+        if status == protocol.LOAD_ERROR:
+            self._finish()
+            raise SubmissionFailure(LOAD_ERROR, f"the submission could not be loaded: {protocol.decode_text(payload)}",
+                                    output=self.output())
+        if status == protocol.EXCEPTION and expected_count is None and what == "loading the submission":
+            self._finish()
+            raise SubmissionFailure(EXCEPTION, f"the EnvironmentMap constructor threw: {protocol.decode_text(payload)}",
+                                    output=self.output())
+        return status, count, payload
+
+    # ---- endings ----------------------------------------------------------
+
+    def _finish(self) -> None:
+        """The worker is ending: make sure it is gone and its output read."""
+        try:
+            self._proc.wait(timeout=2.0)
+        except subprocess.TimeoutExpired:
+            pass
+        self._kill()
+        self._output.wait_closed(2.0)
+
+    def _timeout(self, what: str, deadline: float):
+        self._kill()
+        self._output.wait_closed(2.0)
+        raise SubmissionFailure(TIMEOUT, f"{what} did not finish in time (killed)", output=self.output())
+
+    def _exited(self, what: str):
+        self._finish()
+        status = self._proc.returncode
+        # bubblewrap reports a child killed by signal n as exit status 128 + n.
+        if status is not None and (status < 0 or (self.mode == "sandbox" and status > 128)):
+            signo = -status if status < 0 else status - 128
+            name = signal_name(signo)
+            if signo == signal.SIGSYS:
+                # The filter's trap with signals blocked (system() and
+                # posix_spawn block them while starting a process) kills
+                # before our handler can say which call it was.
+                raise SubmissionFailure(FORBIDDEN_SYSCALL, "made a forbidden system call with signals blocked "
+                                        "(SIGSYS; system(), popen() and posix_spawn do this to start a process)",
+                                        signal_name=name, output=self.output(), exit_status=status)
+            if signo == signal.SIGKILL and self.limits.cpu_seconds:
+                raise SubmissionFailure(TIMEOUT, f"the worker was killed ({name}) while {what} ran, "
+                                        "probably at its CPU-time limit", signal_name=name,
+                                        output=self.output(), exit_status=status, detail="cpu")
+            raise SubmissionFailure(EXITED, f"the worker was killed by {name} while {what} ran",
+                                    signal_name=name, output=self.output(), exit_status=status)
+        if status == protocol.EXIT_PROTOCOL:
+            raise SubmissionFailure(PROTOCOL, f"the worker lost its request channel while {what} ran",
+                                    output=self.output(), exit_status=status)
+        raise SubmissionFailure(EXITED, f"the program ended itself (exit status {status}) while {what} ran",
+                                output=self.output(), exit_status=status)
+
+    def _fail(self, kind: str, message: str):
+        self._kill()
+        self._output.wait_closed(2.0)
+        raise SubmissionFailure(kind, message, output=self.output())

@@ -1,0 +1,116 @@
+"""The byte protocol between the grader and worker.c (README.md, "Protocol").
+
+Every message is a 24-byte header (magic u32, op or status u32, count u64,
+payload_bytes u64; native byte order: both ends run on the same machine)
+followed by payload_bytes of payload. Constants here mirror worker.c.
+Everything the worker sends is untrusted (student code runs in that process):
+`check_reply` validates sizes before anything is decoded, and any surprise is
+a ProtocolViolation, charged to the submission.
+"""
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+
+import numpy as np
+
+REQUEST_MAGIC = 0x4B574D45   # "EMWK"
+RESPONSE_MAGIC = 0x524B4D45  # "EMKR"
+HEADER = struct.Struct("=IIQQ")
+
+# Requests (op).
+SET_FACES, FETCH, READ_TEXTURE, TIME_FETCH, LOAD_CROSS, QUIT = 1, 2, 3, 4, 5, 6
+# Replies (status).
+OK, EXCEPTION, ARGUMENT, CRASH, LOAD_ERROR, READY, BAD_REQUEST = 0, 1, 2, 3, 4, 5, 6
+STATUS_NAMES = {OK: "ok", EXCEPTION: "exception", ARGUMENT: "argument", CRASH: "crash",
+                LOAD_ERROR: "load-error", READY: "ready", BAD_REQUEST: "bad-request"}
+# Text replies (exception and error messages) longer than this are refused.
+MAX_TEXT_BYTES = 64 << 10
+
+# Crash report causes (crash_report.cause in worker.c).
+CAUSE_SIGNAL, CAUSE_GUARD_AFTER, CAUSE_GUARD_BEFORE, CAUSE_STACK_OVERFLOW = 0, 1, 2, 3
+CAUSE_CPU_LIMIT, CAUSE_FORBIDDEN_SYSCALL, CAUSE_TEXTURE_WRITE = 4, 5, 6
+WHERE_ALL_FACES = -1
+CRASH_REPORT = struct.Struct("=iiiiqQ224s")   # 256 bytes
+
+# Texture placements: the texels end where a guard page starts, or start
+# where one ends.
+PLACEMENTS = {"end": 0, "start": 1}
+# Worker exit codes (worker.c): a crash already reported, a load failure, a
+# broken protocol.
+EXIT_CRASH, EXIT_LOAD, EXIT_PROTOCOL = 70, 71, 72
+
+
+class ProtocolViolation(Exception):
+    """The worker sent something the protocol does not allow."""
+
+
+@dataclass(frozen=True)
+class CrashReport:
+    signo: int
+    si_code: int
+    cause: int
+    where: int          # a face (0..5), WHERE_ALL_FACES, or the syscall number
+    distance: int       # bytes past the end / before the start of the buffer
+    address: int
+    text: str           # forbidden syscall: its name and path argument
+
+
+def request(op: int, count: int, payload: bytes | memoryview = b"") -> list:
+    """The header and payload of a request, as buffers for writing."""
+    return [HEADER.pack(REQUEST_MAGIC, op, count, len(payload)), payload]
+
+
+def set_faces_payload(faces: np.ndarray) -> bytes:
+    six, h, w, three = faces.shape
+    return struct.pack("=iiii", w, h, 0, 0) + np.ascontiguousarray(faces, np.float32).tobytes()
+
+
+def decode_header(data: bytes) -> tuple[int, int, int]:
+    """(status, count, payload_bytes) of a reply header."""
+    magic, status, count, size = HEADER.unpack(data)
+    if magic != RESPONSE_MAGIC:
+        raise ProtocolViolation(f"reply header has magic {magic:#010x}, expected {RESPONSE_MAGIC:#010x}")
+    if status not in STATUS_NAMES:
+        raise ProtocolViolation(f"reply status {status} is not one the protocol defines")
+    return status, count, size
+
+
+def check_reply_size(status: int, count: int, size: int, expected_count: int | None,
+                     expected_bytes: int | None) -> None:
+    """Refuse a reply whose size does not follow from the request, before
+    reading its payload (so a lying header cannot make us allocate)."""
+    if status == CRASH:
+        if size != CRASH_REPORT.size:
+            raise ProtocolViolation(f"crash report of {size} bytes, expected {CRASH_REPORT.size}")
+    elif status in (EXCEPTION, ARGUMENT, LOAD_ERROR, BAD_REQUEST):
+        if size > MAX_TEXT_BYTES:
+            raise ProtocolViolation(f"{STATUS_NAMES[status]} message of {size} bytes")
+    elif status == READY:
+        if size != 0:
+            raise ProtocolViolation(f"ready reply with a {size}-byte payload")
+    elif status == OK:
+        if expected_count is not None and count != expected_count:
+            raise ProtocolViolation(f"reply for {count} items, expected {expected_count}")
+        if expected_bytes is not None and size != expected_bytes:
+            raise ProtocolViolation(f"reply payload of {size} bytes, expected {expected_bytes}")
+        if expected_bytes is None and size > MAX_TEXT_BYTES:
+            raise ProtocolViolation(f"reply payload of {size} bytes")
+
+
+def decode_text(payload: bytes) -> str:
+    return payload.decode("utf-8", "replace").rstrip("\0")
+
+
+def decode_crash(payload: bytes) -> CrashReport:
+    signo, code, cause, where, distance, address, text = CRASH_REPORT.unpack(payload)
+    if cause not in range(7) or not 0 < signo < 128:
+        raise ProtocolViolation(f"crash report with cause {cause}, signal {signo}")
+    return CrashReport(signo, code, cause, where, distance, address,
+                       text.split(b"\0", 1)[0].decode("utf-8", "replace"))
+
+
+def decode_doubles(payload: bytes, rows: int) -> np.ndarray:
+    """(rows, 3) float64. NaN and infinities are the student's answers, not
+    protocol errors: the checks judge them."""
+    return np.frombuffer(payload, dtype=np.float64).reshape(rows, 3).copy()

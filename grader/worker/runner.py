@@ -1,0 +1,250 @@
+"""Run batches of lookups on a submission and attribute every failure to the
+input that causes it.
+
+SubmissionRunner keeps one Worker with the faces loaded. A batch that fails
+(crash, timeout, exception, forbidden call, the program ending itself,
+corrupted replies) is narrowed down by bisection to its first failing input;
+that input is then run alone, so the failure reported (message and captured
+output) is the one it causes by itself. The inputs before it keep their
+values, and the rest of the batch continues in a fresh worker. The result is
+an Outcome: values (n, 3), NaN rows where nothing could be evaluated, and the
+failures, each with the input in words and a hint. The search is the same
+every time for the same submission, so the report is too. After
+`max_failures` distinct failures, or when the batch has used `budget_s`
+seconds, the rest of the batch is given up cleanly (NaN, `gave_up`).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .failures import FACE_NAMES, SubmissionFailure, hint
+from .process import Limits, Worker
+
+
+@dataclass(frozen=True)
+class Failure:
+    kind: str               # failures.KINDS: crash, timeout, exception, forbidden-syscall, ...
+    function: str           # "fetchColor", "readTexture", or "loading" (static initialisers)
+    index: int | None       # the input's position in the batch; None when loading failed
+    input: str              # e.g. "readTexture(face +X, u = 1.0, v = 0.5)"
+    message: str            # what happened, e.g. "out-of-bounds read (SIGSEGV): right after ..."
+    hint: str               # what usually causes it
+    signal: str | None = None
+    output: str = ""        # the tail of what the submission printed
+
+    def describe(self) -> str:
+        """One sentence for a report."""
+        return f"{self.input}: {self.message}. {self.hint}"
+
+
+@dataclass
+class Outcome:
+    values: np.ndarray                  # (n, 3) float64; NaN rows where not evaluated
+    evaluated: np.ndarray               # (n,) bool: rows the submission answered
+    failures: list[Failure] = field(default_factory=list)
+    gave_up: bool = False               # stopped early (failure cap or time budget)
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return not self.failures and not self.gave_up
+
+
+def _number(x: float) -> str:
+    x = float(x)
+    return str(int(x)) if x.is_integer() and abs(x) < 1e15 and str(x) != "-0.0" else repr(x)
+
+
+def describe_fetch(direction) -> str:
+    x, y, z = (_number(c) for c in direction)
+    return f"fetchColor(Vector3({x}, {y}, {z}))"
+
+
+def describe_read_texture(face: int, u: float, v: float) -> str:
+    return f"readTexture(face {FACE_NAMES[face]}, u = {float(u)!r}, v = {float(v)!r})"
+
+
+class SubmissionRunner:
+    """Lookups on one submission's library with the faces (6, H, W, 3) given.
+
+    timeout_s + per_input_s * n is the wall-clock limit of one call over n
+    inputs. Other keyword arguments go to Worker."""
+
+    def __init__(self, library: str | Path, faces: np.ndarray, *, sandbox: str = "auto",
+                 limits: Limits = Limits(), timeout_s: float = 5.0, per_input_s: float = 1e-4,
+                 max_failures: int = 16, budget_s: float = 120.0, preload: tuple[str, ...] = (),
+                 max_timeouts: int = 2):
+        self.library = Path(library)
+        self.faces = np.ascontiguousarray(faces, dtype=np.float32)
+        self.sandbox, self.limits, self.preload = sandbox, limits, preload
+        self.timeout_s, self.per_input_s = timeout_s, per_input_s
+        self.max_failures, self.budget_s = max_failures, budget_s
+        # Each timeout costs a whole time limit (and more to narrow it down):
+        # after this many in one call, the rest of the batch is given up.
+        self.max_timeouts = max_timeouts
+        self.warnings: list[str] = []
+        self.worker_starts = 0
+        self._worker: Worker | None = None
+        self._placement: str | None = None
+        self._load_failure: Failure | None = None
+        self._last_output = ""
+
+    def __enter__(self) -> "SubmissionRunner":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._drop_worker()
+
+    def output(self) -> str:
+        """What the submission printed in the current (or, after close(),
+        the last) worker, capped. Complete only once that worker has ended."""
+        return self._worker.output() if self._worker else self._last_output
+
+    # ---- public lookups ---------------------------------------------------
+
+    def set_faces(self, faces: np.ndarray) -> None:
+        """Use new faces (6, H, W, 3) from the next call on; a running worker gets them now."""
+        self.faces = np.ascontiguousarray(faces, dtype=np.float32)
+        if self._worker is not None and self._worker.alive:
+            try:
+                self._worker.set_faces(self.faces, self._placement or "end", timeout_s=self._timeout(0))
+            except SubmissionFailure:
+                self._drop_worker()   # the next call starts a fresh worker with these faces
+
+    def fetch(self, dirs: np.ndarray, placement: str = "end") -> Outcome:
+        """fetchColor for each direction (n, 3), the six faces placed against
+        a guard page at their end (or start)."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+
+        def run(worker: Worker, lo: int, hi: int) -> np.ndarray:
+            return worker.fetch(dirs[lo:hi], timeout_s=self._timeout(hi - lo))
+
+        return self._run_batch(len(dirs), run, placement, "fetchColor", lambda i: describe_fetch(dirs[i]))
+
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
+        """readTexture on face `face` (its own guarded copy) for each (u, v) (n, 2)."""
+        uv = np.ascontiguousarray(uv, dtype=np.float64).reshape(-1, 2)
+
+        def run(worker: Worker, lo: int, hi: int) -> np.ndarray:
+            return worker.read_texture(face, uv[lo:hi], placement, timeout_s=self._timeout(hi - lo))
+
+        return self._run_batch(len(uv), run, None, "readTexture",
+                               lambda i: describe_read_texture(face, *uv[i]))
+
+    def time_fetch(self, dirs: np.ndarray, repeats: int = 5) -> tuple[float | None, Failure | None]:
+        """(median ns per lookup, None), or (None, the failure) when the
+        timed batch fails; run fetch() on the same directions first to have
+        failures attributed to inputs."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        try:
+            worker = self._ready_worker("end")
+            return worker.time_fetch(dirs, repeats, timeout_s=self._timeout(len(dirs) * repeats)), None
+        except SubmissionFailure as failure:
+            self._drop_worker()
+            return None, self._failure(failure, "fetchColor", None, "timing fetchColor over the batch")
+        except _LoadFailed:
+            return None, self._load_failure
+
+    # ---- the search -------------------------------------------------------
+
+    def _timeout(self, n: int) -> float:
+        return self.timeout_s + self.per_input_s * n
+
+    def _run_batch(self, n: int, run: Callable[[Worker, int, int], np.ndarray], placement: str | None,
+                   function: str, describe: Callable[[int], str]) -> Outcome:
+        outcome = Outcome(values=np.full((n, 3), np.nan), evaluated=np.zeros(n, bool),
+                          warnings=self.warnings)
+        began = time.monotonic()
+
+        def attempt(lo: int, hi: int) -> SubmissionFailure | None:
+            try:
+                worker = self._ready_worker(placement)
+                outcome.values[lo:hi] = run(worker, lo, hi)
+                outcome.evaluated[lo:hi] = True
+                return None
+            except SubmissionFailure as failure:
+                self._drop_worker()     # a fresh worker after any failure: no state carries over
+                return failure
+
+        lo = 0
+        while lo < n:
+            timeouts = sum(f.kind == "timeout" for f in outcome.failures)
+            if (len(outcome.failures) >= self.max_failures or timeouts >= self.max_timeouts
+                    or time.monotonic() - began > self.budget_s):
+                outcome.gave_up = True
+                break
+            try:
+                failure = attempt(lo, n)
+                if failure is None:
+                    break
+                # Invariant: [lo, hi) holds the first failing input.
+                hi = n
+                while hi - lo > 1 and time.monotonic() - began <= self.budget_s:
+                    mid = (lo + hi) // 2
+                    if attempt(lo, mid) is None:
+                        lo = mid
+                    else:
+                        hi = mid
+                if hi - lo > 1:
+                    outcome.gave_up = True
+                    break
+                # Run the input alone: its own failure, its own output.
+                single = attempt(lo, lo + 1)
+                if single is not None:
+                    outcome.failures.append(self._failure(single, function, lo, describe(lo)))
+                lo += 1
+            except _LoadFailed:
+                outcome.failures.append(self._load_failure)
+                break
+        return outcome
+
+    def _failure(self, failure: SubmissionFailure, function: str, index: int | None, text: str) -> Failure:
+        return Failure(kind=failure.kind, function=function, index=index, input=text, message=failure.message,
+                       hint=hint(failure, function, timeout_s=self.timeout_s,
+                                 memory_mb=self.limits.address_space_mb),
+                       signal=failure.signal_name, output=failure.output[-2000:])
+
+    # ---- workers ----------------------------------------------------------
+
+    def _ready_worker(self, placement: str | None) -> Worker:
+        """A running worker with the faces set (in `placement`, when given)."""
+        if self._load_failure is not None:
+            raise _LoadFailed()
+        if self._worker is None or not self._worker.alive:
+            self._drop_worker()
+            worker = Worker(self.library, sandbox=self.sandbox, limits=self.limits, preload=self.preload)
+            self.worker_starts += 1
+            if worker.warning and worker.warning not in self.warnings:
+                self.warnings.append(worker.warning)
+            try:
+                worker.start()
+                worker.set_faces(self.faces, placement or "end", timeout_s=self._timeout(0))
+            except SubmissionFailure as failure:
+                worker.close()
+                # Loading is the same every time: remember it rather than retry.
+                self._load_failure = self._failure(
+                    failure, "loading", None, "loading the submission (static initialisers and the constructor)")
+                raise _LoadFailed() from None
+            self._worker, self._placement = worker, placement or "end"
+        elif placement is not None and placement != self._placement:
+            self._worker.set_faces(self.faces, placement, timeout_s=self._timeout(0))
+            self._placement = placement
+        return self._worker
+
+    def _drop_worker(self) -> None:
+        if self._worker is not None:
+            self._worker.close()
+            self._last_output = self._worker.output()
+            self._worker = None
+
+
+class _LoadFailed(Exception):
+    """The submission cannot be loaded; SubmissionRunner._load_failure says why."""

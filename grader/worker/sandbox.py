@@ -1,0 +1,82 @@
+"""The bubblewrap sandbox around the worker, and whether this machine has one.
+
+Inside: /usr (and the /lib* links) read-only, the worker binary and one
+folder holding the submission's library, read-only, under /sandbox; a fresh
+/tmp (the working directory), /proc and a minimal /dev. No network, no other
+namespace shared, no capabilities, an unprivileged uid, no environment. The
+project tree, fixtures/, build/libenvmap.so, other submissions and the
+results directory are simply not there.
+
+Where bubblewrap is missing or cannot create namespaces (a container without
+user namespaces, another OS), `sandbox_problem()` says why and the worker runs
+plain, with its resource limits and seccomp filter only; the grader shows
+`fallback_warning()` in the report.
+"""
+from __future__ import annotations
+
+import functools
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+SANDBOX_ROOT = "/sandbox"
+WORKER_INSIDE = f"{SANDBOX_ROOT}/worker"
+INPUT_INSIDE = f"{SANDBOX_ROOT}/input"
+NOBODY = "65534"
+# Modes a Worker can be asked for: "auto" uses the sandbox when it works.
+MODES = ("auto", "sandbox", "plain")
+
+
+def _system_binds() -> list[str]:
+    """Read-only views of what a dynamically linked program needs."""
+    args = ["--ro-bind", "/usr", "/usr"]
+    for name in ("bin", "sbin", "lib", "lib32", "lib64", "libx32"):
+        path = Path("/") / name
+        if path.is_symlink():
+            args += ["--symlink", os.readlink(path), f"/{name}"]
+        elif path.is_dir():
+            args += ["--ro-bind", str(path), f"/{name}"]
+    return args
+
+
+def bwrap_command(worker: Path, input_dir: Path, worker_args: list[str], env: dict[str, str]) -> list[str]:
+    """The command running `worker` inside the sandbox; `worker_args` refer to
+    files of `input_dir` as INPUT_INSIDE/<name>."""
+    cmd = [shutil.which("bwrap") or "bwrap",
+           "--unshare-all", "--unshare-user", "--uid", NOBODY, "--gid", NOBODY,
+           "--cap-drop", "ALL", "--die-with-parent", "--new-session", "--clearenv",
+           *_system_binds(),
+           "--ro-bind", str(worker), WORKER_INSIDE,
+           "--ro-bind", str(input_dir), INPUT_INSIDE,
+           "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--chdir", "/tmp"]
+    for key, value in env.items():
+        cmd += ["--setenv", key, value]
+    return cmd + ["--", WORKER_INSIDE, *worker_args]
+
+
+@functools.lru_cache(maxsize=1)
+def sandbox_problem() -> str | None:
+    """None when bubblewrap works here; otherwise why not (once per process)."""
+    if not sys.platform.startswith("linux"):
+        return f"bubblewrap needs Linux (this is {sys.platform})"
+    bwrap = shutil.which("bwrap")
+    if bwrap is None:
+        return "bwrap (Debian package bubblewrap) is not installed"
+    true = shutil.which("true") or "/usr/bin/true"
+    cmd = [bwrap, "--unshare-all", "--unshare-user", "--uid", NOBODY, "--gid", NOBODY,
+           "--cap-drop", "ALL", "--die-with-parent", "--new-session", "--clearenv",
+           *_system_binds(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--", true]
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=20)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return f"bwrap could not run: {exc}"
+    if done.returncode != 0:
+        reason = done.stderr.strip().splitlines()
+        return f"bwrap failed: {reason[-1] if reason else f'exit status {done.returncode}'}"
+    return None
+
+
+def fallback_warning(reason: str) -> str:
+    return f"sandbox unavailable: {reason}; ran with resource limits only"
