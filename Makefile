@@ -19,7 +19,7 @@ all: reference
 reference: $(BUILD)/libenvmap.so $(BUILD)/reference_submission.so
 
 $(BUILD)/libenvmap.so: $(REF_SRC) $(REF_HDR) | $(BUILD)
-	$(CC) $(CFLAGS_REF) -Ireference/include -shared -o $@ $(REF_SRC) -lm
+	$(CC) $(CFLAGS_REF) -Ireference/include -shared -o $@.tmp $(REF_SRC) -lm && mv $@.tmp $@
 
 # The reference built with AddressSanitizer and UBSan (used by `make sanitize`).
 $(BUILD)/asan/libenvmap.so: $(REF_SRC) $(REF_HDR)
@@ -28,7 +28,7 @@ $(BUILD)/asan/libenvmap.so: $(REF_SRC) $(REF_HDR)
 
 # The reference behind the submission ABI: the speed check's baseline.
 $(BUILD)/reference_submission.so: grader/shim/reference_submission.c grader/shim/submission_abi.h $(REF_SRC) $(REF_HDR) | $(BUILD)
-	$(CC) $(CFLAGS_REF) -Ireference/include -Igrader/shim -shared -o $@ grader/shim/reference_submission.c $(REF_SRC) -lm
+	$(CC) $(CFLAGS_REF) -Ireference/include -Igrader/shim -shared -o $@.tmp grader/shim/reference_submission.c $(REF_SRC) -lm && mv $@.tmp $@
 
 $(BUILD):
 	@mkdir -p $@
