@@ -12,7 +12,7 @@ CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
 REF_SRC := $(sort $(wildcard reference/src/*.c))
 REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
-.PHONY: all reference venv test sanitize grade grade-all fixtures bundle gradescope bench study clean system-deps
+.PHONY: all reference venv test sanitize fuzz grade grade-all fixtures bundle gradescope bench study clean system-deps
 
 all: reference
 
@@ -55,8 +55,13 @@ bundle: venv
 study: venv reference
 	$(PY) -m grader study
 
+# The RGBE reader's fuzz corpus under AddressSanitizer and UBSan (no libFuzzer needed).
 sanitize: $(BUILD)/asan/libenvmap.so
-	@true
+	$(MAKE) -C reference/fuzz check
+
+# libFuzzer on the RGBE reader (clang); see reference/fuzz/README.md.
+fuzz:
+	$(MAKE) -C reference/fuzz fuzz
 
 clean:
 	rm -rf $(BUILD) out
