@@ -400,12 +400,12 @@ def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
 # ---- the student's part ------------------------------------------------------------
 
 def _compile_and_link(source: bytes, common: Path, build_dir: Path, sanitize: bool,
-                      deadline: float) -> dict:
+                      deadline: float, extra_flags: tuple[str, ...] = ()) -> dict:
     """Compile the student's file alone, then link it with our objects. Returns
     the cache record: {ok, timed_out, output} with output's paths neutral."""
     cxxflags, _ = _flags(sanitize)
     (build_dir / SOURCE_NAME).write_bytes(source)
-    compile_cmd = [CXX, *cxxflags, f"-I{TEMPLATE}", f"-I{REFERENCE / 'include'}",
+    compile_cmd = [CXX, *cxxflags, *extra_flags, f"-I{TEMPLATE}", f"-I{REFERENCE / 'include'}",
                    "-c", SOURCE_NAME, "-o", STUDENT_OBJECT]
     link_cmd = [CXX, *cxxflags, "-shared", "-o", LIBRARY_NAME, STUDENT_OBJECT,
                 str(common / "shim.o"), str(common / "loader.o"), str(common / "libreference.a"),
@@ -430,9 +430,12 @@ def _compile_and_link(source: bytes, common: Path, build_dir: Path, sanitize: bo
     return {"ok": ok, "timed_out": timed_out, "output": output}
 
 
-def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60) -> BuildResult:
+def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
+                     extra_flags: tuple[str, ...] = ()) -> BuildResult:
     """Build a submission (folder, .cpp, .zip, .tar.gz) into a loadable library.
 
+    extra_flags: appended to the student file's compile flags only (e.g. -O0,
+    -ffast-math, to measure how builds differ; docs/thresholds.md).
     Never raises for a bad submission; see the module docstring."""
     path = Path(path)
     cache_dir = Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE
@@ -453,7 +456,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60) -> B
 
     common = _common_objects(cache_dir, sanitize)
     cxxflags, _ = _flags(sanitize)
-    key = _fingerprint([Path(__file__)], sha, common.name, *cxxflags)
+    key = _fingerprint([Path(__file__)], sha, common.name, *cxxflags, *extra_flags)
     final = cache_dir / key[:32]
     record_path = final / "build.json"
     if record_path.is_file():
@@ -461,7 +464,8 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60) -> B
         result.cached = True
     else:
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=cache_dir))
-        record = _compile_and_link(chosen.text, common, tmp, sanitize, time.monotonic() + timeout_s)
+        record = _compile_and_link(chosen.text, common, tmp, sanitize, time.monotonic() + timeout_s,
+                                   tuple(extra_flags))
         if record["timed_out"]:
             # Not cached: a loaded machine may finish the same build next time.
             shutil.rmtree(tmp, ignore_errors=True)

@@ -209,6 +209,25 @@ _ENTRIES = [
         "normalised first; if you normalise, you must still divide by m.",
     ),
     DiagnosisInfo(
+        "not-implemented", "mapping",
+        "fetchColor still returns black",
+        "Every direction gave black (or a colour that is not in the texture), "
+        "as the starting code does: fetchColor does not look anything up yet.",
+        "Write fetchColor as the handout's section 4 says: choose the face, "
+        "compute (u, v) from ASSIGNMENT.md's table and return "
+        "`readTexture(faceAddress(face), u, v)`.",
+    ),
+    DiagnosisInfo(
+        "uv-mismatch", "mapping",
+        "On this face, (u, v) follow no pattern the grader recognises",
+        "Your code reads the right face, but at places that are neither the "
+        "correct (u, v) nor a flip or swap of them. The per-face table in the "
+        "check's output shows how much of the face the closest guess explains.",
+        "Print u and v for a few directions toward this face (for example the "
+        "face's centre, which must give (0.5, 0.5), and its corners, which "
+        "must give 0 or 1) and compare them with ASSIGNMENT.md's table.",
+    ),
+    DiagnosisInfo(
         "discontinuous-seam", "mapping",
         "Colours jump where two faces meet",
         "Moving a direction across the edge between two faces changes the "
@@ -243,6 +262,17 @@ _ENTRIES = [
         "follows the handout.",
         "Use `p = (u*W, v*H)` without adding or subtracting 0.5; "
         "`x0 = floor(p.x)`, `alpha = p.x - x0` (and the same for y), then clamp.",
+    ),
+    DiagnosisInfo(
+        "width-height-swapped", "filtering",
+        "readTexture mixes up the face's width and height",
+        "On faces that are not square, your readTexture scales u by the face "
+        "height or v by the width (or indexes rows with the height), so it "
+        "reads the wrong texels. Real maps have square faces, so this only "
+        "shows on the grader's non-square test faces, but it is a real bug.",
+        "Use `p = (u * m_FaceWidth, v * m_FaceHeight)`, clamp x to "
+        "`[0, m_FaceWidth-1]` and y to `[0, m_FaceHeight-1]`, and index "
+        "`addr[3*(y*m_FaceWidth + x)]`.",
     ),
     DiagnosisInfo(
         "weights-swapped", "filtering",
@@ -305,6 +335,10 @@ _ENTRIES = [
 ]
 
 CATALOGUE: dict[str, DiagnosisInfo] = {e.id: e for e in _ENTRIES}
+
+# What other mistakes cause: reported only when no cause was found, so a
+# student reads "u runs the wrong way on +X", not that plus four symptoms.
+CONSEQUENCES = frozenset({"render-mismatch", "discontinuous-seam", "arrow-wrong", "arrow-missing"})
 _ORDER = {e.id: i for i, e in enumerate(_ENTRIES)}
 
 

@@ -89,12 +89,21 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
         secret = os.environ.get("GRADER_SECRET", rubric.get("grading", {}).get("secret", ""))
         _run_checks(result, checks, build.library, options, run_seed(secret, result.source_sha256), out_dir, entries)
 
+    drop_consequences(result)
     score.apply(result, rubric)
     result.execution_time_s = time.monotonic() - started
     if write_reports:
         from .reports import write_all
         write_all(result, out_dir, include_hidden=options.include_hidden)
     return result
+
+
+def drop_consequences(result: GradeResult) -> None:
+    """Leave out symptoms (a render that differs, a seam) when their cause was found."""
+    from .diagnoses import CONSEQUENCES
+    if any(d.id not in CONSEQUENCES for d in result.diagnoses):
+        for check in result.checks:
+            check.diagnoses = [d for d in check.diagnoses if d.id not in CONSEQUENCES]
 
 
 def _run_checks(result: GradeResult, checks, library: Path, options: GradeOptions, seed: int, out_dir: Path,

@@ -1,9 +1,12 @@
 """Grade a class: every submission in a folder, in parallel, resumable.
 
-Each student's results land atomically in OUT/<student>/ as they finish,
-with a key (the submission's content hash and the grader's own) beside them:
-re-run after an interruption, unchanged submissions are skipped. The
-gradebook (gradebook.csv) and the class summary are rebuilt from what is on
+Each student's reports are graded into a temporary folder and renamed into
+OUT/<student>/ when complete, with a record (.grade.json) that holds the key
+they were graded under: the submission's content hash, the grader's own
+(code, rubric, fixtures, maps, our C and C++ sources), the options and the
+course secret. Re-run after an interruption, a student whose key is
+unchanged is skipped. The gradebook (gradebook.csv) and the class summary
+(summary.md, summary.html and their charts) are rebuilt from what is on
 disk, so they are always complete.
 """
 from __future__ import annotations
@@ -15,34 +18,42 @@ import io
 import json
 import multiprocessing
 import os
+import shutil
 import tempfile
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import PROJECT_ROOT
+from .results import UNGRADABLE
 
-KEY_FILE = ".grade-key"
-ARCHIVES = (".zip", ".tar.gz", ".tgz", ".cpp")
+RECORD_FILE = ".grade.json"
+SUFFIXES = (".zip", ".tar.gz", ".tgz", ".tar", ".cpp")
+# What goes into the grader's key: everything that can change a grade. The
+# template contributes only the files the build uses (a student's local
+# build/ in it must not force a regrade of the class).
+KEY_ROOTS = ("grader", "reference/include", "reference/src", "fixtures", "Cubemap", "scenes")
+KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")
+# Metrics the class summary charts, copied from the checks into the record.
+CHART_METRICS = ("speed_ratio", "ns_per_lookup", "flip_mean", "ssim")
 
 
 def student_name(path: Path) -> str:
     name = path.name
-    for suffix in ARCHIVES:
-        if name.endswith(suffix):
+    for suffix in SUFFIXES:
+        if name.lower().endswith(suffix):
             return name[: -len(suffix)]
     return name
 
 
-def find_submissions(folder: Path) -> list[Path]:
-    """One sub-folder or archive per student, sorted by name."""
-    out = []
-    for p in sorted(Path(folder).iterdir()):
-        if p.name.startswith("."):
-            continue
-        if p.is_dir() or p.name.endswith(ARCHIVES):
-            out.append(p)
-    return out
+def find_submissions(folder: Path) -> dict[str, Path]:
+    """{student: path}: one sub-folder, archive or .cpp per student, by name.
+    Two entries with the same student name (alice/ and alice.zip) keep
+    their full file names, so neither hides the other."""
+    found = [p for p in sorted(Path(folder).iterdir())
+             if not p.name.startswith(".") and (p.is_dir() or p.name.lower().endswith(SUFFIXES))]
+    counts = Counter(student_name(p) for p in found)
+    return {(student_name(p) if counts[student_name(p)] == 1 else p.name): p for p in found}
 
 
 def _hash_tree(path: Path) -> str:
@@ -51,99 +62,191 @@ def _hash_tree(path: Path) -> str:
     for f in files:
         h.update(f.relative_to(path).as_posix().encode() if f != path else b"")
         h.update(b"\0")
-        h.update(f.read_bytes())
-        h.update(b"\0")
+        h.update(hashlib.sha256(f.read_bytes()).digest())
     return h.hexdigest()
 
 
-def grader_key() -> str:
-    """Changes whenever the grading could change: grader code, rubric, fixtures, reference."""
+def grader_key(options: dict) -> str:
+    """Changes whenever the grading could change: grader code, rubric,
+    fixtures, maps, reference, the template files the build uses, the
+    options and the course secret."""
     h = hashlib.sha256()
-    roots = [PROJECT_ROOT / "grader", PROJECT_ROOT / "reference", PROJECT_ROOT / "fixtures", PROJECT_ROOT / "student_template"]
-    for root in roots:
-        for f in sorted(root.rglob("*")):
-            if f.is_file() and "__pycache__" not in f.parts:
-                h.update(f.relative_to(PROJECT_ROOT).as_posix().encode())
-                h.update(f.read_bytes())
+    paths = [PROJECT_ROOT / f for f in KEY_FILES] + sorted((PROJECT_ROOT / "student_template").glob("*.h"))
+    for root in KEY_ROOTS:
+        paths += sorted(p for p in (PROJECT_ROOT / root).rglob("*") if p.is_file() and "__pycache__" not in p.parts)
+    for f in paths:
+        if f.is_file():
+            h.update(f.relative_to(PROJECT_ROOT).as_posix().encode() + b"\0")
+            h.update(hashlib.sha256(f.read_bytes()).digest())
+    h.update(json.dumps(options, sort_keys=True).encode())
+    # The secret changes the random directions: a hash of it, never the secret itself.
+    h.update(hashlib.sha256(os.environ.get("GRADER_SECRET", "").encode()).digest())
     return h.hexdigest()
 
 
 @dataclass
 class Row:
+    """One line of the gradebook."""
     student: str
     status: str
     score: float
     max_score: float
-    checks: dict[str, float]
-    diagnoses: list[str]
-    skipped: bool = False
+    checks: dict[str, float] = field(default_factory=dict)   # rubric name -> points
+    diagnoses: list[str] = field(default_factory=list)       # ids, sorted
+    metrics: dict[str, float] = field(default_factory=dict)  # CHART_METRICS found
+    seconds: float = 0.0
+    skipped: bool = False                                    # unchanged since the last run
+    error: str = ""                                          # the harness's failure, when ungradable
 
 
-def _grade_one(submission: str, out: str, key: str, options: dict) -> Row:
-    """Runs in a pool process: grade, then mark the results with the key."""
+def _chart_metrics(result) -> dict[str, float]:
+    out = {}
+    for check in result.checks:
+        for name in CHART_METRICS:
+            if name in check.metrics and name not in out:
+                out[name] = float(check.metrics[name])
+    return out
+
+
+def _grade_one(student: str, submission: str, out: str, key: str, options: dict) -> Row:
+    """Runs in a pool process: grade into a fresh folder, then put it in place.
+
+    The record is written inside the new folder before it is renamed, so a
+    folder with a record is always complete; an interruption leaves at most
+    a .tmp- folder, which the next run removes."""
     from .grade import GradeOptions, grade
-    out_dir = Path(out)
+    final = Path(out)
+    work = Path(tempfile.mkdtemp(prefix=f".tmp-{student}-", dir=final.parent))
     try:
-        result = grade(Path(submission), out_dir, GradeOptions(**options))
-    except SystemExit as e:   # e.g. stale fixtures: the instructor's problem, say so
+        result = grade(Path(submission), work, GradeOptions(**options))
+        record = {"key": key, "metrics": _chart_metrics(result),
+                  "check_seconds": {c.name: round(c.duration_s, 3) for c in result.checks}}
+        (work / RECORD_FILE).write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+        work.chmod(0o755)
+        _replace_dir(work, final)
+    except SystemExit as e:   # grade() exits for an instructor's problem (e.g. stale fixtures)
+        shutil.rmtree(work, ignore_errors=True)
         raise RuntimeError(str(e)) from None
-    _write_text_atomic(out_dir / KEY_FILE, key)
-    return _row_from_results(student_name(Path(submission)), out_dir)
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    return read_row(student, final)
+
+
+def _replace_dir(new: Path, final: Path) -> None:
+    old = None
+    if final.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".old-{final.name}-", dir=final.parent))
+        os.replace(final, old / final.name)
+    os.replace(new, final)
+    if old:
+        shutil.rmtree(old, ignore_errors=True)
 
 
 def _write_text_atomic(path: Path, text: str) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     with os.fdopen(fd, "w") as f:
         f.write(text)
+    os.chmod(tmp, 0o644)
     os.replace(tmp, path)
 
 
-def _row_from_results(student: str, out_dir: Path) -> Row:
+def read_record(out_dir: Path) -> dict | None:
+    try:
+        return json.loads((out_dir / RECORD_FILE).read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def read_row(student: str, out_dir: Path) -> Row:
+    """A gradebook row from a student's results.json (Gradescope's format,
+    grader/reports/gradescope_json.py) and the record beside it."""
     data = json.loads((out_dir / "results.json").read_text())
     extra = data.get("extra_data", {})
-    checks = {t["name"]: t.get("score", 0.0) for t in data.get("tests", [])}
+    tests = data.get("tests", [])
+    checks = {t.get("extra_data", {}).get("check", t["name"]): float(t.get("score", 0.0)) for t in tests}
+    record = read_record(out_dir) or {}
     return Row(student, extra.get("status", "graded"), float(data.get("score", 0.0)),
-               float(extra.get("max_score", sum(t.get("max_score", 0) for t in data.get("tests", [])))),
-               checks, sorted({d["id"] for d in extra.get("diagnoses", [])}))
+               float(extra.get("max_score", sum(t.get("max_score", 0) for t in tests))),
+               checks, sorted({d["id"] for d in extra.get("diagnoses", [])}),
+               dict(record.get("metrics", {})), float(data.get("execution_time", 0.0)))
 
 
-def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | None = None, progress: bool = True) -> list[Row]:
-    options = options or {}
-    jobs = jobs or os.cpu_count() or 1
+def _clean_leftovers(out: Path) -> None:
+    """Folders an interrupted run left half-written."""
+    for p in out.glob(".tmp-*"):
+        shutil.rmtree(p, ignore_errors=True) if p.is_dir() else p.unlink(missing_ok=True)
+    for p in out.glob(".old-*"):
+        shutil.rmtree(p, ignore_errors=True)
+
+
+def _ignore_interrupts() -> None:
+    # Ctrl-C reaches the whole process group: the pool's processes leave it
+    # to the parent, which stops handing out work and ends them.
+    import signal
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class Interrupted(Exception):
+    def __init__(self, done: int, total: int):
+        super().__init__(f"interrupted after {done} of {total} submissions")
+        self.done, self.total = done, total
+
+
+def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | None = None,
+              progress: bool = True, force: bool = False) -> list[Row]:
+    """Grade every submission in `folder` into `out`; returns the gradebook rows.
+    Raises Interrupted on Ctrl-C (what finished is kept: run again to go on)."""
+    options = {"allow_stale": True, **(options or {})}
+    jobs = max(1, jobs or os.cpu_count() or 1)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    _clean_leftovers(out)
     submissions = find_submissions(folder)
-    key_base = grader_key()
+    key_base = grader_key({k: v for k, v in options.items() if k != "allow_stale"})
     todo, rows = [], {}
-    for s in submissions:
-        name = student_name(s)
-        key = f"{key_base}:{_hash_tree(s)}"
-        key_file = out / name / KEY_FILE
-        if key_file.exists() and key_file.read_text() == key and (out / name / "results.json").exists():
-            rows[name] = _row_from_results(name, out / name)
-            rows[name].skipped = True
+    for student, path in submissions.items():
+        key = f"{key_base}:{_hash_tree(path)}"
+        record = read_record(out / student)
+        if not force and record and record.get("key") == key and (out / student / "results.json").is_file():
+            rows[student] = read_row(student, out / student)
+            rows[student].skipped = True
         else:
-            todo.append((s, key))
-    failures = {}
-    with _progress(progress, len(submissions), len(submissions) - len(todo)) as advance:
-        ctx = multiprocessing.get_context("spawn")
-        with futures.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            pending = {pool.submit(_grade_one, str(s), str(out / student_name(s)), key, options): s for s, key in todo}
-            for done in futures.as_completed(pending):
-                s = pending[done]
-                try:
-                    rows[student_name(s)] = done.result()
-                except Exception as e:   # the harness failed on this one: ungradable, never silently dropped
-                    failures[student_name(s)] = str(e)
-                    rows[student_name(s)] = Row(student_name(s), "ungradable", 0.0, 0.0, {}, [])
-                advance(student_name(s))
-    ordered = [rows[student_name(s)] for s in submissions]
+            todo.append((student, path, key))
+    with _Progress(progress, len(submissions), len(submissions) - len(todo)) as advance:
+        if todo:
+            _run_pool(todo, out, jobs, options, rows, advance)
+    ordered = [rows[s] for s in submissions]
     write_gradebook(ordered, out / "gradebook.csv")
-    write_summary(ordered, out, failures)
+    write_summary(ordered, out)
     return ordered
 
 
-class _progress:
-    """A rich progress bar, or nothing when not wanted."""
+def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance) -> None:
+    ctx = multiprocessing.get_context("spawn")   # no copy of the parent's threads or state
+    pool = futures.ProcessPoolExecutor(max_workers=min(jobs, len(todo)), mp_context=ctx,
+                                       initializer=_ignore_interrupts)
+    try:
+        pending = {pool.submit(_grade_one, student, str(path), str(out / student), key, options): student
+                   for student, path, key in todo}
+        for done in futures.as_completed(pending):
+            student = pending[done]
+            try:
+                rows[student] = done.result()
+            except Exception as e:   # the harness failed on this one: ungradable, never dropped
+                rows[student] = Row(student, UNGRADABLE, 0.0, 0.0, error=f"{type(e).__name__}: {e}")
+            advance(student)
+    except KeyboardInterrupt:
+        for process in list(getattr(pool, "_processes", {}).values()):
+            process.terminate()   # their half-graded folders are .tmp- ones, removed next run
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise Interrupted(sum(1 for _ in rows), len(todo)) from None
+    pool.shutdown()
+
+
+class _Progress:
+    """A rich progress bar (on stderr), or nothing when not wanted."""
 
     def __init__(self, enabled: bool, total: int, already: int):
         self.enabled, self.total, self.already = enabled, total, already
@@ -151,11 +254,13 @@ class _progress:
     def __enter__(self):
         if not self.enabled:
             return lambda name: None
+        from rich.console import Console
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
         self.bar = Progress(TextColumn("grading"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                            TextColumn("{task.description}"))
+                            TextColumn("{task.description}"), console=Console(stderr=True))
         self.bar.__enter__()
-        task = self.bar.add_task("", total=self.total, completed=self.already)
+        task = self.bar.add_task(f"({self.already} unchanged)" if self.already else "",
+                                 total=self.total, completed=self.already)
         return lambda name: self.bar.update(task, advance=1, description=name)
 
     def __exit__(self, *exc):
@@ -163,37 +268,154 @@ class _progress:
             self.bar.__exit__(*exc)
 
 
+def check_names(rows: list[Row]) -> list[str]:
+    """Check columns in rubric order (the order results.json lists them)."""
+    names: list[str] = []
+    for r in rows:
+        names += [n for n in r.checks if n not in names]
+    return names
+
+
 def write_gradebook(rows: list[Row], path: Path) -> None:
-    names = sorted({c for r in rows for c in r.checks})
+    names = check_names(rows)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["student", "score", "max_score", "status", *names, "diagnoses"])
     for r in rows:
+        # A check that did not run is blank, not 0: the difference matters when an instructor regrades.
         w.writerow([r.student, f"{r.score:g}", f"{r.max_score:g}", r.status,
-                    *[f"{r.checks.get(n, 0.0):g}" for n in names], " ".join(r.diagnoses)])
+                    *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], " ".join(r.diagnoses)])
     _write_text_atomic(path, buf.getvalue())
 
 
-def write_summary(rows: list[Row], out: Path, failures: dict[str, str]) -> None:
-    """summary.md with the score histogram (summary_histogram.png) and the most common diagnoses."""
+# ---- the class summary ----------------------------------------------------------
+
+HISTOGRAM = "summary_histogram.png"
+SPEED_CHART = "summary_speed_accuracy.png"
+FLIP_FLOOR = 1e-4   # renders that match the reference are drawn at this error (log axis)
+
+
+def _histogram(rows: list[Row], path: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    scores = [r.score for r in rows]
-    fig, ax = plt.subplots(figsize=(6, 3.2), dpi=100)
-    ax.hist(scores, bins=20, range=(0, max([r.max_score for r in rows] + [100])), color="#4a7bd0")
+    top = max([r.max_score for r in rows] + [1.0])
+    fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=100)
+    graded = [r.score for r in rows if r.status != UNGRADABLE]
+    ax.hist(graded, bins=20, range=(0, top), color="#4a7bd0", edgecolor="white")
+    ax.set_xlim(0, top)
     ax.set_xlabel("score")
     ax.set_ylabel("submissions")
-    ax.set_title(f"{len(rows)} submissions")
+    ungradable = len(rows) - len(graded)
+    ax.set_title(f"{len(graded)} submissions graded" + (f" ({ungradable} ungradable, not shown)" if ungradable else ""))
+    ax.yaxis.get_major_locator().set_params(integer=True)
     fig.tight_layout()
-    fig.savefig(out / "summary_histogram.png", metadata={"Software": None})
+    fig.savefig(path, metadata={"Software": None})
     plt.close(fig)
+
+
+def _speed_chart(rows: list[Row], path: Path) -> int:
+    """Every submission that was timed: time per lookup relative to the
+    reference (x) against the renders' mean FLIP error (y). Returns how many
+    points it drew."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    points = [(r.metrics["speed_ratio"], max(r.metrics.get("flip_mean", 1.0), FLIP_FLOOR), r)
+              for r in rows if r.metrics.get("speed_ratio", 0) > 0]
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+    top = max([r.max_score for r in rows] + [1.0])
+    if points:
+        xs, ys, rs = zip(*points)
+        dots = ax.scatter(xs, ys, c=[r.score for r in rs], cmap="viridis", vmin=0, vmax=top,
+                          s=36, edgecolors="black", linewidths=0.4, zorder=3)
+        fig.colorbar(dots, ax=ax, label="score")
+        # A class of 100 cannot be labelled dot by dot: name the small classes only.
+        if len(points) <= 12:
+            for x, y, r in points:
+                ax.annotate(r.student, (x, y), textcoords="offset points", xytext=(5, 4), fontsize=7)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.axvline(1.0, color="tab:red", lw=1, ls="--", zorder=1)
+    ax.text(1.0, 1.0, " reference speed", color="tab:red", fontsize=7, va="top",
+            transform=ax.get_xaxis_transform())
+    ax.axhline(FLIP_FLOOR, color="grey", lw=0.6, ls=":", zorder=1)
+    ax.set_xlabel("time per fetchColor, relative to the reference (lower is faster)")
+    ax.set_ylabel(f"renders' mean FLIP error (lower is better; {FLIP_FLOOR:g} = matches)")
+    ax.set_title("Speed against accuracy")
+    ax.grid(True, which="major", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, metadata={"Software": None})
+    plt.close(fig)
+    return len(points)
+
+
+def _diagnosis_counts(rows: list[Row]) -> list[tuple[str, str, int]]:
+    from .diagnoses import describe
     counts = Counter(d for r in rows for d in r.diagnoses)
+    return [(d, describe(d).title, n) for d, n in counts.most_common()]
+
+
+def summary_markdown(rows: list[Row], charted: int) -> str:
     statuses = Counter(r.status for r in rows)
-    lines = ["# Class summary", "", f"{len(rows)} submissions; " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items())), "",
-             "![score histogram](summary_histogram.png)", "", "## Most common diagnoses", "",
-             "| diagnosis | submissions |", "|---|---:|"]
-    lines += [f"| {d} | {n} |" for d, n in counts.most_common()]
-    if failures:
-        lines += ["", "## Could not be graded (harness errors)", ""] + [f"- {s}: {m}" for s, m in sorted(failures.items())]
-    _write_text_atomic(out / "summary.md", "\n".join(lines) + "\n")
+    graded = [r.score for r in rows if r.status != UNGRADABLE]
+    lines = ["# Class summary", "",
+             f"{len(rows)} submissions: " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items())) + "."]
+    if graded:
+        ordered = sorted(graded)
+        median = (ordered[(len(ordered) - 1) // 2] + ordered[len(ordered) // 2]) / 2
+        top = max(r.max_score for r in rows)
+        lines.append(f"Median score {median:g} / {top:g}; "
+                     f"{sum(s >= top for s in graded)} full marks, {sum(s == 0 for s in graded)} at zero.")
+    lines += ["", f"![score histogram]({HISTOGRAM})", "", "## Most common diagnoses", ""]
+    counted = _diagnosis_counts(rows)
+    if counted:
+        lines += ["| diagnosis | what it means | submissions |", "|---|---|---:|"]
+        lines += [f"| `{d}` | {title} | {n} |" for d, title, n in counted]
+    else:
+        lines.append("None: no submission was found at fault.")
+    lines += ["", "## Speed against accuracy", "",
+              f"{charted} submissions timed by the speed check (colour: score); "
+              "those that crashed or did not build have no point.", "",
+              f"![speed against accuracy]({SPEED_CHART})"]
+    failed = [r for r in rows if r.error]
+    if failed:
+        lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
+        lines += [f"- {r.student}: {r.error}" for r in failed]
+    return "\n".join(lines) + "\n"
+
+
+def summary_html(rows: list[Row], markdown_text: str, out: Path) -> str:
+    """summary.md as one self-contained page (charts embedded), and the gradebook as a table."""
+    import base64
+    import html
+    from markdown_it import MarkdownIt
+    body = MarkdownIt("commonmark").enable("table").render(markdown_text)
+    for name in (HISTOGRAM, SPEED_CHART):
+        data = base64.b64encode((out / name).read_bytes()).decode()
+        body = body.replace(f'src="{name}"', f'src="data:image/png;base64,{data}"')
+    names = check_names(rows)
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in ["student", "score", "status", *names, "diagnoses"])
+    lines = []
+    for r in rows:
+        cells = [html.escape(r.student), f"{r.score:g} / {r.max_score:g}", html.escape(r.status),
+                 *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], html.escape(" ".join(r.diagnoses))]
+        cls = ' class="bad"' if r.status != "graded" else ""
+        lines.append(f"<tr{cls}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+    table = f"<h2>Gradebook</h2><table><thead><tr>{head}</tr></thead><tbody>{''.join(lines)}</tbody></table>"
+    style = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
+             "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:3px 8px;"
+             "text-align:left;font-variant-numeric:tabular-nums}th{background:#f3f3f3}tr.bad td{background:#fdeeee}"
+             "img{max-width:100%}")
+    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>Class summary</title>'
+            f"<style>{style}</style></head><body>{body}{table}</body></html>\n")
+
+
+def write_summary(rows: list[Row], out: Path) -> None:
+    """summary.md and summary.html: score histogram, most common diagnoses,
+    every submission on the speed-against-accuracy chart."""
+    _histogram(rows, out / HISTOGRAM)
+    charted = _speed_chart(rows, out / SPEED_CHART)
+    text = summary_markdown(rows, charted)
+    _write_text_atomic(out / "summary.md", text)
+    _write_text_atomic(out / "summary.html", summary_html(rows, text, out))

@@ -54,8 +54,10 @@ public:
     // buffer must outlive the map (or the next load).
     void attachFaces(const float* texels, int faceWidth, int faceHeight);
 
-    // YOURS (EnvironmentMap.cpp): the environment's colour in `direction`
-    // (any length, not zero).
+    // YOURS (EnvironmentMap.cpp): the environment's colour in `direction`,
+    // of any finite length (from denormals to 1e308): the answer must not
+    // depend on the length. A zero, NaN or infinite direction has no face:
+    // return any colour, but do not crash or throw.
     Color fetchColor(const Vector3& direction) const;
 
     // YOURS (EnvironmentMap.cpp): the colour of the face that starts at

@@ -65,18 +65,15 @@ def run(ctx: CheckContext) -> CheckResult:
     # 1. Degenerate directions: only crashing is wrong.
     degenerate = degenerate_directions()
     outcome = ctx.lookups.fetch(degenerate)
-    crashed = len({f.index for f in outcome.failures})
-    parts.append(("zero, NaN and infinite directions do not crash", len(degenerate), len(degenerate) - crashed))
+    parts.append(("zero, NaN and infinite directions do not crash", len(degenerate), int(outcome.evaluated.sum())))
     diagnoses += failure_diagnoses(outcome.failures)
 
     # 2. Extreme but valid directions: finite and equal to the reference.
     extreme = extreme_directions()
     outcome = ctx.lookups.fetch(extreme)
     diagnoses += failure_diagnoses(outcome.failures)
-    finite = np.isfinite(outcome.values).all(axis=1)
-    failed = {f.index for f in outcome.failures}
-    nan_rows = [i for i in np.flatnonzero(~finite) if i not in failed]
-    if nan_rows:
+    nan_rows = np.flatnonzero(outcome.evaluated & ~np.isfinite(outcome.values).all(axis=1))
+    if len(nan_rows):
         diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero. Divide by the major component's magnitude, never by a squared length (which underflows or overflows)."))
     expected = np.concatenate([cube.fetch(extreme, filter)[:, None], tie_alternatives(cube, extreme, filter)], axis=1)
     cmp = compare(outcome.values, expected, tol)

@@ -7,7 +7,7 @@ from .. import reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .compare import compare, explain, tie_alternatives, tolerance
-from .context import CheckContext, failure_diagnoses
+from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import sweep_sets
 from .textures import coordinate_faces
 
@@ -54,10 +54,9 @@ def run(ctx: CheckContext) -> CheckResult:
         tol = tolerance(w, h, float(max(w, h) + 1)) + slack
         cmp = compare(outcome.values, acceptable, tol)
         diagnoses += failure_diagnoses(outcome.failures)
-        failed_inputs = {f.index for f in getattr(outcome, "failures", [])}
-        nan_rows = np.flatnonzero(~np.isfinite(outcome.values).all(axis=1))
-        fresh_nan = [i for i in nan_rows if i not in failed_inputs]
-        if fresh_nan and not nan_inputs:
+        # NaN from an input that ran to the end (not one that crashed or was never run).
+        fresh_nan = np.flatnonzero(outcome.evaluated & ~np.isfinite(outcome.values).all(axis=1))
+        if len(fresh_nan) and not nan_inputs:
             nan_inputs.append(dirs[fresh_nan[0]])
         total += len(dirs)
         matched += int(cmp.ok.sum())
@@ -76,7 +75,7 @@ def run(ctx: CheckContext) -> CheckResult:
     table += ["", "| face | directions | match |", "|---|---:|---:|"]
     table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.1%} |" for k in range(6)]
     ctx.findings["sweep_per_face_bad"] = per_face_bad
-    result.diagnoses = diagnoses
+    result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total:
         result.status = FAILED
         result.output = (f"{total - matched} of {total} directions give a colour different from the reference.\n\n"

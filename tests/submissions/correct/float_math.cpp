@@ -1,5 +1,7 @@
 // A correct solution that computes in float rather than double: it matches
 // the reference only to float precision (about 1e-7 relative in u and v).
+// It scales the direction by its largest component in double first, so
+// directions beyond float's range (1e-310, 1e300) still work.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
@@ -7,7 +9,10 @@
 
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
-    const float x = (float)direction.x, y = (float)direction.y, z = (float)direction.z;
+    const double m = std::max(std::fabs(direction.x), std::max(std::fabs(direction.y), std::fabs(direction.z)));
+    if (!(m > 0) || !std::isfinite(m))
+        return Color(0, 0, 0);
+    const float x = (float)(direction.x / m), y = (float)(direction.y / m), z = (float)(direction.z / m);
     const float ax = std::fabs(x), ay = std::fabs(y), az = std::fabs(z);
     int face;
     float u, v;

@@ -41,7 +41,7 @@ Color EnvironmentMap::fetchColor(const Vector3& direction) const
     const int major = (a[0] >= a[1] && a[0] >= a[2]) ? 0 : (a[1] >= a[2] ? 1 : 2);
     const double m = a[major];
     if (!(m > 0))
-        throw std::invalid_argument("zero direction");
+        return Color(0, 0, 0);   // zero or NaN: no face; any colour will do, crashing will not
     const bool positive = c[major] > 0;
     const int face = 2 * major + (positive ? 0 : 1);
     double u = 0, v = 0;

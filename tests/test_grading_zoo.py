@@ -1,0 +1,88 @@
+"""The grader's verdicts on a zoo of submissions: every correct one gets full
+marks and no diagnosis; every wrong one loses points where its mistake is,
+keeps them where it is not, and gets exactly the diagnoses that name it.
+
+The expectations are written from what each mistake is (see the comment at
+the top of each file in tests/submissions/wrong/), not from grader output.
+"""
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from grader.grade import GradeOptions, grade
+from grader.results import BUILD_ERROR, GRADED, TIMEOUT
+
+HERE = Path(__file__).parent / "submissions"
+CORRECT = sorted((HERE / "correct").glob("*.cpp")) + sorted((HERE / "correct_lead").glob("*.cpp"))
+MAPPING, FILTER = "fetch_sweep", "read_texture"
+
+# name: (exact diagnoses as (id, face or None), checks that must lose points,
+#        checks that must keep full points, overall status)
+ZOO = {
+    "u-flipped-pos-x": ({("u-flipped", "+X")}, {MAPPING}, {FILTER, "speed"}, GRADED),
+    "v-flipped-pos-z": ({("v-flipped", "+Z")}, {MAPPING}, {FILTER, "speed"}, GRADED),
+    "uv-swapped-neg-y": ({("uv-swapped", "-Y")}, {MAPPING}, {FILTER, "speed"}, GRADED),
+    "wrong-face-x-swapped": ({("wrong-face", "+X"), ("wrong-face", "-X")}, {MAPPING, "arrows"}, {FILTER}, GRADED),
+    "combo-swapped-and-flipped": ({("wrong-face", "+Y"), ("wrong-face", "-Y"), ("v-flipped", "+X")},
+                                  {MAPPING, "arrows"}, {FILTER}, GRADED),
+    # Dividing by the length (or by nothing) also breaks tiny/huge directions.
+    "not-normalized-length": ({("not-normalized", None), ("nan-output", None)}, {MAPPING, "stability"}, {FILTER}, GRADED),
+    "not-normalized-unit": ({("not-normalized", None), ("nan-output", None)}, {MAPPING}, {FILTER}, GRADED),
+    # readTexture mistakes: fetchColor is judged on its own and keeps its points.
+    "nearest-neighbor": ({("nearest-neighbor", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
+    "half-texel-offset": ({("half-texel-offset", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
+    "weights-swapped": ({("weights-swapped", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
+    # Runtime failures are attributed, and cost only what they touch.
+    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("crash", None)}, {FILTER}, set(), GRADED),
+    "crash-null": ({("crash", None)}, {MAPPING}, {FILTER}, GRADED),
+    "timeout-loop": ({("timeout", None)}, {"stability"}, {FILTER, "renders"}, TIMEOUT),
+    "nan-huge": ({("nan-output", None)}, {"stability"}, {FILTER, MAPPING, "renders", "arrows"}, GRADED),
+    "slow": ({("slow", None)}, {"speed"}, {FILTER, MAPPING, "renders", "arrows", "stability"}, GRADED),
+    "syntax-error": ({("build-error", None)}, {FILTER, MAPPING}, set(), BUILD_ERROR),
+}
+
+
+def test_every_zoo_file_has_an_expectation():
+    assert {p.stem for p in (HERE / "wrong").glob("*.cpp")} == set(ZOO)
+
+
+@pytest.mark.parametrize("path", CORRECT, ids=lambda p: p.stem)
+def test_correct_submissions_get_full_marks_and_no_diagnosis(path, tmp_path):
+    result = grade(path, tmp_path, GradeOptions(quick=True))
+    assert result.status == GRADED
+    assert [d.id for d in result.diagnoses] == []
+    assert result.score == result.max_score == 100, [(c.name, c.score, c.output[:300]) for c in result.checks if c.score < c.max_score]
+
+
+@pytest.mark.parametrize("name", sorted(ZOO))
+def test_wrong_submission_is_diagnosed(name, tmp_path):
+    diagnoses, loses, keeps, status = ZOO[name]
+    result = grade(HERE / "wrong" / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
+    assert result.status == status
+    assert {(d.id, d.face) for d in result.diagnoses} == diagnoses
+    by_name = {c.name: c for c in result.checks}
+    assert all(by_name[c].score < by_name[c].max_score for c in loses), {c: by_name[c].score for c in loses}
+    assert all(by_name[c].score == by_name[c].max_score for c in keeps), {c: by_name[c].score for c in keeps}
+    assert result.score < result.max_score
+    # The report was written, and results.json lists the same diagnoses.
+    data = json.loads((tmp_path / "results.json").read_text())
+    assert {(d["id"], d.get("face")) for d in data["extra_data"]["diagnoses"]} == diagnoses
+
+
+def _without_timings(text: str) -> str:
+    text = re.sub(r'"execution_time": [0-9.e+-]+', "", text)
+    text = re.sub(r'time="[0-9.]+"', "", text)
+    return re.sub(r"\d+(\.\d+)? ns|\d+\.\d+x", "#", text)
+
+
+def test_grading_twice_gives_the_same_score_and_reports(tmp_path):
+    path = HERE / "wrong" / "u-flipped-pos-x.cpp"
+    first = grade(path, tmp_path / "a", GradeOptions())
+    second = grade(path, tmp_path / "b", GradeOptions())
+    assert first.score == second.score
+    for name in ("results.json", "report.md", "junit.xml"):
+        a = _without_timings((tmp_path / "a" / name).read_text())
+        b = _without_timings((tmp_path / "b" / name).read_text())
+        assert a == b, name
