@@ -18,6 +18,7 @@ from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import axes, fibonacci_sphere
 
 TEST_MAP = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
+ARROW_SCENE = PROJECT_ROOT / "scenes" / "mirror_ball_test_map.cfg"
 ARROWS = (("red", "+x"), ("green", "+y"), ("blue", "+z"))
 AXIS_NAMES = ("+x", "+y", "+z", "-x", "-y", "-z")   # the order of directions.axes()
 SHAPE_AGREEMENT = 0.9   # share of the reference's arrow pixels the submission must reproduce
@@ -100,17 +101,17 @@ def run(ctx: CheckContext) -> CheckResult:
 
 
 def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
-    """The mirror sphere of envmap_test.cfg with the reference's and the
-    submission's lookup, side by side, captioned with the verdicts."""
+    """The large mirror ball of scenes/mirror_ball_test_map.cfg (every face in
+    view) with the reference's and the submission's lookup, side by side,
+    captioned with the verdicts."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .. import fixtures
     from ..imaging import tone_map
-    scene = reference.Scene.load(fixtures.MAIN_SCENE)
-    scene.set_resolution(192, 192)
-    scene.set_samples(1)
+    scene = reference.Scene.load(ARROW_SCENE)
+    scene.set_resolution(256, 256)
+    scene.set_samples(4)
     escapes = scene.trace()
     sub = ctx.lookups.fetch(escapes.dirs)
     images = [escapes.resolve(cube.fetch(escapes.dirs)),

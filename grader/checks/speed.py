@@ -30,6 +30,7 @@ def run(ctx: CheckContext) -> CheckResult:
     """fetchColor runs within a few times the reference's time per lookup."""
     from ..worker.lookups import open_lookups
     result = CheckResult("speed", run.__doc__.strip().splitlines()[0])
+    result.output = ""
     faces = reference.CubeMap(random_faces(256, 256, ctx.seed)).faces
     dirs = random_directions(20_000 if ctx.quick else 50_000, ctx.seed + 2)
     within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
@@ -51,10 +52,45 @@ def run(ctx: CheckContext) -> CheckResult:
     sub, ref = float(np.median(sub_ns)), float(np.median(ref_ns))
     ratio = sub / ref if ref > 0 else float("inf")
     result.metrics.update(ns_per_lookup=sub, reference_ns_per_lookup=ref, speed_ratio=ratio)
-    result.output = (f"Your fetchColor: {sub:.1f} ns per lookup; the reference: {ref:.1f} ns "
+    try:
+        point = accuracy_point(ctx, sub)
+        result.metrics["uniform_smooth_rms"] = point["uniform_smooth_rms"]
+        result.artifacts["speed_accuracy_chart"] = draw_chart(ctx, point)
+    except Exception as e:  # the chart is a courtesy: it never costs points
+        result.output += f"(The speed-against-accuracy chart could not be drawn: {e})\n\n"
+    result.output += (f"Your fetchColor: {sub:.1f} ns per lookup; the reference: {ref:.1f} ns "
                      f"(median of {ROUNDS} interleaved rounds of {len(dirs)} random directions): {ratio:.2f}x. "
                      f"Full points within {within:g}x.")
     if ratio > within:
         result.status, result.fraction = FAILED, 0.0
         result.diagnoses = [Diagnosis("slow", f"fetchColor takes {ratio:.1f}x the reference's time per lookup (limit {within:g}x).")]
     return result
+
+
+STUDY_FACE_SIZE = 64     # the study's bake at this size takes ~1 s once, then is cached
+
+
+def accuracy_point(ctx: CheckContext, ns: float) -> dict:
+    """The submission's point on the study's chart (docs/study.md): its RMS
+    error against the analytic environment, over uniform directions away from
+    hard edges, on the study's bake at STUDY_FACE_SIZE; and its time."""
+    from ..study import accuracy
+    from ..study.bake import bake
+    from ..study.ground_truth import DEFAULT_ENVIRONMENT as env
+    faces = bake(env, STUDY_FACE_SIZE)
+    dirs = accuracy.uniform_directions(20_000)
+    ctx.lookups.set_faces(faces)
+    rgb = ctx.lookups.fetch(dirs).values
+    smooth = accuracy.smooth_mask(env, dirs, STUDY_FACE_SIZE)
+    errors = accuracy.per_direction_error(rgb, env.radiance(dirs))
+    return {"label": f"your fetchColor (face {STUDY_FACE_SIZE})", "ns_random": ns,
+            "uniform_smooth_rms": accuracy.error_stats(errors[smooth])["rms"]}
+
+
+def draw_chart(ctx: CheckContext, point: dict):
+    from ..study import chart
+    from ..study.run import read_csv
+    rows = read_csv(PROJECT_ROOT / "docs" / "study" / "study.csv")
+    path = ctx.artifact("speed_accuracy_chart.png")
+    chart.draw(rows, [point], path, panels=chart.PANELS[:1], title="Speed against accuracy")
+    return path

@@ -37,12 +37,10 @@ def _submission(path: Path):
     """The submission as a study method, through the isolated worker."""
     from ..build import build_submission
     from ..study.methods import submission_method
-    try:
-        from ..worker import bind_submission      # (build result, faces) -> lookup
-    except ImportError as exc:
-        raise SystemExit(f"study: the worker has no bind_submission yet ({exc}); "
-                         "cannot run a submission") from exc
+    from ..worker.lookups import bind_submission   # (build result, faces) -> lookup
     build = build_submission(path)
+    if not build.ok:
+        raise SystemExit(f"study: {path} does not build:\n{build.log}")
     return submission_method(lambda faces: bind_submission(build, faces),
                              name="submission", label=f"submission ({path.name})")
 

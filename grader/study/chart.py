@@ -102,9 +102,12 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
     unique = dict(zip(labels, handles))
     if len(unique) > 12:       # a class's points: keep the legend to the methods
         unique = {k: v for k, v in unique.items() if not any(k == p.get("label") for p in extra_points)}
-    fig.legend(unique.values(), unique.keys(), loc="lower center", ncol=4, fontsize=8, frameon=False)
+    # Two legend columns per panel, so a one-panel chart keeps its legend inside the figure.
+    columns = 2 * len(panels)
+    fig.legend(unique.values(), unique.keys(), loc="lower center", ncol=columns, fontsize=8, frameon=False)
     fig.suptitle(title or "Cube-map lookups: error against time (numbers: face size)", fontsize=11)
-    fig.tight_layout(rect=(0, 0.1, 1, 0.96))
+    legend_rows = -(-len(unique) // columns)
+    fig.tight_layout(rect=(0, min(0.45, 0.045 * legend_rows + 0.02), 1, 0.96))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=130, metadata={"Date": None} if path.suffix == ".svg" else None)

@@ -30,3 +30,17 @@ def open_lookups(library: Path, sandbox: bool | None = None, timeout_s: float = 
         yield runner
     finally:
         runner.close()
+
+
+def bind_submission(build, faces: np.ndarray, sandbox: bool | None = None):
+    """A built submission's fetchColor as a batch lookup over `faces` (for the
+    study): directions (n, 3) -> colours (n, 3), NaN where it failed. The
+    worker lives as long as the returned function."""
+    runner = SubmissionRunner(build.library, faces, sandbox=MODES[sandbox], timeout_s=0.5,
+                              max_failures=4, max_timeouts=1)
+
+    def lookup(dirs: np.ndarray) -> np.ndarray:
+        return runner.fetch(dirs).values
+
+    lookup.runner = runner   # keeps the worker alive with the function
+    return lookup
