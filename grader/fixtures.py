@@ -10,6 +10,7 @@ Everything here is deterministic: two runs write identical bytes.
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
 import tempfile
@@ -23,7 +24,7 @@ from . import PROJECT_ROOT, reference
 FIXTURES = PROJECT_ROOT / "fixtures"
 MANIFEST = FIXTURES / "manifest.json"
 # Bump when what this module writes changes meaning.
-GENERATOR_VERSION = 1
+GENERATOR_VERSION = 2
 
 # Full renders: small enough to keep in git, large enough that every mistake
 # in the zoo moves SSIM well past its threshold (docs/fixtures.md).
@@ -47,7 +48,14 @@ class RenderFixture:
 
     @property
     def path(self) -> Path:
-        return FIXTURES / "renders" / f"{self.name}.hdr"
+        # Raw float32 .npy: exact (RGBE's 0.4% rounding was the largest error
+        # a correct submission saw, docs/thresholds.md) and byte-stable
+        # (OpenImageIO stamps EXR files with the time).
+        return FIXTURES / "renders" / f"{self.name}.npy"
+
+    def load(self) -> np.ndarray:
+        """The reference render, (H, W, 3) float32 linear."""
+        return np.load(self.path, allow_pickle=False)
 
 
 def maps() -> list[Path]:
@@ -99,10 +107,9 @@ def generate(progress=print) -> dict:
     for fixture in render_fixtures():
         cube = reference.CubeMap.load_cross(fixture.map)
         image = prepared_scene(fixture).render(cube, "bilinear")
-        fixture.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = fixture.path.with_suffix(".tmp.hdr")
-        reference.write_hdr(tmp, image)
-        os.replace(tmp, fixture.path)
+        buffer = io.BytesIO()
+        np.save(buffer, np.ascontiguousarray(image, np.float32), allow_pickle=False)
+        _write_atomic(fixture.path, buffer.getvalue())
         files.append(fixture.path)
         progress(f"  rendered {_rel(fixture.path)}")
     for path in write_sweeps():
@@ -132,9 +139,9 @@ def write_sweeps() -> list[Path]:
     rgb = cube.fetch(dirs, "bilinear").astype(np.float32)
     for name, array in (("sweep_directions", dirs), ("sweep_expected_test_map", rgb)):
         path = FIXTURES / "sweeps" / f"{name}.npy"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with open(path, "wb") as f:
-            np.save(f, array, allow_pickle=False)
+        buffer = io.BytesIO()
+        np.save(buffer, array, allow_pickle=False)
+        _write_atomic(path, buffer.getvalue())
         out.append(path)
     return out
 

@@ -160,12 +160,12 @@ def test_correct_solution_matches_reference(solution, cache, tmp_path):
 
 
 def test_exception_in_student_code_becomes_a_message(cache, tmp_path):
-    # helpers_std.cpp throws std::invalid_argument("zero direction").
-    result = build_submission(SUBMISSIONS / "correct" / "helpers_std.cpp", cache_dir=cache)
+    # hostile/throw.cpp throws std::runtime_error near +x.
+    result = build_submission(SUBMISSIONS / "hostile" / "throw.cpp", cache_dir=cache)
     out = probe(result.library, tmp_path, texels=random_faces(np.random.default_rng(3)),
-                dirs=np.zeros((1, 3)))
+                dirs=np.array([[1.0, 0.0, 0.0]]))
     assert out["fetch_status"] == -1  # SUB_ERR_EXCEPTION
-    assert str(out["fetch_message"]) == "zero direction"
+    assert str(out["fetch_message"]) == "direction too close to +x"
 
 
 def test_load_cross_reads_a_vertical_cross(cache, tmp_path):

@@ -50,7 +50,7 @@ def test_touching_an_input_makes_fixtures_stale(project_copy, touched):
 
 
 def test_a_fixture_edited_by_hand_is_caught(project_copy):
-    victim = next((project_copy / "fixtures" / "renders").glob("*.hdr"))
+    victim = next((project_copy / "fixtures" / "renders").glob("*.npy"))
     victim.write_bytes(victim.read_bytes()[:-1] + b"\0")
     with pytest.raises(fixtures.StaleFixtures, match="edited by hand"):
         fixtures.check_stale(project_copy)

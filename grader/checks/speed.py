@@ -13,6 +13,8 @@ from .textures import random_faces
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
 ROUNDS = 5          # interleaved rounds: student, reference, student, ...
 REPEATS = 2         # timed passes over the batch inside the worker per round
+# Each side's time is its fastest round: on a shared machine noise only ever
+# adds time, so the minimum is the estimate least moved by other processes.
 WITHIN = 4.0        # the rubric's `within` overrides this
 
 
@@ -32,7 +34,7 @@ def run(ctx: CheckContext) -> CheckResult:
     result = CheckResult("speed", run.__doc__.strip().splitlines()[0])
     result.output = ""
     faces = reference.CubeMap(random_faces(256, 256, ctx.seed)).faces
-    dirs = random_directions(20_000 if ctx.quick else 50_000, ctx.seed + 2)
+    dirs = random_directions(50_000, ctx.seed + 2)
     within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
     ctx.lookups.set_faces(faces)
     sub_ns, ref_ns = [], []
@@ -47,9 +49,9 @@ def run(ctx: CheckContext) -> CheckResult:
                 return result
             sub_ns.append(ns)
             ref_ns.append(base.time_fetch(dirs, REPEATS)[0])
-            if sub_ns[-1] > 3 * within * ref_ns[-1]:
+            if len(sub_ns) >= 3 and min(sub_ns) > 3 * within * min(ref_ns):
                 break   # clearly slow: more rounds would only cost the student's time budget
-    sub, ref = float(np.median(sub_ns)), float(np.median(ref_ns))
+    sub, ref = float(min(sub_ns)), float(min(ref_ns))
     ratio = sub / ref if ref > 0 else float("inf")
     result.metrics.update(ns_per_lookup=sub, reference_ns_per_lookup=ref, speed_ratio=ratio)
     try:
@@ -59,7 +61,7 @@ def run(ctx: CheckContext) -> CheckResult:
     except Exception as e:  # the chart is a courtesy: it never costs points
         result.output += f"(The speed-against-accuracy chart could not be drawn: {e})\n\n"
     result.output += (f"Your fetchColor: {sub:.1f} ns per lookup; the reference: {ref:.1f} ns "
-                     f"(median of {ROUNDS} interleaved rounds of {len(dirs)} random directions): {ratio:.2f}x. "
+                     f"(fastest of {len(sub_ns)} interleaved rounds over {len(dirs)} random directions): {ratio:.2f}x. "
                      f"Full points within {within:g}x.")
     if ratio > within:
         result.status, result.fraction = FAILED, 0.0
