@@ -46,6 +46,12 @@ def tie_alternatives(cube: reference.CubeMap, dirs: np.ndarray, filter: str = "b
         if len(rows) == 0:
             continue
         nudged = dirs[rows].copy()
+        # Scale by a power of two (exact, so (u, v) do not move) until the
+        # largest component is in [0.5, 1): a denormal direction has too few
+        # bits for a nudge to stay small.
+        with np.errstate(invalid="ignore"):
+            _, exponent = np.frexp(np.abs(nudged).max(axis=1))
+        nudged = np.ldexp(nudged, -exponent[:, None])
         # Make this component strictly the largest in magnitude.
         m = np.abs(nudged).max(axis=1)
         nudged[:, axis] = np.copysign(m * (1.0 + NUDGE), nudged[:, axis])
