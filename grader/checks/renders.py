@@ -35,7 +35,8 @@ def run(ctx: CheckContext) -> CheckResult:
     items = fixtures.render_fixtures()
     if ctx.quick:
         items = items[:1]
-    for i, fixture in enumerate(items):
+    worst = None
+    for fixture in items:
         image, outcome = render_with_submission(ctx, fixture)
         diagnoses += failure_diagnoses(outcome.failures)
         expected = display(fixture.load())
@@ -44,22 +45,27 @@ def run(ctx: CheckContext) -> CheckResult:
         f_mean, f_map = flip(expected, got)
         ok = s >= SSIM_MIN and f_mean <= FLIP_MAX
         passed += ok
-        rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.4f} | {f_mean:.4f} | {'pass' if ok else 'FAIL'} |")
+        rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.5f} | {f_mean:.5f} | {'pass' if ok else 'FAIL'} |")
         result.metrics[f"ssim_{fixture.name}"] = s
         result.metrics[f"flip_mean_{fixture.name}"] = f_mean
-        if i == 0:
-            result.metrics["ssim"], result.metrics["flip_mean"] = s, f_mean
-            for name, picture in (("render_reference", expected), ("render_submission", got),
-                                  ("render_difference", difference_picture(expected, got)), ("render_flip", f_map)):
-                path = ctx.artifact(f"{name}.png")
-                write_image(path, picture, display_referred=True)
-                result.artifacts[name] = path
+        if worst is None or s < worst[0]:
+            worst = (s, f_mean, fixture, expected, got, f_map)
+    if worst is not None:
+        # The pictures show the render that differs most: the one a student learns most from.
+        s, f_mean, fixture, expected, got, f_map = worst
+        result.metrics["ssim"], result.metrics["flip_mean"] = s, f_mean
+        for name, picture in (("render_reference", expected), ("render_submission", got),
+                              ("render_difference", difference_picture(expected, got)), ("render_flip", f_map)):
+            path = ctx.artifact(f"{name}.png")
+            write_image(path, picture, display_referred=True)
+            result.artifacts[name] = path
     result.fraction = passed / len(items) if items else 1.0
     if passed < len(items):
         result.status = FAILED
         diagnoses.append(Diagnosis("render-mismatch", f"{len(items) - passed} of {len(items)} renders differ visibly from the reference (SSIM below {SSIM_MIN} or FLIP above {FLIP_MAX})."))
     result.diagnoses = unique_diagnoses(diagnoses)
     header = ["| render | SSIM | FLIP | |", "|---|---:|---:|---|"]
+    shown = f"\n\nThe pictures show {worst[2].scene.stem} with {worst[2].map.name}, the render that differs most." if worst else ""
     result.output = (f"Pass: SSIM >= {SSIM_MIN} and mean FLIP <= {FLIP_MAX} on tone-mapped images.\n\n"
-                     + "\n".join(header + rows))
+                     + "\n".join(header + rows) + shown)
     return result
