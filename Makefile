@@ -12,7 +12,7 @@ CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
 REF_SRC := $(sort $(wildcard reference/src/*.c))
 REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
-.PHONY: all reference venv test sanitize fuzz grade grade-all fixtures bundle gradescope bench study clean system-deps
+.PHONY: all reference venv test sanitize fuzz selfcheck grade grade-all fixtures bundle gradescope bench study clean system-deps
 
 all: reference
 
@@ -51,6 +51,28 @@ test: system-deps venv reference
 
 bundle: venv
 	$(PY) -m grader bundle
+
+# `make grade` grades the examples in examples/; `make grade SUBMISSION=path
+# [OUT=dir]` grades one submission (reports in out/<submission name>/).
+grade: venv reference
+	$(PY) -m grader grade $(if $(SUBMISSION),"$(SUBMISSION)") $(if $(OUT),--out "$(OUT)")
+
+# A class: `make grade-all SUBMISSIONS=dir [OUT=dir] [JOBS=n]` (resumable).
+grade-all: venv reference
+	@test -n "$(SUBMISSIONS)" || { echo "usage: make grade-all SUBMISSIONS=dir [OUT=dir] [JOBS=n]" >&2; exit 2; }
+	$(PY) -m grader grade-all "$(SUBMISSIONS)" $(if $(OUT),--out "$(OUT)") $(if $(JOBS),--jobs $(JOBS))
+
+# build/autograder.zip for Gradescope.
+gradescope: venv reference
+	$(PY) -m grader gradescope
+
+# What a student's `make selfcheck` shows, for the template's EnvironmentMap.cpp.
+selfcheck: venv reference
+	$(MAKE) -C student_template selfcheck GRADER_HOME="$(CURDIR)"
+
+# Grading speed: one submission cold and warm, and a class of 100 (JOBS=2).
+bench: venv reference
+	$(PY) bench/bench_grading.py $(if $(JOBS),--jobs $(JOBS))
 
 study: venv reference
 	$(PY) -m grader study

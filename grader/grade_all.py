@@ -33,9 +33,9 @@ SUFFIXES = (".zip", ".tar.gz", ".tgz", ".tar", ".cpp")
 # template contributes only the files the build uses (a student's local
 # build/ in it must not force a regrade of the class).
 KEY_ROOTS = ("grader", "reference/include", "reference/src", "fixtures", "Cubemap", "scenes")
-KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")
+KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp", "docs/study/study.csv")
 # Metrics the class summary charts, copied from the checks into the record.
-CHART_METRICS = ("speed_ratio", "ns_per_lookup", "flip_mean", "ssim")
+CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
 
 def student_name(path: Path) -> str:
@@ -46,12 +46,14 @@ def student_name(path: Path) -> str:
     return name
 
 
-def find_submissions(folder: Path) -> dict[str, Path]:
+def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Path]:
     """{student: path}: one sub-folder, archive or .cpp per student, by name.
     Two entries with the same student name (alice/ and alice.zip) keep
-    their full file names, so neither hides the other."""
+    their full file names, so neither hides the other. `exclude` is the
+    results folder, when it sits among the submissions."""
     found = [p for p in sorted(Path(folder).iterdir())
-             if not p.name.startswith(".") and (p.is_dir() or p.name.lower().endswith(SUFFIXES))]
+             if not p.name.startswith(".") and (p.is_dir() or p.name.lower().endswith(SUFFIXES))
+             and not (exclude is not None and p.resolve() == Path(exclude).resolve())]
     counts = Counter(student_name(p) for p in found)
     return {(student_name(p) if counts[student_name(p)] == 1 else p.name): p for p in found}
 
@@ -198,12 +200,16 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
               progress: bool = True, force: bool = False) -> list[Row]:
     """Grade every submission in `folder` into `out`; returns the gradebook rows.
     Raises Interrupted on Ctrl-C (what finished is kept: run again to go on)."""
-    options = {"allow_stale": True, **(options or {})}
+    options = dict(options or {})
+    if not options.get("allow_stale"):
+        from .fixtures import check_stale
+        check_stale()   # once, here: raises StaleFixtures for the instructor to read
+    options["allow_stale"] = True
     jobs = max(1, jobs or os.cpu_count() or 1)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     _clean_leftovers(out)
-    submissions = find_submissions(folder)
+    submissions = find_submissions(folder, exclude=out)
     key_base = grader_key({k: v for k, v in options.items() if k != "allow_stale"})
     todo, rows = [], {}
     for student, path in submissions.items():
@@ -216,7 +222,10 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
             todo.append((student, path, key))
     with _Progress(progress, len(submissions), len(submissions) - len(todo)) as advance:
         if todo:
-            _run_pool(todo, out, jobs, options, rows, advance)
+            try:
+                _run_pool(todo, out, jobs, options, rows, advance)
+            except KeyboardInterrupt:
+                raise Interrupted(len(rows), len(submissions)) from None
     ordered = [rows[s] for s in submissions]
     write_gradebook(ordered, out / "gradebook.csv")
     write_summary(ordered, out)
@@ -241,7 +250,7 @@ def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance) ->
         for process in list(getattr(pool, "_processes", {}).values()):
             process.terminate()   # their half-graded folders are .tmp- ones, removed next run
         pool.shutdown(wait=False, cancel_futures=True)
-        raise Interrupted(sum(1 for _ in rows), len(todo)) from None
+        raise
     pool.shutdown()
 
 
@@ -292,7 +301,6 @@ def write_gradebook(rows: list[Row], path: Path) -> None:
 
 HISTOGRAM = "summary_histogram.png"
 SPEED_CHART = "summary_speed_accuracy.png"
-FLIP_FLOOR = 1e-4   # renders that match the reference are drawn at this error (log axis)
 
 
 def _histogram(rows: list[Row], path: Path) -> None:
@@ -307,46 +315,32 @@ def _histogram(rows: list[Row], path: Path) -> None:
     ax.set_xlabel("score")
     ax.set_ylabel("submissions")
     ungradable = len(rows) - len(graded)
-    ax.set_title(f"{len(graded)} submissions graded" + (f" ({ungradable} ungradable, not shown)" if ungradable else ""))
+    ax.set_title(f"Scores of {len(graded)} submissions" + (f" ({ungradable} ungradable, not shown)" if ungradable else ""))
     ax.yaxis.get_major_locator().set_params(integer=True)
     fig.tight_layout()
     fig.savefig(path, metadata={"Software": None})
     plt.close(fig)
 
 
+def _score_colour(score: float, top: float) -> str:
+    fraction = score / top if top > 0 else 0.0
+    return "#2e9d48" if fraction >= 0.999 else "#e0a21b" if fraction >= 0.5 else "#d1382c"
+
+
 def _speed_chart(rows: list[Row], path: Path) -> int:
-    """Every submission that was timed: time per lookup relative to the
-    reference (x) against the renders' mean FLIP error (y). Returns how many
-    points it drew."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    points = [(r.metrics["speed_ratio"], max(r.metrics.get("flip_mean", 1.0), FLIP_FLOOR), r)
-              for r in rows if r.metrics.get("speed_ratio", 0) > 0]
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+    """Every submission the speed check timed, as a point on the study's
+    chart (docs/study/): time per lookup against the RMS error on the
+    study's environment, coloured by score. Returns how many points it drew."""
+    from .study import chart
+    from .study.run import read_csv
+    study = PROJECT_ROOT / "docs" / "study" / "study.csv"
+    methods = read_csv(study) if study.is_file() else []
     top = max([r.max_score for r in rows] + [1.0])
-    if points:
-        xs, ys, rs = zip(*points)
-        dots = ax.scatter(xs, ys, c=[r.score for r in rs], cmap="viridis", vmin=0, vmax=top,
-                          s=36, edgecolors="black", linewidths=0.4, zorder=3)
-        fig.colorbar(dots, ax=ax, label="score")
-        # A class of 100 cannot be labelled dot by dot: name the small classes only.
-        if len(points) <= 12:
-            for x, y, r in points:
-                ax.annotate(r.student, (x, y), textcoords="offset points", xytext=(5, 4), fontsize=7)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.axvline(1.0, color="tab:red", lw=1, ls="--", zorder=1)
-    ax.text(1.0, 1.0, " reference speed", color="tab:red", fontsize=7, va="top",
-            transform=ax.get_xaxis_transform())
-    ax.axhline(FLIP_FLOOR, color="grey", lw=0.6, ls=":", zorder=1)
-    ax.set_xlabel("time per fetchColor, relative to the reference (lower is faster)")
-    ax.set_ylabel(f"renders' mean FLIP error (lower is better; {FLIP_FLOOR:g} = matches)")
-    ax.set_title("Speed against accuracy")
-    ax.grid(True, which="major", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, metadata={"Software": None})
-    plt.close(fig)
+    points = [{"label": r.student, chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
+               "uniform_smooth_rms": r.metrics["uniform_smooth_rms"], "color": _score_colour(r.score, top)}
+              for r in rows if r.metrics.get("ns_per_lookup", 0) > 0 and r.metrics.get("uniform_smooth_rms", 0) > 0]
+    chart.draw(methods, points, path, panels=chart.PANELS[:1],
+               title=f"Speed against accuracy: {len(points)} submissions")
     return len(points)
 
 
@@ -375,8 +369,9 @@ def summary_markdown(rows: list[Row], charted: int) -> str:
     else:
         lines.append("None: no submission was found at fault.")
     lines += ["", "## Speed against accuracy", "",
-              f"{charted} submissions timed by the speed check (colour: score); "
-              "those that crashed or did not build have no point.", "",
+              f"{charted} submissions measured by the speed check (stars: green full marks, amber half "
+              "or more, red less), on the study's chart of the lookup methods (docs/study/). "
+              "Submissions that crashed or did not build have no point.", "",
               f"![speed against accuracy]({SPEED_CHART})"]
     failed = [r for r in rows if r.error]
     if failed:
@@ -405,7 +400,7 @@ def summary_html(rows: list[Row], markdown_text: str, out: Path) -> str:
     table = f"<h2>Gradebook</h2><table><thead><tr>{head}</tr></thead><tbody>{''.join(lines)}</tbody></table>"
     style = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
              "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:3px 8px;"
-             "text-align:left;font-variant-numeric:tabular-nums}th{background:#f3f3f3}tr.bad td{background:#fdeeee}"
+             "text-align:left;font-variant-numeric:tabular-nums}td:nth-child(2){white-space:nowrap}th{background:#f3f3f3}tr.bad td{background:#fdeeee}"
              "img{max-width:100%}")
     return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>Class summary</title>'
             f"<style>{style}</style></head><body>{body}{table}</body></html>\n")

@@ -14,20 +14,39 @@ from pathlib import Path
 from . import PROJECT_ROOT
 
 INCLUDE = ("grader", "reference", "student_template", "Cubemap", "fixtures", "scenes",
-           "envmap_test.cfg", "requirements.txt", "packages.txt", "Makefile", "scripts")
-EXCLUDE_PARTS = {"__pycache__", ".venv", "build", "out"}
+           "envmap_test.cfg", "requirements.txt", "packages.txt", "Makefile", "scripts",
+           "docs/study/study.csv")   # the speed check draws the submission on the study's chart
+# Build outputs, caches, a student's local self-check, CI files: never shipped.
+EXCLUDE_PARTS = {"__pycache__", ".venv", "build", "out", "selfcheck", ".github", ".pytest_cache", "fuzz"}
 FIXED_TIME = (2020, 1, 1, 0, 0, 0)   # byte-identical zips from identical trees
 
 SETUP_SH = """#!/usr/bin/env bash
-# Gradescope runs this once when it builds the autograder image.
+# Gradescope runs this once when it builds the autograder image (as root).
+# The grader needs Python 3.11 or later: Gradescope's Ubuntu 24.04 base image
+# has it; on 22.04 python3.11 is installed beside the system's 3.10.
 set -euo pipefail
 cd /autograder/source
+export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
-DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \\
+apt-get install -y -qq --no-install-recommends \\
     python3 python3-venv python3-pip g++ gcc make bubblewrap >/dev/null
-python3 -m venv .venv
+python=python3
+if ! python3 -c 'import sys; sys.exit(sys.version_info < (3, 11))'; then
+  apt-get install -y -qq --no-install-recommends python3.11 python3.11-venv >/dev/null
+  python=python3.11
+fi
+"$python" -m venv .venv
+.venv/bin/pip install --quiet --upgrade pip
 .venv/bin/pip install --quiet -r requirements.txt
 make reference
+# Fail here, when the image is built, rather than on every submission.
+.venv/bin/python -m grader fixtures --check
+# Grade the untouched template once: every submission's container starts
+# from this image, so what this builds and caches (our objects, the worker,
+# the study's bake) is not redone per submission. Exit 3 (the grader
+# failed) stops the image build.
+.venv/bin/python -m grader grade student_template --out /tmp/warm-up >/dev/null
+rm -rf /tmp/warm-up
 """
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash
@@ -37,11 +56,17 @@ set -uo pipefail
 root="${AUTOGRADER_ROOT:-/autograder}"
 cd "$root/source"
 mkdir -p "$root/results"
+# The exit status is not Gradescope's business: results.json carries the grade.
 .venv/bin/python -m grader grade "$root/submission" --out "$root/results" --student-view "$@"
-status=$?
-# results.json is written even when grading fails; make sure Gradescope sees one.
+# grade writes results.json whatever the submission does; if the grader
+# itself could not start, Gradescope still gets a file that says so.
 if [ ! -s "$root/results/results.json" ]; then
-  echo '{"score": 0, "output": "The autograder failed before it could write results; please tell your instructor.", "tests": []}' > "$root/results/results.json"
+  cat > "$root/results/results.json" <<'JSON'
+{"score": 0, "execution_time": 0, "output_format": "md",
+ "output": "The autograder failed before it could grade your submission. This is not your fault: please tell your instructor.",
+ "tests": [],
+ "extra_data": {"status": "ungradable", "warnings": ["run_autograder: the grader did not write results.json"], "diagnoses": []}}
+JSON
 fi
 exit 0
 """

@@ -47,7 +47,10 @@ def apply(result: GradeResult, rubric: dict) -> GradeResult:
             check.score = check.max_score if check.fraction >= 1.0 else 0.0
         else:
             check.score = round(check.max_score * min(max(check.fraction, 0.0), 1.0), 2)
-    result.max_score = float(sum(float(e.get("points", 0)) for e in entries.values()))
+    # The checks that were run (all of them, unless grading was restricted to
+    # some, e.g. the visible ones): hidden points never enter a student's total.
+    names = {c.name for c in result.checks} or set(entries)
+    result.max_score = float(sum(float(e.get("points", 0)) for n, e in entries.items() if n in names))
     result.score = round(sum(c.score for c in result.checks), 2)
     if result.status == GRADED and any(c.status == ERROR for c in result.checks):
         result.status = UNGRADABLE

@@ -86,3 +86,13 @@ def test_grading_twice_gives_the_same_score_and_reports(tmp_path):
         a = _without_timings((tmp_path / "a" / name).read_text())
         b = _without_timings((tmp_path / "b" / name).read_text())
         assert a == b, name
+
+
+def test_the_untouched_template_scores_little_and_says_why(tmp_path):
+    """Returning black earns no fetchColor, arrow, render or speed points."""
+    result = grade(Path(__file__).parent.parent / "student_template" / "EnvironmentMap.cpp", tmp_path,
+                   GradeOptions(quick=True))
+    assert {d.id for d in result.diagnoses} == {"not-implemented", "nearest-neighbor"}
+    by_name = {c.name: c.score for c in result.checks}
+    assert by_name["fetch_sweep"] == by_name["arrows"] == by_name["renders"] == by_name["speed"] == 0
+    assert result.score < 15

@@ -75,6 +75,7 @@ def run(ctx: CheckContext) -> CheckResult:
     table += ["", "| face | directions | match |", "|---|---:|---:|"]
     table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.1%} |" for k in range(6)]
     ctx.findings["sweep_per_face_bad"] = per_face_bad
+    ctx.findings["sweep_fraction"] = result.fraction
     result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total:
         result.status = FAILED

@@ -1,52 +1,113 @@
-"""`python -m grader grade [SUBMISSION ...]`: grade submissions, write their reports."""
+"""`python -m grader grade [SUBMISSION ...]`: grade submissions, write their reports.
+
+    python -m grader grade                          # the examples in examples/
+    python -m grader grade alice.zip                # reports in out/alice/
+    python -m grader grade src/ --out feedback/ --fail-under 60
+
+A submission is a folder, a .cpp, a .zip or a .tar.gz holding the student's
+EnvironmentMap.cpp. Each one's reports (report.html, report.md, junit.xml,
+results.json) go to OUT, by default out/<submission name>/. The exit status
+is 0 when grading completed, whatever the score (1 with --fail-under SCORE
+when a score is below it; 2 for a usage error; 3 when the grader itself
+failed and the submission is ungradable).
+"""
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
 
 HELP = "grade one submission (a folder, a .cpp, a .zip or a .tar.gz) and write its reports"
 EXAMPLES = PROJECT_ROOT / "examples"
+REPORTS = ("report.html", "report.md", "junit.xml", "results.json")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("submissions", nargs="*", type=Path,
+    p.formatter_class = argparse.RawDescriptionHelpFormatter
+    p.description = __doc__.split("\n", 1)[1].strip("\n")
+    p.add_argument("submissions", nargs="*", type=Path, metavar="SUBMISSION",
                    help="what to grade; default: every submission in examples/")
-    p.add_argument("--out", type=Path, help="report folder (default: out/<submission name>/)")
-    p.add_argument("--sanitize", action="store_true", help="build with AddressSanitizer for exact memory-error reports")
-    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
-                   help="run the worker with resource limits only (no bubblewrap)")
-    p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
-    p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
-    p.add_argument("--student-view", action="store_true",
-                   help="leave hidden checks out of report.md and report.html (what students see)")
+    p.add_argument("--out", type=Path,
+                   help="report folder (default: out/<submission name>/; with several submissions, "
+                        "OUT/<submission name>/)")
     p.add_argument("--fail-under", type=float, metavar="SCORE",
                    help="exit with status 1 when a score is below SCORE (for CI)")
+    p.add_argument("--student-view", action="store_true",
+                   help="leave hidden checks out of report.md, report.html and the terminal (what students see)")
+    p.add_argument("--visible-only", action="store_true",
+                   help="run only the checks the rubric makes visible (students' self-check; "
+                        "implies --student-view)")
+    p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
+    p.add_argument("--sanitize", action="store_true", help="build with AddressSanitizer for exact memory-error reports")
+    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
+                   help="run student code with resource limits only (no bubblewrap)")
+    p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
 
 
 def example_submissions() -> list[Path]:
-    return sorted(p for p in EXAMPLES.iterdir() if not p.name.startswith((".", "README")))
+    if not EXAMPLES.is_dir():
+        return []
+    return sorted(p for p in EXAMPLES.iterdir() if p.is_dir() and not p.name.startswith("."))
+
+
+def output_folders(submissions: list[Path], out: Path | None) -> list[Path]:
+    from ..grade_all import student_name
+    names = [student_name(s) for s in submissions]
+    if len(set(names)) < len(names):   # e.g. a/EnvironmentMap.cpp and b/EnvironmentMap.cpp
+        names = [s.name if names.count(student_name(s)) == 1 else f"{s.parent.name}-{s.name}" for s in submissions]
+    if out is not None and len(submissions) == 1:
+        return [out]
+    base = out if out is not None else PROJECT_ROOT / "out"
+    return [base / n for n in names]
+
+
+def visible_checks(rubric_path: Path) -> tuple[str, ...]:
+    from ..score import load_rubric
+    entries = load_rubric(rubric_path).get("checks", {})
+    return tuple(name for name, e in entries.items() if e.get("visibility", "visible") == "visible")
 
 
 def run(args) -> int:
     from ..grade import GradeOptions, grade
     from ..reports.terminal import print_summary
+    from ..results import UNGRADABLE
     submissions = args.submissions or example_submissions()
-    if args.out and len(submissions) > 1:
-        outs = [args.out / s.stem for s in submissions]
-    else:
-        outs = [args.out or PROJECT_ROOT / "out" / s.name.split(".")[0] for s in submissions]
-    options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale, quick=args.quick,
-                           include_hidden=not args.student_view)
-    status = 0
-    for submission, out in zip(submissions, outs):
-        if not submission.exists():
-            print(f"error: {submission} does not exist")
-            return 2
+    missing = [s for s in submissions if not s.exists()]
+    if missing:
+        for s in missing:
+            print(f"grade: {s} does not exist (expected a folder, a .cpp, a .zip or a .tar.gz)", file=sys.stderr)
+        return 2
+    if not submissions:
+        print(f"grade: nothing to grade: name a submission, or put examples in {EXAMPLES}", file=sys.stderr)
+        return 2
+    student_view = args.student_view or args.visible_only
+    options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale,
+                           quick=args.quick, include_hidden=not student_view)
+    if args.visible_only:
+        options.only = visible_checks(options.rubric)
+    status, written = 0, []
+    for submission, out in zip(submissions, output_folders(submissions, args.out)):
         result = grade(submission, out, options)
-        print_summary(result, report_paths={name: out / name for name in ("report.html", "report.md", "results.json")},
-                      include_hidden=not args.student_view)
-        if args.fail_under is not None and result.score < args.fail_under:
-            status = 1
+        print_summary(result, report_paths={name: out / name for name in ("report.html", "report.md")},
+                      include_hidden=not student_view)
+        written.append((result, out))
+        if result.status == UNGRADABLE:
+            status = max(status, 3)
+        elif args.fail_under is not None and result.score < args.fail_under:
+            status = max(status, 1)
+    if len(written) > 1:
+        print("\nreports (open report.html in a browser):")
+        paths = [_relative(out / "report.html") for _, out in written]
+        width = max(len(p) for p in paths)
+        for path, (result, _) in zip(paths, written):
+            print(f"  {path:{width}s}  {result.score:>6g} / {result.max_score:g}  {result.status}")
     return status
+
+
+def _relative(path: Path) -> str:
+    try:
+        return str(path.resolve().relative_to(Path.cwd()))
+    except ValueError:
+        return str(path)

@@ -1,7 +1,17 @@
-"""`python -m grader grade-all SUBMISSIONS`: grade a class in parallel."""
+"""`python -m grader grade-all SUBMISSIONS`: grade a class in parallel.
+
+    python -m grader grade-all submissions/ --out out/class/ --jobs 2
+
+SUBMISSIONS holds one entry per student: a folder, a .zip, a .tar.gz or a
+.cpp, named after the student. Each student's reports go to
+OUT/<student>/ as soon as they are graded; OUT/gradebook.csv and the class
+summary (OUT/summary.html, summary.md) are written at the end. Interrupted
+(Ctrl-C, a reboot) and run again, it grades only what is missing or changed.
+"""
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
@@ -10,19 +20,55 @@ HELP = "grade every submission in a folder (one sub-folder or archive per studen
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("submissions", type=Path, help="folder with one sub-folder or archive per student")
+    p.formatter_class = argparse.RawDescriptionHelpFormatter
+    p.description = __doc__.split("\n", 1)[1].strip("\n")
+    p.add_argument("submissions", type=Path, metavar="SUBMISSIONS",
+                   help="folder with one sub-folder, .zip, .tar.gz or .cpp per student")
     p.add_argument("--out", type=Path, help="results folder (default: out/<folder name>/)")
-    p.add_argument("--jobs", type=int, default=None, help="parallel gradings (default: one per core)")
-    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None)
-    p.add_argument("--quick", action="store_true", help="smaller direction sets")
-    p.add_argument("--no-progress", dest="progress", action="store_false")
+    p.add_argument("--jobs", type=int, default=None, help="submissions graded at once (default: one per core)")
+    p.add_argument("--force", action="store_true", help="regrade everything, even what is unchanged")
+    p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
+    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
+                   help="run student code with resource limits only (no bubblewrap)")
+    p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
+    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
 
 
 def run(args) -> int:
-    from ..grade_all import grade_all
-    out = args.out or PROJECT_ROOT / "out" / args.submissions.name
-    rows = grade_all(args.submissions, out, args.jobs, {"sandbox": args.sandbox, "quick": args.quick}, args.progress)
-    print(f"graded {len(rows)} submissions ({sum(r.skipped for r in rows)} unchanged, skipped)")
+    from ..fixtures import StaleFixtures
+    from ..grade_all import Interrupted, find_submissions, grade_all
+    if not args.submissions.is_dir():
+        print(f"grade-all: {args.submissions} is not a folder (expected one sub-folder or archive per student)",
+              file=sys.stderr)
+        return 2
+    if args.jobs is not None and args.jobs < 1:
+        print("grade-all: --jobs must be at least 1", file=sys.stderr)
+        return 2
+    if not find_submissions(args.submissions):
+        print(f"grade-all: no submissions in {args.submissions} (expected one sub-folder, .zip, .tar.gz "
+              "or .cpp per student)", file=sys.stderr)
+        return 2
+    out = args.out or PROJECT_ROOT / "out" / args.submissions.resolve().name
+    options = {"sandbox": args.sandbox, "quick": args.quick, "allow_stale": args.allow_stale}
+    try:
+        rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force)
+    except StaleFixtures as e:
+        print(f"grade-all: {e}", file=sys.stderr)
+        return 1
+    except Interrupted as e:
+        print(f"grade-all: {e}; what was graded is kept in {out}. Run the same command again to finish.",
+              file=sys.stderr)
+        return 130
+    skipped = sum(r.skipped for r in rows)
+    by_status: dict[str, int] = {}
+    for r in rows:
+        by_status[r.status] = by_status.get(r.status, 0) + 1
+    print(f"{len(rows)} submissions ({len(rows) - skipped} graded now, {skipped} unchanged and kept): "
+          + ", ".join(f"{n} {s}" for s, n in sorted(by_status.items())))
+    for r in rows:
+        if r.error:
+            print(f"  {r.student}: ungradable: {r.error}", file=sys.stderr)
     print(f"gradebook: {out / 'gradebook.csv'}")
-    print(f"summary:   {out / 'summary.md'}")
+    print(f"summary:   {out / 'summary.html'} (and summary.md)")
+    print(f"reports:   {out}/<student>/report.html")
     return 0

@@ -1,0 +1,101 @@
+"""autograder.zip, run as Gradescope runs it.
+
+The zip is unpacked into a temporary tree laid out as Gradescope lays out
+/autograder: source/ (the zip's contents), submission/ (the student's
+files), results/ (where results.json must appear). setup.sh is not run (it
+installs Debian packages and a virtual environment, which Gradescope does
+once per image): source/.venv is this project's virtual environment, and
+`make reference` builds the reference inside the unpacked tree, so the
+grading uses only what the zip holds. run_autograder is copied to the root,
+where Gradescope puts it, and run with AUTOGRADER_ROOT pointing there.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import zipfile
+from pathlib import Path
+
+import jsonschema
+import pytest
+
+from grader import PROJECT_ROOT
+from grader.gradescope import build_bundle
+from grader.reports.gradescope_json import load_schema
+
+SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
+
+
+@pytest.fixture(scope="module")
+def bundle(tmp_path_factory) -> Path:
+    return build_bundle(tmp_path_factory.mktemp("bundle") / "autograder.zip")
+
+
+@pytest.fixture(scope="module")
+def autograder(tmp_path_factory, bundle) -> Path:
+    """An /autograder tree with the zip unpacked and the reference built."""
+    root = tmp_path_factory.mktemp("autograder")
+    source = root / "source"
+    # unzip keeps the scripts' execute bits, as Gradescope's unpacking does.
+    subprocess.run(["unzip", "-q", str(bundle), "-d", str(source)], check=True)
+    (source / ".venv").symlink_to(PROJECT_ROOT / ".venv")
+    subprocess.run(["make", "-s", "-C", str(source), "reference"], check=True, capture_output=True, timeout=300)
+    shutil.copy2(source / "run_autograder", root / "run_autograder")
+    return root
+
+
+def run_autograder(root: Path, submission: Path | None, *args: str) -> dict:
+    for folder in ("submission", "results"):
+        shutil.rmtree(root / folder, ignore_errors=True)
+        (root / folder).mkdir()
+    if submission is not None:
+        shutil.copy(submission, root / "submission" / "EnvironmentMap.cpp")
+    run = subprocess.run([str(root / "run_autograder"), *args], cwd=root, capture_output=True, text=True,
+                         timeout=300, env={**os.environ, "AUTOGRADER_ROOT": str(root)})
+    assert run.returncode == 0, run.stdout + run.stderr
+    data = json.loads((root / "results" / "results.json").read_text())
+    jsonschema.validate(data, load_schema())
+    return data
+
+
+def test_zip_has_the_scripts_at_the_top_and_no_build_outputs(bundle):
+    with zipfile.ZipFile(bundle) as z:
+        infos = {i.filename: i for i in z.infolist()}
+    for script in ("setup.sh", "run_autograder"):
+        assert script in infos
+        assert (infos[script].external_attr >> 16) & 0o111, f"{script} is not executable"
+    for needed in ("grader/__main__.py", "grader/rubric.toml", "reference/include/envmap.h", "Makefile",
+                   "requirements.txt", "fixtures/manifest.json", "student_template/EnvironmentMap.h"):
+        assert needed in infos, needed
+    parts = {p for name in infos for p in Path(name).parts}
+    assert not parts & {"build", ".venv", "__pycache__", "out", "tests"}
+
+
+def test_zip_is_reproducible(bundle, tmp_path):
+    assert build_bundle(tmp_path / "again.zip").read_bytes() == bundle.read_bytes()
+
+
+def test_correct_submission_scores_full_marks(autograder):
+    data = run_autograder(autograder, SUBMISSIONS / "correct" / "switch_on_face.cpp", "--quick")
+    assert data["extra_data"]["status"] == "graded"
+    assert data["score"] == data["extra_data"]["max_score"] == sum(t["max_score"] for t in data["tests"]) > 0
+    assert all(t["status"] == "passed" for t in data["tests"])
+    # The zip holds what the speed check's chart is drawn from.
+    assert (autograder / "results" / "images" / "speed_accuracy_chart.png").is_file()
+
+
+def test_build_error_gives_valid_results(autograder):
+    data = run_autograder(autograder, SUBMISSIONS / "build" / "syntax_error.cpp", "--quick")
+    assert data["extra_data"]["status"] == "build-error" and data["score"] == 0
+
+
+def test_grader_that_cannot_start_still_leaves_valid_results(autograder, tmp_path):
+    """No virtual environment: run_autograder's fallback results.json, which
+    says the failure is not the student's."""
+    broken = tmp_path / "broken"
+    shutil.copytree(autograder, broken, symlinks=True, ignore=shutil.ignore_patterns(".venv"))
+    data = run_autograder(broken, SUBMISSIONS / "correct" / "switch_on_face.cpp")
+    assert data["extra_data"]["status"] == "ungradable"
+    assert "not your fault" in data["output"]
