@@ -128,7 +128,7 @@ def run(ctx: CheckContext) -> CheckResult:
 def _detail(mistake: str, f: int) -> str:
     name = face_name(f)
     return {
-        "u-flipped": f"On the {name} face, u runs the wrong way (your u is 1 - u of ASSIGNMENT.md's table).",
-        "v-flipped": f"On the {name} face, v runs the wrong way (your v is 1 - v of ASSIGNMENT.md's table).",
+        "u-flipped": f"On the {name} face, u runs the wrong way (your u is 1 - u of the (u, v) table in README.md).",
+        "v-flipped": f"On the {name} face, v runs the wrong way (your v is 1 - v of the (u, v) table in README.md).",
         "uv-swapped": f"On the {name} face, u and v are swapped.",
     }[mistake]
