@@ -166,7 +166,7 @@ _ENTRIES = [
         "On this face, u runs the wrong way",
         "The face's picture is mirrored left to right: where the correct u is "
         "0.2 your code uses 0.8. On the face named, u should be the value in "
-        "the (u, v) table (README.md, "Conventions") (for example `(1 + z/m)/2` on +X but "
+        "the (u, v) table (README.md, 'Conventions') (for example `(1 + z/m)/2` on +X but "
         "`(1 - z/m)/2` on -X).",
         "Check the sign in front of the component that gives u on this face. "
         "Each face has its own sign: they are chosen so that neighbouring "
@@ -178,7 +178,7 @@ _ENTRIES = [
         "The face's picture is upside down: where the correct v is 0.2 your "
         "code uses 0.8. v = 0 is the bottom row of the face (y = 0 in the "
         "buffer), not the top. On the face named, v should be the value in "
-        "the (u, v) table (README.md, "Conventions") (for example `(1 - z/m)/2` on -Y, and "
+        "the (u, v) table (README.md, 'Conventions') (for example `(1 - z/m)/2` on -Y, and "
         "`(1 - y/m)/2` on +Z, the back face that sits upside down in the cross).",
         "Check the sign in front of the component that gives v on this face, "
         "and that you did not turn rows around (row 0 of the buffer is the "
@@ -191,7 +191,7 @@ _ENTRIES = [
         "way round, so the face appears turned on its diagonal. Reading texel "
         "(x, y) at `addr[3*(x*H + y)]` instead of `addr[3*(y*W + x)]` looks the "
         "same on a square face.",
-        "Take u and v from the components the (u, v) table (README.md, "Conventions") names "
+        "Take u and v from the components the (u, v) table (README.md, 'Conventions') names "
         "for this face, and index texels as `addr[3*(y*W + x)]` with x from u "
         "and y from v.",
     ),
@@ -236,7 +236,7 @@ _ENTRIES = [
         "there (the difference between two neighbouring texels) is expected "
         "and costs nothing; this is larger. Usually one of the two faces has u or v running the "
         "wrong way, or (u, v) go wrong near the edge of the face.",
-        "Use the (u, v) table in README.md ("Conventions"): its signs make neighbouring faces of "
+        "Use the (u, v) table in README.md ('Conventions'): its signs make neighbouring faces of "
         "the cross continuous. The details name the edge; compare the two "
         "faces' formulas along it.",
     ),
