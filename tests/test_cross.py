@@ -12,9 +12,10 @@ import numpy as np
 import OpenImageIO as oiio
 import pytest
 
+from grader import PROBES
 from grader.reference import EnvmapError, cross_to_faces, faces_to_cross, library, write_hdr
 
-PROBE_CROSSES = sorted(Path("/work/shared/probes").glob("*_cross.hdr"))
+PROBE_CROSSES = sorted(PROBES.glob("*_cross.hdr"))
 
 EM_ERR_IO, EM_ERR_LAYOUT, EM_ERR_ARGUMENT = -1, -5, -7
 

@@ -21,7 +21,7 @@ from grader.cli import main
 from grader.cubemap import convert, directions, generate, projections, sky, test_map
 
 CUBEMAP = PROJECT_ROOT / "Cubemap"
-PROBES = PROJECT_ROOT.parent / "shared" / "probes"
+from grader import PROBES
 GENERATED = sorted(generate.GENERATED_MAPS)
 
 

@@ -15,11 +15,12 @@ from pathlib import Path
 
 import pytest
 
+from grader import PROBES as PROBE_DIR
 from grader import PROJECT_ROOT
 
 FUZZ = PROJECT_ROOT / "reference" / "fuzz"
 DRIVER = PROJECT_ROOT / "build" / "asan" / "rgbe_corpus_driver"
-PROBES = sorted(Path("/work/shared/probes").glob("*.hdr"))
+PROBES = sorted(PROBE_DIR.glob("*.hdr"))
 SANITIZER_ENV = {
     **os.environ,
     "ASAN_OPTIONS": "abort_on_error=1:detect_leaks=1",
@@ -89,7 +90,7 @@ def test_seed_corpus_runs_clean_under_sanitizers(driver):
     assert f"{len(seeds)} inputs" in run.stdout
 
 
-@pytest.mark.skipif(not PROBES, reason="no probes in /work/shared/probes")
+@pytest.mark.skipif(not PROBES, reason=f"no probes in {PROBE_DIR}")
 def test_real_probes_run_clean_under_sanitizers(driver):
     run = _run(driver, *PROBES)
     report = run.stdout + run.stderr

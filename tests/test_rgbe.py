@@ -15,7 +15,7 @@ import pytest
 from grader import PROJECT_ROOT
 from grader.reference import EnvmapError, read_hdr, read_hdr_bytes, write_hdr
 
-PROBES = Path("/work/shared/probes")
+from grader import PROBES
 REAL_HDR_FILES = sorted(PROBES.glob("*.hdr")) + sorted((PROJECT_ROOT / "Cubemap").glob("*.hdr"))
 
 # em_status values from envmap.h
