@@ -77,6 +77,11 @@ bench: venv reference
 study: venv reference
 	$(PY) -m grader study
 
+# Mitsuba 3 as a peer renderer (optional extra: requirements-study.txt).
+bench-mitsuba: venv reference
+	$(VENV)/bin/pip install --quiet -r requirements-study.txt
+	$(PY) bench/bench_mitsuba.py --pictures docs/study
+
 # The RGBE reader's fuzz corpus under AddressSanitizer and UBSan (no libFuzzer needed).
 sanitize: $(BUILD)/asan/libenvmap.so
 	$(MAKE) -C reference/fuzz check
