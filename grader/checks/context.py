@@ -59,7 +59,8 @@ def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
         if kind in seen:
             continue
         seen.add(kind)
-        out.append(Diagnosis(kind, failure.describe(), hint=failure.hint))
+        # The hint travels separately: reports print it as what to do.
+        out.append(Diagnosis(kind, f"{failure.input}: {failure.message}.", hint=failure.hint))
         if len(out) >= limit:
             break
     return out

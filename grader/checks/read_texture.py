@@ -96,7 +96,8 @@ def run(ctx: CheckContext) -> CheckResult:
                     diagnoses += failure_diagnoses(outcome.failures)
                     if cmp.fraction < 1.0 and len(lines) < 6:
                         name = reference.FACE_NAMES[face]
-                        lines.append(f"Face {w}x{h} ({kind} texels), face {name}:")
+                        side = "after" if placement == "end" else "before"
+                        lines.append(f"Face {name}, {w}x{h} {kind} texels, inaccessible memory right {side} them:")
                         lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
                                              outcome.values, expected, limit=3))
                     if kind == "coordinate" and placement == "end" and cmp.fraction < 0.99:
