@@ -35,6 +35,10 @@ CLASS = {
     "carol": ("tar.gz", SUBMISSIONS / "wrong" / "v-flipped-pos-z.cpp", "graded", "v-flipped"),
     "dave": ("cpp", SUBMISSIONS / "build" / "syntax_error.cpp", "build-error", "build-error"),
     "erin": ("folder", SUBMISSIONS / "wrong" / "crash-null.cpp", "graded", "crash"),
+    # Hostile: writes a fake results.json from inside fetchColor; prints a fake
+    # score and megabytes (which makes it slow, and nothing else).
+    "frank": ("folder", SUBMISSIONS / "hostile" / "write_results.cpp", "graded", "forbidden-syscall"),
+    "grace": ("folder", SUBMISSIONS / "hostile" / "fake_score.cpp", "graded", "slow"),
 }
 
 
@@ -149,7 +153,7 @@ def test_gradebook_columns_and_statuses(resumed):
 def test_class_summary_written(resumed):
     out = resumed["out"]
     summary = (out / "summary.md").read_text()
-    assert "5 submissions: 1 build-error, 4 graded." in summary
+    assert f"{len(CLASS)} submissions: 1 build-error, {len(CLASS) - 1} graded." in summary
     for diagnosis in ("v-flipped", "crash", "build-error"):
         assert f"`{diagnosis}`" in summary
     for image in ("summary_histogram.png", "summary_speed_accuracy.png"):

@@ -36,9 +36,16 @@ def run(ctx: CheckContext) -> CheckResult:
     if ctx.quick:
         items = items[:1]
     worst = None
+    crashed_in = None
     for fixture in items:
+        if crashed_in is not None:
+            # Each crash costs a search for its input; one crashed render says enough.
+            rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | | | not run: crashed in {crashed_in} |")
+            continue
         image, outcome = render_with_submission(ctx, fixture)
         diagnoses += failure_diagnoses(outcome.failures)
+        if outcome.failures:
+            crashed_in = fixture.name
         expected = display(fixture.load())
         got = display(image)
         s = ssim(expected, got)
