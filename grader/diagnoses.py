@@ -275,6 +275,17 @@ _ENTRIES = [
         "`addr[3*(y*m_FaceWidth + x)]`.",
     ),
     DiagnosisInfo(
+        "scaled-by-size-minus-one", "filtering",
+        "readTexture scales u by W-1 instead of W",
+        "Your readTexture puts the sample at p = (u(W-1), v(H-1)), so u = 1 lands "
+        "exactly on the last texel. That is a common convention elsewhere, but "
+        "the handout's is p = (uW, vH): at u = 1 the clamp keeps the lattice "
+        "inside the face, and every other u samples a little further right than "
+        "yours.",
+        "Use `p = (u * m_FaceWidth, v * m_FaceHeight)` as the handout's section "
+        "4 says, and keep the two clamp lines for x and y.",
+    ),
+    DiagnosisInfo(
         "weights-swapped", "filtering",
         "readTexture mixes the four texels with the wrong weights",
         "The interpolation weights are the wrong way round: for example "

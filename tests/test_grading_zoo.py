@@ -34,6 +34,7 @@ ZOO = {
     "nearest-neighbor": ({("nearest-neighbor", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "half-texel-offset": ({("half-texel-offset", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "weights-swapped": ({("weights-swapped", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
+    "scaled-by-size-minus-one": ({("scaled-by-size-minus-one", None)}, {FILTER, "renders"}, {MAPPING, "arrows"}, GRADED),
     # Runtime failures are attributed, and cost only what they touch.
     "out-of-bounds-x1": ({("out-of-bounds-read", None), ("crash", None)}, {FILTER}, set(), GRADED),
     "crash-null": ({("crash", None)}, {MAPPING}, {FILTER}, GRADED),
