@@ -26,7 +26,7 @@ class GradeOptions:
     allow_stale: bool = False       # grade even when fixtures/ is stale
     quick: bool = False             # smaller direction sets (tests of the harness)
     rubric: Path = score.RUBRIC
-    only: tuple[str, ...] = ()      # run only these checks (and what they depend on)
+    only: tuple[str, ...] = ()      # run only these checks
     include_hidden: bool = True     # reports show hidden checks (instructors); False for students
 
 
@@ -37,21 +37,14 @@ def run_seed(secret: str, source_sha256: str) -> int:
     return int.from_bytes(digest[:8], "little") >> 1
 
 
-def _display_name(path: Path) -> str:
-    name = path.name
-    for suffix in (".tar.gz", ".tgz", ".zip", ".cpp"):
-        if name.endswith(suffix):
-            return name[: -len(suffix)]
-    return name
-
-
 def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, write_reports: bool = True) -> GradeResult:
     from .build import HarnessBuildError, build_submission
+    from .grade_all import student_name
     options = options or GradeOptions()
     started = time.monotonic()
     submission = Path(submission)
     rubric = score.load_rubric(options.rubric)
-    result = GradeResult(submission=_display_name(submission))
+    result = GradeResult(submission=student_name(submission))
     checks = all_checks()
     if options.only:
         checks = [c for c in checks if c.name in options.only]
@@ -109,7 +102,7 @@ def drop_consequences(result: GradeResult) -> None:
 def _run_checks(result: GradeResult, checks, library: Path, options: GradeOptions, seed: int, out_dir: Path,
                 settings: dict) -> None:
     from .worker.lookups import open_lookups
-    with open_lookups(library, sandbox=options.sandbox) as lookups:
+    with open_lookups(library, sandbox=options.sandbox, sanitize=options.sanitize) as lookups:
         if getattr(lookups, "warning", None):
             result.warnings.append(lookups.warning)
         ctx = CheckContext(lookups=lookups, seed=seed, artifacts=out_dir / "images",

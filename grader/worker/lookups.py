@@ -6,14 +6,23 @@ from pathlib import Path
 
 import numpy as np
 
+from .process import Limits
 from .runner import SubmissionRunner
 
 # GradeOptions.sandbox -> SubmissionRunner's mode.
 MODES = {None: "auto", True: "sandbox", False: "plain"}
 
 
+def sanitizer_preload() -> tuple[str, ...]:
+    """The AddressSanitizer runtime, which must be loaded before anything else
+    in a worker that loads a --sanitize build."""
+    import subprocess
+    path = subprocess.run(["cc", "-print-file-name=libasan.so"], capture_output=True, text=True).stdout.strip()
+    return (path,) if Path(path).is_absolute() else ()
+
+
 @contextmanager
-def open_lookups(library: Path, sandbox: bool | None = None, timeout_s: float = 0.5, preload: tuple[str, ...] = ()):
+def open_lookups(library: Path, sandbox: bool | None = None, timeout_s: float = 0.5, sanitize: bool = False):
     """A SubmissionRunner with no faces yet (checks set their own).
 
     timeout_s: the base time limit of one call, plus 0.1 ms per input. A
@@ -23,8 +32,11 @@ def open_lookups(library: Path, sandbox: bool | None = None, timeout_s: float = 
     Grading needs the first few failures of a call, not all of them: after 4
     (or one timeout) the rest of the batch counts as failed.
     """
+    # AddressSanitizer reserves terabytes of address space: no RLIMIT_AS then.
+    limits = Limits(address_space_mb=None) if sanitize else Limits()
     runner = SubmissionRunner(library, np.zeros((6, 1, 1, 3), np.float32), sandbox=MODES[sandbox],
-                              timeout_s=timeout_s, preload=preload, max_failures=4, max_timeouts=1)
+                              limits=limits, timeout_s=timeout_s, max_failures=4, max_timeouts=1,
+                              preload=sanitizer_preload() if sanitize else ())
     runner.sandboxed = sandbox
     try:
         yield runner
