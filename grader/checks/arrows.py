@@ -110,18 +110,18 @@ def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
 
     from ..imaging import tone_map
     scene = reference.Scene.load(ARROW_SCENE)
-    scene.set_resolution(256, 256)
-    scene.set_samples(4)
+    scene.set_resolution(200, 200)
+    scene.set_samples(2)
     escapes = scene.trace()
     sub = ctx.lookups.fetch(escapes.dirs)
     images = [escapes.resolve(cube.fetch(escapes.dirs)),
               escapes.resolve(np.nan_to_num(sub.values, nan=0.0, posinf=0.0, neginf=0.0))]
-    fig, axs = plt.subplots(1, 2, figsize=(8, 4.6), dpi=100)
+    fig, axs = plt.subplots(1, 2, figsize=(8, 4.6), dpi=90)
     for ax, image, title in zip(axs, images, ("reference", "your fetchColor")):
         ax.imshow(np.clip(tone_map(image), 0, 1))
         ax.set_title(title)
         ax.axis("off")
-    fig.text(0.5, 0.02, "\n".join(verdicts), ha="center", va="bottom", fontsize=9, family="monospace")
+    fig.text(0.5, 0.02, "\n".join(verdicts), ha="center", va="bottom", fontsize=11, family="monospace")
     fig.subplots_adjust(bottom=0.2)
     path = ctx.artifact("arrows.png")
     fig.savefig(path, metadata={"Software": None})

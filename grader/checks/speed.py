@@ -101,5 +101,5 @@ def draw_chart(ctx: CheckContext, point: dict):
     from ..study.run import read_csv
     rows = read_csv(PROJECT_ROOT / "docs" / "study" / "study.csv")
     path = ctx.artifact("speed_accuracy_chart.png")
-    chart.draw(rows, [point], path, panels=chart.PANELS[:1], title="Speed against accuracy")
+    chart.draw(rows, [point], path, panels=chart.PANELS[:1], title="Speed against accuracy", dpi=90)
     return path

@@ -60,7 +60,7 @@ def _finite(x) -> bool:
 
 
 def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | Path = "study.png",
-         panels=PANELS, time_column: str = TIME_COLUMN, title: str | None = None) -> Path:
+         panels=PANELS, time_column: str = TIME_COLUMN, title: str | None = None, dpi: int = 130) -> Path:
     """Draw the chart to path (.png or .svg); returns the path."""
     extra_points = extra_points or []
     plt.rcParams["svg.hashsalt"] = "grader-study"     # stable SVG ids between runs
@@ -110,6 +110,6 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
     fig.tight_layout(rect=(0, min(0.45, 0.045 * legend_rows + 0.02), 1, 0.96))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=130, metadata={"Date": None} if path.suffix == ".svg" else None)
+    fig.savefig(path, dpi=dpi, metadata={"Date": None} if path.suffix == ".svg" else None)
     plt.close(fig)
     return path
