@@ -104,9 +104,7 @@ def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
     """The large mirror ball of scenes/mirror_ball_test_map.cfg (every face in
     view) with the reference's and the submission's lookup, side by side,
     captioned with the verdicts."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from ..imaging import tone_map
     scene = reference.Scene.load(ARROW_SCENE)
@@ -116,7 +114,8 @@ def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
     sub = ctx.lookups.fetch(escapes.dirs)
     images = [escapes.resolve(cube.fetch(escapes.dirs)),
               escapes.resolve(np.nan_to_num(sub.values, nan=0.0, posinf=0.0, neginf=0.0))]
-    fig, axs = plt.subplots(1, 2, figsize=(8, 4.6), dpi=90)
+    fig = Figure(figsize=(8, 4.6), dpi=90)
+    axs = fig.subplots(1, 2)
     for ax, image, title in zip(axs, images, ("reference", "your fetchColor")):
         ax.imshow(np.clip(tone_map(image), 0, 1))
         ax.set_title(title)
@@ -125,5 +124,4 @@ def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
     fig.subplots_adjust(bottom=0.2)
     path = ctx.artifact("arrows.png")
     fig.savefig(path, metadata={"Software": None})
-    plt.close(fig)
     return path
