@@ -60,3 +60,21 @@ def test_a_new_scene_makes_fixtures_stale(project_copy):
     shutil.copy(project_copy / "envmap_test.cfg", project_copy / "scenes" / "new.cfg")
     with pytest.raises(fixtures.StaleFixtures, match="scenes/new.cfg is new"):
         fixtures.check_stale(project_copy)
+
+
+def test_fixtures_check_command_reports_up_to_date():
+    done = subprocess.run([sys.executable, "-m", "grader", "fixtures", "--check"], cwd=PROJECT_ROOT,
+                          capture_output=True, text=True)
+    assert done.returncode == 0 and "up to date" in done.stdout
+
+
+def test_grading_refuses_stale_fixtures_and_says_what_to_run(project_copy, tmp_path, monkeypatch):
+    from grader.grade import GradeOptions, grade
+    with open(project_copy / "reference" / "src" / "lookup.c", "ab") as f:
+        f.write(b"\n")
+    real_check = fixtures.check_stale
+    # grade() checks the project it runs from; point it at the touched copy.
+    monkeypatch.setattr(fixtures, "check_stale", lambda: real_check(project_copy))
+    with pytest.raises(SystemExit, match=r"reference/src/lookup.c changed.*make fixtures"):
+        grade(PROJECT_ROOT / "examples" / "perfect", tmp_path / "out", GradeOptions())
+    assert not (tmp_path / "out").exists()     # refused before anything was graded
