@@ -411,6 +411,11 @@ def _compile_and_link(source: bytes, common: Path, build_dir: Path, sanitize: bo
                 str(common / "shim.o"), str(common / "loader.o"), str(common / "libreference.a"),
                 "-Wl,--no-undefined",
                 f"-Wl,--version-script={common / 'exports.map'}", "-lm"]
+    # The student's file is compiled in the sandbox where this machine has
+    # one: a compiler reading hostile source sees nothing of ours but headers.
+    from .worker.sandbox import compiler_command, sandbox_problem
+    if sandbox_problem() is None:
+        compile_cmd = compiler_command(compile_cmd, [TEMPLATE, REFERENCE / "include"], build_dir)
     outputs = []
     ok = timed_out = False
     for cmd in (compile_cmd, link_cmd):

@@ -29,7 +29,7 @@ NOBODY = "65534"
 MODES = ("auto", "sandbox", "plain")
 
 
-def _system_binds() -> list[str]:
+def system_binds() -> list[str]:
     """Read-only views of what a dynamically linked program needs."""
     args = ["--ro-bind", "/usr", "/usr"]
     for name in ("bin", "sbin", "lib", "lib32", "lib64", "libx32"):
@@ -47,7 +47,7 @@ def bwrap_command(worker: Path, input_dir: Path, worker_args: list[str], env: di
     cmd = [shutil.which("bwrap") or "bwrap",
            "--unshare-all", "--unshare-user", "--uid", NOBODY, "--gid", NOBODY,
            "--cap-drop", "ALL", "--die-with-parent", "--new-session", "--clearenv",
-           *_system_binds(),
+           *system_binds(),
            "--ro-bind", str(worker), WORKER_INSIDE,
            "--ro-bind", str(input_dir), INPUT_INSIDE,
            "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--chdir", "/tmp"]
@@ -67,7 +67,7 @@ def sandbox_problem() -> str | None:
     true = shutil.which("true") or "/usr/bin/true"
     cmd = [bwrap, "--unshare-all", "--unshare-user", "--uid", NOBODY, "--gid", NOBODY,
            "--cap-drop", "ALL", "--die-with-parent", "--new-session", "--clearenv",
-           *_system_binds(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--", true]
+           *system_binds(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--", true]
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=20)
     except (OSError, subprocess.TimeoutExpired) as exc:
@@ -80,3 +80,18 @@ def sandbox_problem() -> str | None:
 
 def fallback_warning(reason: str) -> str:
     return f"sandbox unavailable: {reason}; ran with resource limits only"
+
+
+def compiler_command(cmd: list[str], read_only: list[Path], writable: Path) -> list[str]:
+    """`cmd` (a compiler run on a student's file) inside bubblewrap: the
+    system, our headers (`read_only`) and the build folder (`writable`, also
+    the working directory) are all it sees; no network, no capabilities, no
+    environment but PATH and LC_ALL. Same uid as ours, so it can write its
+    output; paths keep their names, so messages read the same."""
+    args = [shutil.which("bwrap") or "bwrap", "--unshare-all", "--die-with-parent", "--new-session",
+            "--cap-drop", "ALL", "--clearenv", "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "LC_ALL", "C",
+            *system_binds(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+    for path in read_only:
+        args += ["--ro-bind", str(path), str(path)]
+    args += ["--bind", str(writable), str(writable), "--chdir", str(writable)]
+    return args + ["--", *cmd]
