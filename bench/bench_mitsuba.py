@@ -49,10 +49,8 @@ from __future__ import annotations
 
 import argparse
 import re
-import statistics
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -64,6 +62,8 @@ from grader.checks import image_metrics  # noqa: E402
 from grader.cubemap.projections import latlong_to_direction  # noqa: E402
 from grader.imaging import write_image  # noqa: E402
 from grader.reference import CubeMap, Scene  # noqa: E402
+
+from bench_render import median_seconds  # noqa: E402  (this folder: the same timing as the render bench)
 
 DEFAULT_MAPS = (ROOT / "Cubemap" / "test_environment_map.hdr",
                 ROOT / "Cubemap" / "sky_cross.hdr",
@@ -166,16 +166,6 @@ def mitsuba_scene(mi, settings: dict, envmap_path: Path, size: int, spp: int,
         scene[f"sphere_{i}"] = {"type": "sphere", "center": list(sphere["center"]),
                                 "radius": float(sphere["radius"]), "bsdf": bsdf}
     return mi.load_dict(scene)
-
-
-def median_seconds(fn, repeats: int):
-    """(median seconds, last result) of fn() over repeats runs."""
-    times, result = [], None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times), result
 
 
 def agreement(ours: np.ndarray, theirs: np.ndarray) -> tuple[float, float]:

@@ -6,7 +6,6 @@ face written out here from ASSIGNMENT.md ("Vertical cross", "Buffer").
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 import numpy as np
 import OpenImageIO as oiio

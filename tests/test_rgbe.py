@@ -6,7 +6,6 @@ from OpenImageIO for real files and for everything our writer produces.
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 import numpy as np
 import OpenImageIO as oiio

@@ -44,7 +44,6 @@ def test_the_shipped_rubric_loads_and_names_every_check():
     ({"points": 1, "visibility": "secret"}, "visibility"),
 ])
 def test_rubric_mistakes_are_reported(tmp_path, entry, message):
-    import tomllib  # noqa: F401  (the format under test)
     path = tmp_path / "rubric.toml"
     body = "\n".join(f"{k} = {v!r}".replace("'", '"') for k, v in entry.items())
     path.write_text(f"[checks.a]\n{body}\n")

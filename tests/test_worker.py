@@ -20,7 +20,7 @@ import pytest
 from grader import PROJECT_ROOT
 from grader.build import build_submission
 from grader.reference import CubeMap
-from grader.worker import (Limits, SubmissionFailure, SubmissionRunner, Worker, WorkerHarnessError,
+from grader.worker import (SubmissionFailure, SubmissionRunner, Worker, WorkerHarnessError,
                            describe_fetch, describe_read_texture, protocol, sandbox)
 
 ABI_DIR = PROJECT_ROOT / "grader" / "shim"

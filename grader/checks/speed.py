@@ -1,8 +1,6 @@
 """fetchColor's speed against the reference, measured the same way side by side."""
 from __future__ import annotations
 
-import numpy as np
-
 from .. import PROJECT_ROOT, reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check

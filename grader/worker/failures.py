@@ -8,7 +8,6 @@ so grading the same submission twice gives the same report.
 from __future__ import annotations
 
 import signal
-from dataclasses import dataclass
 
 from . import protocol
 from .protocol import CrashReport

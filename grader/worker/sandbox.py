@@ -41,16 +41,24 @@ def system_binds() -> list[str]:
     return args
 
 
+def isolation(unprivileged: bool) -> list[str]:
+    """bwrap and the options every sandboxed process gets: no namespace
+    shared (so no network), no capabilities, no environment, the system
+    read-only, a fresh /tmp, /proc and a minimal /dev. `unprivileged` also
+    runs it as nobody (the worker); the compiler keeps our uid to write its output."""
+    user = ["--unshare-user", "--uid", NOBODY, "--gid", NOBODY] if unprivileged else []
+    return [shutil.which("bwrap") or "bwrap", "--unshare-all", *user, "--cap-drop", "ALL",
+            "--die-with-parent", "--new-session", "--clearenv", *system_binds(),
+            "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+
+
 def bwrap_command(worker: Path, input_dir: Path, worker_args: list[str], env: dict[str, str]) -> list[str]:
     """The command running `worker` inside the sandbox; `worker_args` refer to
     files of `input_dir` as INPUT_INSIDE/<name>."""
-    cmd = [shutil.which("bwrap") or "bwrap",
-           "--unshare-all", "--unshare-user", "--uid", NOBODY, "--gid", NOBODY,
-           "--cap-drop", "ALL", "--die-with-parent", "--new-session", "--clearenv",
-           *system_binds(),
+    cmd = [*isolation(unprivileged=True),
            "--ro-bind", str(worker), WORKER_INSIDE,
            "--ro-bind", str(input_dir), INPUT_INSIDE,
-           "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--chdir", "/tmp"]
+           "--chdir", "/tmp"]
     for key, value in env.items():
         cmd += ["--setenv", key, value]
     return cmd + ["--", WORKER_INSIDE, *worker_args]
@@ -65,9 +73,7 @@ def sandbox_problem() -> str | None:
     if bwrap is None:
         return "bwrap (Debian package bubblewrap) is not installed"
     true = shutil.which("true") or "/usr/bin/true"
-    cmd = [bwrap, "--unshare-all", "--unshare-user", "--uid", NOBODY, "--gid", NOBODY,
-           "--cap-drop", "ALL", "--die-with-parent", "--new-session", "--clearenv",
-           *system_binds(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp", "--", true]
+    cmd = [*isolation(unprivileged=True), "--", true]
     try:
         done = subprocess.run(cmd, capture_output=True, text=True, timeout=20)
     except (OSError, subprocess.TimeoutExpired) as exc:
@@ -88,9 +94,7 @@ def compiler_command(cmd: list[str], read_only: list[Path], writable: Path) -> l
     the working directory) are all it sees; no network, no capabilities, no
     environment but PATH and LC_ALL. Same uid as ours, so it can write its
     output; paths keep their names, so messages read the same."""
-    args = [shutil.which("bwrap") or "bwrap", "--unshare-all", "--die-with-parent", "--new-session",
-            "--cap-drop", "ALL", "--clearenv", "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "LC_ALL", "C",
-            *system_binds(), "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+    args = [*isolation(unprivileged=False), "--setenv", "PATH", "/usr/bin:/bin", "--setenv", "LC_ALL", "C"]
     for path in read_only:
         args += ["--ro-bind", str(path), str(path)]
     args += ["--bind", str(writable), str(writable), "--chdir", str(writable)]
