@@ -1,6 +1,7 @@
 # The front door. `make` builds the reference library; `make test` sets up
-# .venv/ from requirements.txt (and the Debian packages in packages.txt) on
-# first use and runs the test suite; `make grade` grades the examples.
+# .venv/ from requirements.lock (and the Debian packages in packages.txt) on
+# first use and runs the test suite; `make grade` grades the examples. Every
+# target README.md names installs what it needs (tests/test_front_door.py).
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -12,13 +13,13 @@ CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
 REF_SRC := $(sort $(wildcard reference/src/*.c))
 REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
-.PHONY: all reference venv test sanitize fuzz selfcheck grade grade-all fixtures bundle gradescope bench study clean system-deps
+.PHONY: all reference venv test test-fast sanitize fuzz selfcheck grade grade-all fixtures bundle gradescope bench study clean system-deps core-deps
 
 all: reference
 
 reference: $(BUILD)/libenvmap.so $(BUILD)/reference_submission.so
 
-$(BUILD)/libenvmap.so: $(REF_SRC) $(REF_HDR) | $(BUILD)
+$(BUILD)/libenvmap.so: $(REF_SRC) $(REF_HDR) | $(BUILD) core-deps
 	$(CC) $(CFLAGS_REF) -Ireference/include -shared -o $@.tmp $(REF_SRC) -lm && mv $@.tmp $@
 
 # The reference built with AddressSanitizer and UBSan (used by `make sanitize`).
@@ -27,59 +28,70 @@ $(BUILD)/asan/libenvmap.so: $(REF_SRC) $(REF_HDR)
 	$(CC) $(CFLAGS_REF) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -Ireference/include -shared -o $@ $(REF_SRC) -lm
 
 # The reference behind the submission ABI: the speed check's baseline.
-$(BUILD)/reference_submission.so: grader/shim/reference_submission.c grader/shim/submission_abi.h $(REF_SRC) $(REF_HDR) | $(BUILD)
+$(BUILD)/reference_submission.so: grader/shim/reference_submission.c grader/shim/submission_abi.h $(REF_SRC) $(REF_HDR) | $(BUILD) core-deps
 	$(CC) $(CFLAGS_REF) -Ireference/include -Igrader/shim -shared -o $@.tmp grader/shim/reference_submission.c $(REF_SRC) -lm && mv $@.tmp $@
 
 $(BUILD):
 	@mkdir -p $@
 
-# Debian packages the project needs (bubblewrap for the sandbox, chromium for
-# the report test); installed only when missing and when we may (root).
+# Debian/Ubuntu packages (packages.txt), installed only when missing and when
+# we may (root): core-deps is what grading needs (compilers, python3-venv,
+# bubblewrap), system-deps adds what the tests use (chromium, clang).
 system-deps:
 	@bash scripts/install-system-deps.sh
 
-$(VENV)/.installed: requirements.txt
-	$(PYTHON) -m venv $(VENV)
-	$(VENV)/bin/pip install --quiet --upgrade pip
-	$(VENV)/bin/pip install --quiet -r requirements.txt
+core-deps:
+	@bash scripts/install-system-deps.sh core
+
+$(VENV)/.installed: requirements.txt | core-deps
+	@bash scripts/make-venv.sh $(VENV) requirements.txt $(PYTHON)
 	@touch $@
 
 venv: $(VENV)/.installed
 
+# The whole suite (CI runs this through .ci/run).
 test: system-deps venv reference
 	$(PY) -m pytest -n 2 -q tests
 
-bundle: venv
+# The suite without the tests marked slow (whole-class grading, browsers, sanitizers).
+test-fast: system-deps venv reference
+	$(PY) -m pytest -n 2 -q -m "not slow" tests
+
+# Regenerate fixtures/ after changing a scene, a map or the reference.
+fixtures: venv reference
+	$(PY) -m grader fixtures
+
+bundle: core-deps venv
 	$(PY) -m grader bundle
 
 # `make grade` grades the examples in examples/; `make grade SUBMISSION=path
 # [OUT=dir]` grades one submission (reports in out/<submission name>/).
-grade: venv reference
+grade: core-deps venv reference
 	$(PY) -m grader grade $(if $(SUBMISSION),"$(SUBMISSION)") $(if $(OUT),--out "$(OUT)")
 
 # A class: `make grade-all SUBMISSIONS=dir [OUT=dir] [JOBS=n]` (resumable).
-grade-all: venv reference
+grade-all: core-deps venv reference
 	@test -n "$(SUBMISSIONS)" || { echo "usage: make grade-all SUBMISSIONS=dir [OUT=dir] [JOBS=n]" >&2; exit 2; }
 	$(PY) -m grader grade-all "$(SUBMISSIONS)" $(if $(OUT),--out "$(OUT)") $(if $(JOBS),--jobs $(JOBS))
 
 # build/autograder.zip for Gradescope.
-gradescope: venv reference
+gradescope: core-deps venv reference
 	$(PY) -m grader gradescope
 
 # What a student's `make selfcheck` shows, for the template's EnvironmentMap.cpp.
-selfcheck: venv reference
+selfcheck: core-deps venv reference
 	$(MAKE) -C student_template selfcheck GRADER_HOME="$(CURDIR)"
 
 # Grading speed: one submission cold and warm, and a class of 100 (JOBS=2).
-bench: venv reference
+bench: core-deps venv reference
 	$(PY) bench/bench_grading.py $(if $(JOBS),--jobs $(JOBS))
 
-study: venv reference
+study: core-deps venv reference
 	$(PY) -m grader study
 
 # Mitsuba 3 as a peer renderer (optional extra: requirements-study.txt).
 bench-mitsuba: venv reference
-	$(VENV)/bin/pip install --quiet -r requirements-study.txt
+	$(VENV)/bin/pip install --progress-bar on -r requirements-study.txt
 	$(PY) bench/bench_mitsuba.py --pictures docs/study
 
 # The RGBE reader's fuzz corpus under AddressSanitizer and UBSan (no libFuzzer needed).

@@ -1,0 +1,95 @@
+"""The targets README.md names, run the way README shows them, in a copy of
+the project: after a scene edit the grader refuses and names `make
+fixtures`; `make fixtures` regenerates them; then `make grade` grades.
+
+The copy shares the project's .venv/ (a symlink: creating one from the lock
+is tested by CI's fresh clone, where `make test` itself makes it) and
+builds everything else (reference library, grader objects) itself.
+"""
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from grader import PROJECT_ROOT
+
+CORRECT = PROJECT_ROOT / "tests" / "submissions" / "correct" / "if_chain.cpp"
+BROKEN = PROJECT_ROOT / "tests" / "submissions" / "build" / "syntax_error.cpp"
+SCENE = "scenes/glass_ball_grid_room.cfg"
+STUDENT_TARGETS = {"run"}   # README: "students get student_template/ (`make run` ...)"
+LEFT_OUT = shutil.ignore_patterns(".venv", "build", "out", ".git", "__pycache__", ".pytest_cache", ".tmp-*")
+
+
+def make(project: Path, *args: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    return subprocess.run(["make", "-s", *args], cwd=project, capture_output=True, text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory) -> Path:
+    copy = tmp_path_factory.mktemp("front-door") / "project"
+    shutil.copytree(PROJECT_ROOT, copy, ignore=LEFT_OUT, symlinks=True)
+    (copy / ".venv").symlink_to(PROJECT_ROOT / ".venv")
+    return copy
+
+
+def test_readme_names_only_targets_the_makefile_has():
+    """Every `make X` in README.md has a rule that does something (in the
+    project, or in student_template/ for what README says students run)."""
+    readme = (PROJECT_ROOT / "README.md").read_text()
+    targets = sorted(set(re.findall(r"(?:`|^)make ([a-z][\w-]*)", readme, re.M)))
+    assert {"grade", "test", "fixtures", "grade-all", "gradescope"} <= set(targets)
+    for target in targets:
+        where = PROJECT_ROOT / "student_template" if target in STUDENT_TARGETS else PROJECT_ROOT
+        dry = subprocess.run(["make", "-n", target, "SUBMISSIONS=x"], cwd=where, capture_output=True,
+                             text=True, timeout=60)
+        assert dry.returncode == 0, (target, dry.stderr)
+        assert "Nothing to be done" not in dry.stdout + dry.stderr, target
+        assert dry.stdout.strip(), f"make {target} runs no command"
+
+
+def test_scene_edit_then_make_fixtures_then_make_grade(project, tmp_path):
+    scene = project / SCENE
+    text = scene.read_text()
+    assert "position = (-4, 0.5, 0.5);" in text
+    scene.write_text(text.replace("position = (-4, 0.5, 0.5);", "position = (-4, 0.7, 0.5);"))
+    fixture = next((project / "fixtures" / "renders").glob("glass_ball_grid_room--*.npy"))
+    before = fixture.read_bytes()
+
+    refused = make(project, "grade", f"SUBMISSION={CORRECT}", f"OUT={tmp_path / 'refused'}")
+    assert refused.returncode != 0
+    said = refused.stdout + refused.stderr
+    assert f"{SCENE} changed" in said and "make fixtures" in said, said
+    assert not (tmp_path / "refused" / "results.json").exists()
+
+    made = make(project, "fixtures")
+    assert made.returncode == 0, made.stdout + made.stderr
+    assert "fixture files" in made.stdout
+    assert fixture.read_bytes() != before           # the camera moved: a new render
+
+    graded = make(project, "grade", f"SUBMISSION={CORRECT}", f"OUT={tmp_path / 'graded'}")
+    assert graded.returncode == 0, graded.stdout + graded.stderr
+    results = json.loads((tmp_path / "graded" / "results.json").read_text())
+    assert results["extra_data"]["status"] == "graded"
+    assert results["score"] == results["extra_data"]["max_score"] > 0   # the new fixture matches the reference
+
+
+def test_make_grade_all_and_gradescope_in_the_copy(project, tmp_path):
+    made = make(project, "fixtures")    # the other test may have moved the scene
+    assert made.returncode == 0, made.stderr
+    klass = tmp_path / "class"
+    klass.mkdir()
+    shutil.copy(BROKEN, klass / "alice.cpp")
+    shutil.copy(BROKEN, klass / "bob.cpp")
+    graded = make(project, "grade-all", f"SUBMISSIONS={klass}", f"OUT={tmp_path / 'out'}", "JOBS=1")
+    assert graded.returncode == 0, graded.stdout + graded.stderr
+    gradebook = (tmp_path / "out" / "gradebook.csv").read_text().splitlines()
+    assert [line.split(",")[0] for line in gradebook[1:]] == ["alice", "bob"]
+
+    zipped = make(project, "gradescope")
+    assert zipped.returncode == 0, zipped.stdout + zipped.stderr
+    assert (project / "build" / "autograder.zip").stat().st_size > 100_000

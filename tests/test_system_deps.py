@@ -1,0 +1,121 @@
+"""scripts/install-system-deps.sh picks packages by what apt can install on
+Debian 12, Ubuntu 22.04 and Ubuntu 24.04, and says why when it cannot.
+
+apt is replaced by small fakes on PATH (dpkg, dpkg-query, apt-cache,
+apt-get, id) that answer as each system's apt does; the fake apt-get
+records what it was asked to install.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from grader import PROJECT_ROOT
+
+SCRIPT = PROJECT_ROOT / "scripts" / "install-system-deps.sh"
+
+# What `apt-cache policy` offers on each system (package -> candidate version).
+SYSTEMS = {
+    "Debian GNU/Linux 12 (bookworm)": {
+        "gcc": "4:12.2.0-3", "g++": "4:12.2.0-3", "make": "4.3-4.1", "python3-venv": "3.11.2-1+b1",
+        "bubblewrap": "0.8.0-2+deb12u1", "chromium": "156.0-1~deb12u1", "clang": "1:14.0-55.7~deb12u1",
+        "libclang-rt-14-dev": "1:14.0.6-12", "libclang-common-14-dev": "1:14.0.6-12"},
+    "Ubuntu 22.04.5 LTS": {
+        "gcc": "4:11.2.0-1ubuntu1", "g++": "4:11.2.0-1ubuntu1", "make": "4.3-4.1build1",
+        "python3-venv": "3.10.6-1~22.04", "bubblewrap": "0.6.1-1ubuntu0.1", "chromium-browser": "1:85.0-0ubuntu2",
+        "clang": "1:14.0-55~exp2", "libclang-common-14-dev": "1:14.0.0-1ubuntu1.1"},
+    "Ubuntu 24.04.1 LTS": {
+        "gcc": "4:13.2.0-7ubuntu1", "g++": "4:13.2.0-7ubuntu1", "make": "4.3-4.1build2",
+        "python3-venv": "3.12.3-0ubuntu2", "bubblewrap": "0.9.0-1ubuntu0.1", "chromium-browser": "2:1snap1-0ubuntu2",
+        "clang": "1:18.0-59~exp2", "libclang-rt-14-dev": "1:14.0.6-19build4", "libclang-rt-18-dev": "1:18.1.3-1ubuntu1",
+        "libclang-common-18-dev": "1:18.1.3-1ubuntu1"},
+}
+
+FAKES = {
+    # dpkg -s NAME: installed when NAME is in $FAKE_INSTALLED
+    "dpkg": '[ "$1" = -s ] && case " $FAKE_INSTALLED " in *" $2 "*) echo "Status: install ok installed"; exit 0;; esac; exit 1',
+    "dpkg-query": "exit 1",
+    # apt-cache policy NAME: its candidate from $FAKE_AVAILABLE ("name=version ...")
+    "apt-cache": 'for kv in $FAKE_AVAILABLE; do [ "${kv%%=*}" = "$2" ] && { echo "$2:"; echo "  Installed: (none)";'
+                 ' echo "  Candidate: ${kv#*=}"; exit 0; }; done; exit 0',
+    "apt-get": 'echo "$*" >> "$FAKE_LOG"',
+    "id": "echo 0",
+}
+
+
+def run_script(tmp_path: Path, system: str, installed: list[str], *groups: str, root: bool = True):
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir(exist_ok=True)
+    for name, body in FAKES.items():
+        if name == "id" and not root:
+            body = "echo 1000"
+        (bin_dir / name).write_text("#!/bin/bash\n" + body + "\n")
+        (bin_dir / name).chmod(0o755)
+    os_release = tmp_path / "os-release"
+    os_release.write_text(f'PRETTY_NAME="{system}"\n')
+    log = tmp_path / "apt.log"
+    log.write_text("")
+    env = {**os.environ, "PATH": f"{bin_dir}:{os.environ['PATH']}", "APT_OS_RELEASE": str(os_release),
+           "FAKE_INSTALLED": " ".join(installed), "FAKE_LOG": str(log),
+           "FAKE_AVAILABLE": " ".join(f"{k}={v}" for k, v in SYSTEMS[system].items())}
+    done = subprocess.run(["bash", str(SCRIPT), *groups], env=env, capture_output=True, text=True, timeout=60)
+    installs = [line.split() for line in log.read_text().splitlines() if line.startswith("install")]
+    return done, [p for line in installs for p in line if not p.startswith("-") and p != "install"]
+
+
+def test_nothing_missing_does_nothing(tmp_path):
+    everything = list(SYSTEMS["Debian GNU/Linux 12 (bookworm)"])
+    done, installed = run_script(tmp_path, "Debian GNU/Linux 12 (bookworm)", everything)
+    assert done.returncode == 0 and installed == [] and done.stdout == ""
+
+
+def test_debian_12_installs_everything(tmp_path):
+    done, installed = run_script(tmp_path, "Debian GNU/Linux 12 (bookworm)", [])
+    assert done.returncode == 0, done.stderr
+    assert installed == ["gcc", "g++", "make", "python3-venv", "bubblewrap", "chromium", "clang",
+                         "libclang-rt-14-dev"]
+    assert "installing" in done.stdout   # progress, not silence
+
+
+def test_ubuntu_22_04_uses_the_common_package_and_explains_chromium(tmp_path):
+    done, installed = run_script(tmp_path, "Ubuntu 22.04.5 LTS", [])
+    assert done.returncode == 0, done.stderr    # chromium is for a test only
+    assert installed == ["gcc", "g++", "make", "python3-venv", "bubblewrap", "clang", "libclang-common-14-dev"]
+    assert "cannot install chromium" in done.stderr and "Ubuntu 22.04.5 LTS" in done.stderr
+    assert "snap" in done.stderr   # what it is for, and why Ubuntu has none
+
+
+def test_ubuntu_24_04_matches_the_runtime_to_clang_18(tmp_path):
+    done, installed = run_script(tmp_path, "Ubuntu 24.04.1 LTS", ["clang"])
+    assert done.returncode == 0, done.stderr
+    assert "libclang-rt-18-dev" in installed and "libclang-rt-14-dev" not in installed
+
+
+def test_core_group_alone_is_what_grading_needs(tmp_path):
+    done, installed = run_script(tmp_path, "Ubuntu 24.04.1 LTS", ["gcc", "g++", "make"], "core")
+    assert done.returncode == 0, done.stderr
+    assert installed == ["python3-venv", "bubblewrap"]
+
+
+def test_a_core_package_apt_cannot_install_fails_and_says_why(tmp_path, monkeypatch):
+    monkeypatch.setitem(SYSTEMS, "Odd Linux 1", {"gcc": "1", "g++": "1", "make": "1", "python3-venv": "1"})
+    done, installed = run_script(tmp_path, "Odd Linux 1", [], "core")
+    assert done.returncode == 1
+    assert "cannot install bubblewrap" in done.stderr and "worker sandbox" in done.stderr
+    assert installed == ["gcc", "g++", "make", "python3-venv"]   # the rest is still installed
+
+
+def test_without_root_it_only_says_what_to_run(tmp_path):
+    done, installed = run_script(tmp_path, "Debian GNU/Linux 12 (bookworm)", [], "core", root=False)
+    assert done.returncode == 0 and installed == []
+    assert "bubblewrap" in done.stderr and "sudo bash scripts/install-system-deps.sh core" in done.stderr
+
+
+@pytest.mark.parametrize("line", [line for line in (PROJECT_ROOT / "packages.txt").read_text().splitlines()
+                                  if line.strip() and not line.startswith("#")])
+def test_every_package_says_what_it_is_for(line):
+    fields, _, why = line.partition("#")
+    assert len(fields.split()) == 2 and fields.split()[1] in ("core", "test") and len(why.strip()) > 10, line
