@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import PROJECT_ROOT
+from .reports.class_summary import check_names, write_summary
 from .results import UNGRADABLE
 
 RECORD_FILE = ".grade.json"
@@ -277,14 +278,6 @@ class _Progress:
             self.bar.__exit__(*exc)
 
 
-def check_names(rows: list[Row]) -> list[str]:
-    """Check columns in rubric order (the order results.json lists them)."""
-    names: list[str] = []
-    for r in rows:
-        names += [n for n in r.checks if n not in names]
-    return names
-
-
 def write_gradebook(rows: list[Row], path: Path) -> None:
     names = check_names(rows)
     buf = io.StringIO()
@@ -295,122 +288,3 @@ def write_gradebook(rows: list[Row], path: Path) -> None:
         w.writerow([r.student, f"{r.score:g}", f"{r.max_score:g}", r.status,
                     *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], " ".join(r.diagnoses)])
     _write_text_atomic(path, buf.getvalue())
-
-
-# ---- the class summary ----------------------------------------------------------
-
-HISTOGRAM = "summary_histogram.png"
-SPEED_CHART = "summary_speed_accuracy.png"
-
-
-def _histogram(rows: list[Row], path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    top = max([r.max_score for r in rows] + [1.0])
-    fig, ax = plt.subplots(figsize=(6.4, 3.2), dpi=100)
-    graded = [r.score for r in rows if r.status != UNGRADABLE]
-    ax.hist(graded, bins=20, range=(0, top), color="#4a7bd0", edgecolor="white")
-    ax.set_xlim(0, top)
-    ax.set_xlabel("score")
-    ax.set_ylabel("submissions")
-    ungradable = len(rows) - len(graded)
-    ax.set_title(f"Scores of {len(graded)} submissions" + (f" ({ungradable} ungradable, not shown)" if ungradable else ""))
-    ax.yaxis.get_major_locator().set_params(integer=True)
-    fig.tight_layout()
-    fig.savefig(path, metadata={"Software": None})
-    plt.close(fig)
-
-
-def _score_colour(score: float, top: float) -> str:
-    fraction = score / top if top > 0 else 0.0
-    return "#2e9d48" if fraction >= 0.999 else "#e0a21b" if fraction >= 0.5 else "#d1382c"
-
-
-def _speed_chart(rows: list[Row], path: Path) -> int:
-    """Every submission the speed check timed, as a point on the study's
-    chart (docs/study/): time per lookup against the RMS error on the
-    study's environment, coloured by score. Returns how many points it drew."""
-    from .study import chart
-    from .study.run import read_csv
-    study = PROJECT_ROOT / "docs" / "study" / "study.csv"
-    methods = read_csv(study) if study.is_file() else []
-    top = max([r.max_score for r in rows] + [1.0])
-    points = [{"label": r.student, chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
-               "uniform_smooth_rms": r.metrics["uniform_smooth_rms"], "color": _score_colour(r.score, top)}
-              for r in rows if r.metrics.get("ns_per_lookup", 0) > 0 and r.metrics.get("uniform_smooth_rms", 0) > 0]
-    chart.draw(methods, points, path, panels=chart.PANELS[:1],
-               title=f"Speed against accuracy: {len(points)} submissions")
-    return len(points)
-
-
-def _diagnosis_counts(rows: list[Row]) -> list[tuple[str, str, int]]:
-    from .diagnoses import describe
-    counts = Counter(d for r in rows for d in r.diagnoses)
-    return [(d, describe(d).title, n) for d, n in counts.most_common()]
-
-
-def summary_markdown(rows: list[Row], charted: int) -> str:
-    statuses = Counter(r.status for r in rows)
-    graded = [r.score for r in rows if r.status != UNGRADABLE]
-    lines = ["# Class summary", "",
-             f"{len(rows)} submissions: " + ", ".join(f"{n} {s}" for s, n in sorted(statuses.items())) + "."]
-    if graded:
-        ordered = sorted(graded)
-        median = (ordered[(len(ordered) - 1) // 2] + ordered[len(ordered) // 2]) / 2
-        top = max(r.max_score for r in rows)
-        lines.append(f"Median score {median:g} / {top:g}; "
-                     f"{sum(s >= top for s in graded)} full marks, {sum(s == 0 for s in graded)} at zero.")
-    lines += ["", f"![score histogram]({HISTOGRAM})", "", "## Most common diagnoses", ""]
-    counted = _diagnosis_counts(rows)
-    if counted:
-        lines += ["| diagnosis | what it means | submissions |", "|---|---|---:|"]
-        lines += [f"| `{d}` | {title} | {n} |" for d, title, n in counted]
-    else:
-        lines.append("None: no submission was found at fault.")
-    lines += ["", "## Speed against accuracy", "",
-              f"{charted} submissions measured by the speed check (stars: green full marks, amber half "
-              "or more, red less), on the study's chart of the lookup methods (docs/study/). "
-              "Submissions that crashed or did not build have no point.", "",
-              f"![speed against accuracy]({SPEED_CHART})"]
-    failed = [r for r in rows if r.error]
-    if failed:
-        lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
-        lines += [f"- {r.student}: {r.error}" for r in failed]
-    return "\n".join(lines) + "\n"
-
-
-def summary_html(rows: list[Row], markdown_text: str, out: Path) -> str:
-    """summary.md as one self-contained page (charts embedded), and the gradebook as a table."""
-    import base64
-    import html
-    from markdown_it import MarkdownIt
-    body = MarkdownIt("commonmark").enable("table").render(markdown_text)
-    for name in (HISTOGRAM, SPEED_CHART):
-        data = base64.b64encode((out / name).read_bytes()).decode()
-        body = body.replace(f'src="{name}"', f'src="data:image/png;base64,{data}"')
-    names = check_names(rows)
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in ["student", "score", "status", *names, "diagnoses"])
-    lines = []
-    for r in rows:
-        cells = [html.escape(r.student), f"{r.score:g} / {r.max_score:g}", html.escape(r.status),
-                 *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], html.escape(" ".join(r.diagnoses))]
-        cls = ' class="bad"' if r.status != "graded" else ""
-        lines.append(f"<tr{cls}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
-    table = f"<h2>Gradebook</h2><table><thead><tr>{head}</tr></thead><tbody>{''.join(lines)}</tbody></table>"
-    style = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
-             "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:3px 8px;"
-             "text-align:left;font-variant-numeric:tabular-nums}td:nth-child(2){white-space:nowrap}th{background:#f3f3f3}tr.bad td{background:#fdeeee}"
-             "img{max-width:100%}")
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8"><title>Class summary</title>'
-            f"<style>{style}</style></head><body>{body}{table}</body></html>\n")
-
-
-def write_summary(rows: list[Row], out: Path) -> None:
-    """summary.md and summary.html: score histogram, most common diagnoses,
-    every submission on the speed-against-accuracy chart."""
-    _histogram(rows, out / HISTOGRAM)
-    charted = _speed_chart(rows, out / SPEED_CHART)
-    text = summary_markdown(rows, charted)
-    _write_text_atomic(out / "summary.md", text)
-    _write_text_atomic(out / "summary.html", summary_html(rows, text, out))

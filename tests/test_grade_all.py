@@ -160,7 +160,10 @@ def test_class_summary_written(resumed):
         assert (out / image).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert f"({image})" in summary
     page = (out / "summary.html").read_text()
-    assert page.count("data:image/png;base64,") == 2 and "<td>dave</td>" in page
+    assert page.count("data:image/png;base64,") == 2
+    for student in CLASS:   # every student's report is one click away
+        assert f'<td><a href="{student}/report.html">{student}</a></td>' in page
+        assert f"[{student}](<{student}/report.html>)" in summary
 
 
 def test_student_names_come_from_folders_and_archives(tmp_path):
