@@ -44,6 +44,8 @@ class CheckResult:
     artifacts: dict[str, Path] = field(default_factory=dict)  # e.g. "render_submission": PNG path
     metrics: dict[str, float] = field(default_factory=dict)   # figures for reports and charts
     duration_s: float = 0.0
+    # A harness error's traceback: for the instructor (logs), never shown to a student.
+    error_log: str = ""
     # Filled in by score.py from the rubric:
     score: float = 0.0
     max_score: float = 0.0
@@ -63,6 +65,9 @@ class GradeResult:
     warnings: list[str] = field(default_factory=list)   # e.g. "sandbox unavailable: ..."
     execution_time_s: float = 0.0
     source_sha256: str = ""
+    # How the submission's code was isolated (grader.worker: "bubblewrap",
+    # "privilege-drop", "unsafe-none"); "" when none of it ran (build failed).
+    isolation: str = ""
 
     @property
     def diagnoses(self) -> list[Diagnosis]:

@@ -15,8 +15,10 @@ class RubricError(Exception):
     pass
 
 
-def load_rubric(path: Path = RUBRIC) -> dict:
-    """The rubric, validated: a mistake in it is the instructor's, reported as such."""
+def load_rubric(path: Path = RUBRIC, checks: dict | None = None) -> dict:
+    """The rubric, validated against the checks (default: every registered
+    check, grader.checks.all_checks()): a mistake in it is the instructor's,
+    reported as such."""
     try:
         rubric = tomllib.loads(Path(path).read_text())
     except (OSError, tomllib.TOMLDecodeError) as e:
@@ -28,7 +30,32 @@ def load_rubric(path: Path = RUBRIC) -> dict:
             raise RubricError(f"{path}: checks.{name}.partial must be one of {sorted(PARTIAL)}")
         if entry.get("visibility", "visible") not in VISIBILITIES:
             raise RubricError(f"{path}: checks.{name}.visibility must be one of {sorted(VISIBILITIES)}")
+    if checks is None:
+        from .checks import all_checks
+        checks = all_checks()
+    check_names(rubric, checks, path)
     return rubric
+
+
+def check_names(rubric: dict, checks: dict, path: Path | str = "rubric") -> None:
+    """Every check has exactly one entry, and the rubric's order (the run
+    order) lists each check after the checks it requires."""
+    listed = list(rubric.get("checks", {}))
+    unknown = [n for n in listed if n not in checks]
+    if unknown:
+        raise RubricError(f"{path}: {', '.join(f'checks.{n}' for n in unknown)} "
+                          f"{'is not a check' if len(unknown) == 1 else 'are not checks'} "
+                          f"(the checks are: {', '.join(sorted(checks))})")
+    missing = [n for n in checks if n not in listed]
+    if missing:
+        raise RubricError(f"{path}: no entry for {', '.join(f'checks.{n}' for n in missing)}; every check needs "
+                          "one (points = 0 and visibility = \"hidden\" to keep it out of the score)")
+    position = {n: i for i, n in enumerate(listed)}
+    for name in listed:
+        for pre in checks[name].prerequisites:
+            if position[pre] > position[name]:
+                raise RubricError(f"{path}: checks.{name} requires checks.{pre}, which is listed after it; "
+                                  f"checks run in the rubric's order, so move [checks.{pre}] above [checks.{name}]")
 
 
 def apply(result: GradeResult, rubric: dict) -> GradeResult:

@@ -75,6 +75,6 @@ def test_grading_refuses_stale_fixtures_and_says_what_to_run(project_copy, tmp_p
     real_check = fixtures.check_stale
     # grade() checks the project it runs from; point it at the touched copy.
     monkeypatch.setattr(fixtures, "check_stale", lambda: real_check(project_copy))
-    with pytest.raises(SystemExit, match=r"reference/src/lookup.c changed.*make fixtures"):
+    with pytest.raises(fixtures.StaleFixtures, match=r"reference/src/lookup.c changed.*make fixtures"):
         grade(PROJECT_ROOT / "examples" / "perfect", tmp_path / "out", GradeOptions())
     assert not (tmp_path / "out").exists()     # refused before anything was graded

@@ -34,7 +34,7 @@ def test_a_harness_error_makes_the_submission_ungradable_not_zero():
 def test_the_shipped_rubric_loads_and_names_every_check():
     from grader.checks import all_checks
     rubric = score.load_rubric()
-    assert {c.name for c in all_checks()} == set(rubric["checks"])
+    assert set(all_checks()) == set(rubric["checks"])
     assert sum(e["points"] for e in rubric["checks"].values()) == 100
 
 
@@ -48,4 +48,46 @@ def test_rubric_mistakes_are_reported(tmp_path, entry, message):
     body = "\n".join(f"{k} = {v!r}".replace("'", '"') for k, v in entry.items())
     path.write_text(f"[checks.a]\n{body}\n")
     with pytest.raises(score.RubricError, match=message):
+        score.load_rubric(path, checks={"a": FakeCheck()})
+
+
+class FakeCheck:
+    prerequisites: tuple[str, ...] = ()
+
+
+def _shipped_with(tmp_path, edit):
+    """The shipped rubric, its [checks.*] tables edited by `edit(list of (name, body))`."""
+    text = score.RUBRIC.read_text()
+    head, *tables = text.split("\n[checks.")
+    tables = [("[checks." + t).split("]", 1) for t in tables]
+    tables = [(name[len("[checks."):], "]" + body) for name, body in tables]
+    tables = edit(tables)
+    path = tmp_path / "rubric.toml"
+    path.write_text(head + "".join(f"\n[checks.{name}{body}" for name, body in tables))
+    return path
+
+
+def test_a_misspelt_check_name_is_refused_naming_it(tmp_path):
+    path = _shipped_with(tmp_path, lambda t: [("fetch_swep" if n == "fetch_sweep" else n, b) for n, b in t])
+    with pytest.raises(score.RubricError, match=r"checks\.fetch_swep is not a check"):
         score.load_rubric(path)
+
+
+def test_a_check_left_out_of_the_rubric_is_refused(tmp_path):
+    path = _shipped_with(tmp_path, lambda t: [(n, b) for n, b in t if n != "stability"])
+    with pytest.raises(score.RubricError, match=r"no entry for checks\.stability"):
+        score.load_rubric(path)
+
+
+def test_a_check_listed_before_what_it_requires_is_refused(tmp_path):
+    # speed requires fetch_sweep's finding: listed first, it would run without it.
+    path = _shipped_with(tmp_path, lambda t: [x for x in t if x[0] == "speed"] + [x for x in t if x[0] != "speed"])
+    with pytest.raises(score.RubricError, match=r"checks\.speed requires checks\.fetch_sweep, which is listed after it"):
+        score.load_rubric(path)
+
+
+def test_the_rubric_order_is_the_run_order(tmp_path):
+    from grader.checks import ordered_checks
+    path = _shipped_with(tmp_path, lambda t: [x for x in t if x[0] == "arrows"] + [x for x in t if x[0] != "arrows"])
+    rubric = score.load_rubric(path)
+    assert [c.name for c in ordered_checks(rubric)][:2] == ["arrows", "read_texture"]

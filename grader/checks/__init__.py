@@ -1,43 +1,199 @@
-"""The grading checks: one module per rubric entry.
+"""The grading checks and their contract.
 
-Each check is a function `run(ctx) -> CheckResult` registered with @check,
-check50 style: its docstring's first line is the sentence the student reads,
-and its dependencies are declared, so a check whose prerequisite failed is
-skipped with a reason instead of piling up errors. Points, partial credit and
-visibility live in grader/rubric.toml, not here.
+A check is a function registered with @check, check50 style:
+
+    @check(requires=(read_texture,))
+    def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> SweepFinding:
+        \"\"\"fetchColor picks the right face and (u, v) for every direction.\"\"\"
+
+- Its name (the rubric key) is the function's name; the first line of its
+  docstring is the sentence the student reads. Both are written once.
+- The runner (`run_checks`) creates the CheckResult and passes it in; the
+  check fills in status, fraction, output, diagnoses, metrics, artifacts.
+- `requires` lists prerequisite check *functions*. The runner passes each
+  prerequisite's return value (its typed finding, e.g. ReadTextureFinding),
+  in the order listed, after (ctx, result). A check that nothing depends on
+  may return None.
+- When a dependent is skipped (status SKIPPED, zero points, the reason in its
+  output) is decided per dependency:
+    * a bare function reference (`requires=(read_texture,)`) means "needs the
+      prerequisite's finding": the dependent is skipped only when the
+      prerequisite did not run to the end (harness error, or itself skipped).
+      A prerequisite that ran and FAILED still hands over its finding, e.g.
+      fetchColor is judged on its own whatever readTexture does.
+    * `Needs(fn, passing=predicate, why="...")` also skips the dependent when
+      the predicate on the prerequisite's finding is false ("failed" as far as
+      this dependent is concerned), e.g. speed needs fetchColor to be right on
+      half the sweep: timing a lookup that returns black means nothing.
+  There are no default findings: a dependent never runs without its inputs.
+- Points, partial credit and visibility live in grader/rubric.toml. The run
+  order is the rubric's order (score.load_rubric refuses unknown or missing
+  check names, and a check listed before one it requires). MODULES only says
+  which modules to import.
 """
 from __future__ import annotations
 
 import importlib
-from dataclasses import dataclass
-from typing import Callable
+import logging
+import time
+import traceback
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable
 
-from ..results import CheckResult
+from ..results import ERROR, SKIPPED, CheckResult
+
+log = logging.getLogger("grader.checks")
+
+# Modules holding checks (import order only: the rubric orders the run).
+MODULES = ("read_texture", "sweeps", "diagnosis", "arrows", "stability", "renders", "speed")
+
+# What a student reads when the harness failed on a check. The traceback goes
+# to CheckResult.error_log and the "grader.checks" log, for the instructor.
+HARNESS_ERROR_OUTPUT = ("The grader itself failed on this check; this is not your fault. "
+                        "Your instructor has been told.")
+
+
+@dataclass(frozen=True)
+class Needs:
+    """A prerequisite with a condition: the dependent runs only when
+    `passing(finding)` holds; otherwise it is skipped, the output saying `why`."""
+    check: Callable
+    passing: Callable[[Any], bool] | None = None
+    why: str = ""
 
 
 @dataclass(frozen=True)
 class Check:
     name: str
     title: str
-    run: Callable[..., CheckResult]
-    depends: tuple[str, ...] = ()
+    run: Callable[..., Any]
+    requires: tuple[Needs, ...] = ()
+
+    @property
+    def prerequisites(self) -> tuple[str, ...]:
+        return tuple(check_of(n.check).name for n in self.requires)
 
 
 REGISTRY: dict[str, Check] = {}
 
-# Modules holding checks, in the order they run and appear in reports.
-MODULES = ("read_texture", "sweeps", "diagnosis", "arrows", "stability", "renders", "speed")
+
+class CheckDefinitionError(Exception):
+    """A check is declared wrongly (the grader's own mistake, found at import)."""
 
 
-def check(name: str, depends: tuple[str, ...] = ()):
+def check(requires: Iterable[Callable | Needs] = (), registry: dict[str, Check] | None = None):
+    """Register a check; see the module docstring for the contract.
+    `registry`: where to register (tests use their own; default REGISTRY)."""
+    registry = REGISTRY if registry is None else registry
+    needs = tuple(r if isinstance(r, Needs) else Needs(r) for r in requires)
+
     def register(fn):
-        title = (fn.__doc__ or name).strip().splitlines()[0]
-        REGISTRY[name] = Check(name, title, fn, depends)
+        name = fn.__name__
+        if not fn.__doc__ or not fn.__doc__.strip():
+            raise CheckDefinitionError(f"check {name}: its docstring's first line is the title students read")
+        for n in needs:
+            if not hasattr(n.check, "__check__"):
+                raise CheckDefinitionError(f"check {name} requires {getattr(n.check, '__name__', n.check)!r}, "
+                                           "which is not a @check function")
+        if name in registry and registry[name].run is not fn:
+            raise CheckDefinitionError(f"two checks are named {name}")
+        c = Check(name, fn.__doc__.strip().splitlines()[0], fn, needs)
+        fn.__check__ = c
+        registry[name] = c
         return fn
     return register
 
 
-def all_checks() -> list[Check]:
+def check_of(fn: Callable) -> Check:
+    return fn.__check__
+
+
+def all_checks() -> dict[str, Check]:
+    """Every registered check by name (registration order, not run order)."""
     for module in MODULES:
         importlib.import_module(f"{__name__}.{module}")
-    return list(REGISTRY.values())
+    return dict(REGISTRY)
+
+
+def ordered_checks(rubric: dict) -> list[Check]:
+    """The checks in the rubric's order (the run and report order); the
+    rubric has been validated against the registry by score.load_rubric."""
+    registry = all_checks()
+    return [registry[name] for name in rubric.get("checks", {})]
+
+
+@dataclass
+class Ran:
+    """What the runner keeps per check: its result and its finding."""
+    result: CheckResult
+    finding: Any = None
+    finished: bool = False      # ran to the end (passed or failed): its finding exists
+
+
+@dataclass
+class CheckRun:
+    """The results of the selected checks, in order; `hidden_runs` were run
+    only because a selected check needs their finding (not reported)."""
+    results: list[CheckResult] = field(default_factory=list)
+    hidden_runs: list[str] = field(default_factory=list)
+
+
+def _closure(checks: list[Check], selected: set[str]) -> list[Check]:
+    """The selected checks and everything they require, in `checks`' order."""
+    by_name = {c.name: c for c in checks}
+    wanted, todo = set(), list(selected)
+    while todo:
+        name = todo.pop()
+        if name in wanted:
+            continue
+        wanted.add(name)
+        todo += by_name[name].prerequisites
+    return [c for c in checks if c.name in wanted]
+
+
+def _blocked(c: Check, done: dict[str, Ran]) -> str | None:
+    """Why `c` cannot run, or None."""
+    for need in c.requires:
+        pre = check_of(need.check)
+        ran = done.get(pre.name)
+        if ran is None or not ran.finished:
+            state = "did not run" if ran is None else ("could not run" if ran.result.status == SKIPPED
+                                                      else "stopped with a grader error")
+            return f"Not run: it needs the check \u201c{pre.title}\u201d, which {state}."
+        if need.passing is not None and not need.passing(ran.finding):
+            return f"Not run: {need.why or 'it needs the check ' + repr(pre.title) + ' to pass first.'}"
+    return None
+
+
+def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) -> CheckRun:
+    """Run `checks` in order, handing findings to dependents. `selected`
+    (default: all) are reported; prerequisites they need run too, unreported."""
+    names = [c.name for c in checks]
+    chosen = set(names if selected is None else selected)
+    out = CheckRun()
+    done: dict[str, Ran] = {}
+    for c in _closure(checks, chosen):
+        result = CheckResult(c.name, c.title)
+        reason = _blocked(c, done)
+        ran = Ran(result)
+        if reason:
+            result.status, result.fraction, result.output = SKIPPED, 0.0, reason
+        else:
+            inputs = [done[check_of(n.check).name].finding for n in c.requires]
+            t0 = time.monotonic()
+            try:
+                ran.finding = c.run(ctx, result, *inputs)
+                ran.finished = True
+            except Exception:  # the harness failed, not the student: no traceback for the student
+                result.status, result.fraction = ERROR, 0.0
+                result.output = HARNESS_ERROR_OUTPUT
+                result.diagnoses = []
+                result.error_log = traceback.format_exc()
+                log.error("check %s failed:\n%s", c.name, result.error_log)
+            result.duration_s = time.monotonic() - t0
+        done[c.name] = ran
+        if c.name in chosen:
+            out.results.append(result)
+        else:
+            out.hidden_runs.append(c.name)
+    return out

@@ -52,10 +52,9 @@ def disc_axes(classes: np.ndarray) -> list[list[int]]:
     return [[i for i in range(6) if np.mean(classes[i] == k) > 0.5] for k in range(3)]
 
 
-@check("arrows", depends=("read_texture",))
-def run(ctx: CheckContext) -> CheckResult:
+@check()
+def arrows(ctx: CheckContext, result: CheckResult) -> None:
     """On test_environment_map.hdr the red, green and blue arrows point along +x, +y and +z."""
-    result = CheckResult("arrows", run.__doc__.strip().splitlines()[0])
     cube = reference.CubeMap.load_cross(TEST_MAP)
     ctx.lookups.set_faces(cube.faces)
     caps = axis_caps()
@@ -97,7 +96,6 @@ def run(ctx: CheckContext) -> CheckResult:
         result.artifacts["arrows"] = draw(ctx, cube, verdicts)
     except Exception as e:  # a picture is a courtesy; its failure must not cost points
         result.output += f"\n\n(The arrow picture could not be drawn: {e})"
-    return result
 
 
 def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):

@@ -105,3 +105,8 @@ def explain(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.nd
     if more > 0:
         lines.append(f"- ... and {more} more")
     return "\n".join(lines)
+
+
+def describe_direction(d) -> str:
+    """A fetchColor call as a student would write it, exact to the last digit that matters."""
+    return "fetchColor(Vector3(" + ", ".join(f"{x:.9g}" for x in d) + "))"

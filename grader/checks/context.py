@@ -1,5 +1,6 @@
 """What every check receives: the submission's isolated lookups, the seed of
-this grading run, and where to put pictures.
+this grading run, and where to put pictures. What one check tells another
+travels as its typed return value (grader.checks: `requires`), not here.
 
 `SubmissionLookups` is the shape of grader.worker's runner as the checks use
 it: each call returns an Outcome whose failed inputs have NaN rows and a
@@ -41,7 +42,6 @@ class CheckContext:
     lookups: SubmissionLookups
     seed: int                         # per submission and course secret: reproducible, not guessable
     artifacts: Path                   # folder for this submission's pictures
-    findings: dict[str, Any] = field(default_factory=dict)   # what one check tells later ones
     quick: bool = False               # smaller sets (tests of the harness itself)
     settings: dict[str, dict] = field(default_factory=dict)  # the rubric's entry per check
 

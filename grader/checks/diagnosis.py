@@ -17,6 +17,7 @@ from ..results import CheckResult, FAILED, Diagnosis
 from . import check
 from .context import CheckContext
 from .directions import fibonacci_sphere, tied_axes
+from .read_texture import ReadTextureFinding, read_texture
 from .textures import coordinate_faces, decode_sample_coordinates
 
 FACE_SIZE = 32
@@ -59,14 +60,13 @@ def face_name(k: int) -> str:
     return reference.FACE_NAMES[k]
 
 
-@check("diagnosis", depends=("read_texture",))
-def run(ctx: CheckContext) -> CheckResult:
+@check(requires=(read_texture,))
+def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> None:
     """fetchColor samples the face the direction exits through, with u and v running the right way."""
-    result = CheckResult("diagnosis", run.__doc__.strip().splitlines()[0])
     cube = reference.CubeMap(coordinate_faces(FACE_SIZE, FACE_SIZE))
     ctx.lookups.set_faces(cube.faces)
-    filter = "nearest" if ctx.findings.get("read_texture_mistake") == "nearest-neighbor" else "bilinear"
-    tol = 1e-3 if ctx.findings.get("read_texture_ok", True) else 1.01
+    filter = texture.judging_filter()[0]
+    tol = 1e-3 if texture.ok else 1.01
 
     dirs = fibonacci_sphere(6000 if ctx.quick else 20_000)
     ref_faces, ref_uv = reference.direction_to_face(dirs)
@@ -122,7 +122,6 @@ def run(ctx: CheckContext) -> CheckResult:
         result.output = "\n".join(["What fetchColor does, recovered from a texture whose texels encode their own position:", ""] + (table if lines else []))
     else:
         result.output = "On every face, fetchColor samples the right face with u and v running the right way."
-    return result
 
 
 def _detail(mistake: str, f: int) -> str:

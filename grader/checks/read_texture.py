@@ -1,6 +1,8 @@
 """readTexture against the reference bilinear filter, and what is wrong when it differs."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import reference
@@ -9,6 +11,24 @@ from . import check
 from .compare import compare, explain, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .textures import coordinate_faces, random_faces
+
+
+@dataclass(frozen=True)
+class ReadTextureFinding:
+    """What the read_texture check tells the fetchColor checks."""
+    ok: bool                    # every readTexture call matched the reference
+    mistake: str | None = None  # the recognised mistake's diagnosis id, if any
+
+    def judging_filter(self) -> tuple[str, float]:
+        """The filter to judge fetchColor with, and the position tolerance in
+        texels: fetchColor is judged on its own, so when readTexture is wrong
+        its mapping still earns credit if every sample lands within a texel
+        of the right spot."""
+        if self.ok:
+            return "bilinear", 0.0
+        if self.mistake == "nearest-neighbor":
+            return "nearest", 1.01
+        return "bilinear", 1.01
 
 # Square and non-square faces, so a W/H mix-up shows; faces one texel tall,
 # where every row is the last, so reading x = W faults on a guard page on
@@ -75,10 +95,9 @@ def recognise(ctx: CheckContext, cube: reference.CubeMap, face: int, uv: np.ndar
     return best if best and best[1] >= 0.9 else None
 
 
-@check("read_texture")
-def run(ctx: CheckContext) -> CheckResult:
+@check()
+def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
-    result = CheckResult("read_texture", run.__doc__.strip().splitlines()[0])
     total = matched = 0
     lines, diagnoses = [], []
     recognised: dict[str, int] = {}
@@ -110,10 +129,10 @@ def run(ctx: CheckContext) -> CheckResult:
     result.metrics["cases"] = total
     result.metrics["matched"] = matched
     # Report the mistake that explains most cases (one readTexture has one mistake).
+    mistake = None
     if recognised:
         mistake = max(sorted(recognised), key=recognised.get)
         diagnoses.insert(0, Diagnosis(mistake, DETAILS[mistake]))
-        ctx.findings["read_texture_mistake"] = mistake
     result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total:
         result.status = FAILED
@@ -121,6 +140,5 @@ def run(ctx: CheckContext) -> CheckResult:
                          + "\n".join(lines))
     else:
         result.output = f"All {total} readTexture calls match the reference (u, v at 0, 1, texel boundaries, centres and random points)."
-    ctx.findings["read_texture_ok"] = matched == total
-    return result
+    return ReadTextureFinding(ok=matched == total, mistake=mistake)
 

@@ -26,11 +26,10 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
     return escapes.resolve(rgb), outcome
 
 
-@check("renders", depends=("read_texture",))
-def run(ctx: CheckContext) -> CheckResult:
+@check()
+def renders(ctx: CheckContext, result: CheckResult) -> None:
     """Full renders of the mirror and glass spheres with your lookup look like the reference renders."""
     from ..imaging import write_image
-    result = CheckResult("renders", run.__doc__.strip().splitlines()[0])
     rows, diagnoses, passed = [], [], 0
     items = fixtures.render_fixtures()
     if ctx.quick:
@@ -75,4 +74,3 @@ def run(ctx: CheckContext) -> CheckResult:
     shown = f"\n\nThe pictures show {worst[2].scene.stem} with {worst[2].map.name}, the render that differs most." if worst else ""
     result.output = (f"Pass: SSIM >= {SSIM_MIN} and mean FLIP <= {FLIP_MAX} on tone-mapped images.\n\n"
                      + "\n".join(header + rows) + shown)
-    return result

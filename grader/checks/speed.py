@@ -3,9 +3,10 @@ from __future__ import annotations
 
 from .. import PROJECT_ROOT, reference
 from ..results import FAILED, CheckResult, Diagnosis
-from . import check
+from . import Needs, check
 from .context import CheckContext, failure_diagnoses
 from .directions import random_directions
+from .sweeps import SweepFinding, fetch_sweep
 from .textures import random_faces
 
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
@@ -26,18 +27,14 @@ def baseline_library():
     return BASELINE
 
 
-@check("speed", depends=("fetch_sweep",))
-def run(ctx: CheckContext) -> CheckResult:
+# Returning black is fast: speed only means something for a lookup that works.
+@check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.fraction >= SWEEP_NEEDED,
+                       why=f"speed is scored once fetchColor matches the reference on at least "
+                           f"{SWEEP_NEEDED:.0%} of the sweep directions."),))
+def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding) -> None:
     """fetchColor runs within a few times the reference's time per lookup."""
     from ..worker.lookups import open_lookups
-    result = CheckResult("speed", run.__doc__.strip().splitlines()[0])
     result.output = ""
-    if ctx.findings.get("sweep_fraction", 1.0) < SWEEP_NEEDED:
-        # Returning black is fast: speed only means something for a lookup that works.
-        result.status, result.fraction = FAILED, 0.0
-        result.output = (f"Not timed: speed is scored once fetchColor matches the reference on at least "
-                         f"{SWEEP_NEEDED:.0%} of the sweep directions.")
-        return result
     faces = reference.CubeMap(random_faces(256, 256, ctx.seed)).faces
     dirs = random_directions(50_000, ctx.seed + 2)
     within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
@@ -51,7 +48,7 @@ def run(ctx: CheckContext) -> CheckResult:
                 result.status, result.fraction = FAILED, 0.0
                 result.output = f"fetchColor could not be timed: {failure.describe()}"
                 result.diagnoses = failure_diagnoses([failure])
-                return result
+                return
             sub_ns.append(ns)
             ref_ns.append(base.time_fetch(dirs, REPEATS)[0])
             if len(sub_ns) >= 3 and min(sub_ns) > 3 * within * min(ref_ns):
@@ -71,7 +68,6 @@ def run(ctx: CheckContext) -> CheckResult:
     if ratio > within:
         result.status, result.fraction = FAILED, 0.0
         result.diagnoses = [Diagnosis("slow", f"fetchColor takes {ratio:.1f}x the reference's time per lookup (limit {within:g}x).")]
-    return result
 
 
 STUDY_FACE_SIZE = 64     # the study's bake at this size takes ~1 s once, then is cached

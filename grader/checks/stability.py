@@ -7,10 +7,10 @@ import numpy as np
 from .. import reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
-from .compare import compare, tie_alternatives, tolerance
+from .compare import compare, describe_direction, tie_alternatives, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import corners, edges
-from .sweeps import describe_direction, sweep_filter
+from .read_texture import ReadTextureFinding, read_texture
 from ..cubemap.directions import texel_directions
 from .textures import coordinate_faces
 
@@ -53,15 +53,14 @@ def edge_pairs(k: int = 8, offset: float = 1e-7):
     return a, b, np.repeat(np.arange(12), k)
 
 
-@check("stability", depends=("read_texture",))
-def run(ctx: CheckContext) -> CheckResult:
+@check(requires=(read_texture,))
+def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> None:
     """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
-    result = CheckResult("stability", run.__doc__.strip().splitlines()[0])
     # Texels that encode their position, so `slack` (texel units, when
     # readTexture is wrong) means the same here as in the sweeps.
     cube = reference.CubeMap(coordinate_faces(FACE_SIZE, FACE_SIZE))
     ctx.lookups.set_faces(cube.faces)
-    filter, slack = sweep_filter(ctx)
+    filter, slack = texture.judging_filter()
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0) + slack
     parts, lines, diagnoses = [], [], []
 
@@ -117,5 +116,4 @@ def run(ctx: CheckContext) -> CheckResult:
     result.output = "\n".join(table + ([""] + lines if lines else []))
     if ok < total:
         result.status = FAILED
-    return result
 

@@ -1,45 +1,36 @@
 """fetchColor over direction sweeps, compared per face with the reference."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
-from .compare import compare, explain, tie_alternatives, tolerance
+from .compare import compare, describe_direction, explain, tie_alternatives, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import sweep_sets
+from .read_texture import ReadTextureFinding, read_texture
 from .textures import coordinate_faces
 
 SWEEP_FACE_SIZE = (32, 32)
 
 
-def sweep_filter(ctx: CheckContext) -> tuple[str, float]:
-    """The filter to judge fetchColor with, and the position tolerance in texels.
-
-    fetchColor is judged on its own: when readTexture is wrong, its mapping
-    still earns credit if every sample lands within a texel of the right spot.
-    """
-    if ctx.findings.get("read_texture_ok", True):
-        return "bilinear", 0.0
-    if ctx.findings.get("read_texture_mistake") == "nearest-neighbor":
-        return "nearest", 1.01
-    return "bilinear", 1.01
+@dataclass(frozen=True)
+class SweepFinding:
+    """What the fetch_sweep check tells later checks."""
+    fraction: float             # share of sweep directions that match the reference
 
 
-def describe_direction(d) -> str:
-    return "fetchColor(Vector3(" + ", ".join(f"{x:.9g}" for x in d) + "))"
-
-
-@check("fetch_sweep", depends=("read_texture",))
-def run(ctx: CheckContext) -> CheckResult:
+@check(requires=(read_texture,))
+def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> SweepFinding:
     """fetchColor picks the right face and (u, v) for every direction: the whole sphere, each face, edge, corner and axis, at any length."""
-    result = CheckResult("fetch_sweep", run.__doc__.strip().splitlines()[0])
     w, h = SWEEP_FACE_SIZE
     faces = coordinate_faces(w, h)
     cube = reference.CubeMap(faces)
     ctx.lookups.set_faces(cube.faces)
-    filter, slack = sweep_filter(ctx)
+    filter, slack = texture.judging_filter()
     sets = sweep_sets(ctx.seed, fibonacci=20_000 if ctx.quick else 100_000)
 
     rows, lines, diagnoses = [], [], []
@@ -74,8 +65,6 @@ def run(ctx: CheckContext) -> CheckResult:
     table += [f"| {name} | {n} | {ok / n:.1%} |" for name, n, ok in rows]
     table += ["", "| face | directions | match |", "|---|---:|---:|"]
     table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.1%} |" for k in range(6)]
-    ctx.findings["sweep_per_face_bad"] = per_face_bad
-    ctx.findings["sweep_fraction"] = result.fraction
     result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total:
         result.status = FAILED
@@ -83,4 +72,4 @@ def run(ctx: CheckContext) -> CheckResult:
                          + "\n".join(table) + "\n\nWorst cases:\n\n" + "\n".join(lines))
     else:
         result.output = f"All {total} directions match the reference.\n\n" + "\n".join(table)
-    return result
+    return SweepFinding(fraction=result.fraction)

@@ -9,7 +9,8 @@ EnvironmentMap.cpp. Each one's reports (report.html, report.md, junit.xml,
 results.json) go to OUT, by default out/<submission name>/. The exit status
 is 0 when grading completed, whatever the score (1 with --fail-under SCORE
 when a score is below it; 2 for a usage error; 3 when the grader itself
-failed and the submission is ungradable).
+failed and the submission is ungradable, or fixtures/ or the rubric need the
+instructor first).
 """
 from __future__ import annotations
 
@@ -88,8 +89,14 @@ def run(args) -> int:
     if args.visible_only:
         options.only = visible_checks(options.rubric)
     status, written = 0, []
+    from ..fixtures import StaleFixtures
+    from ..score import RubricError
     for submission, out in zip(submissions, output_folders(submissions, args.out)):
-        result = grade(submission, out, options)
+        try:
+            result = grade(submission, out, options)
+        except (StaleFixtures, RubricError) as e:   # the instructor's to fix, before anything is graded
+            print(f"grade: {e}", file=sys.stderr)
+            return 3
         print_summary(result, report_paths={name: out / name for name in ("report.html", "report.md")},
                       include_hidden=not student_view)
         written.append((result, out))

@@ -1,0 +1,183 @@
+"""Each check against a fake submission with one injected mistake (no compiler,
+no worker: tests/fake_lookups.py), and the check runner's contract.
+
+The zoo (test_grading_zoo.py) proves the same verdicts on real C++ in a
+sandbox; these tests say which check is responsible for which verdict, in
+milliseconds.
+"""
+from __future__ import annotations
+
+import pytest
+
+from fake_lookups import FakeLookups
+from grader.checks import CheckDefinitionError, Needs, all_checks, check, run_checks
+from grader.checks.context import CheckContext
+from grader.results import ERROR, FAILED, PASSED, SKIPPED, CheckResult, Diagnosis
+
+CHECKS = all_checks()
+
+
+def run(lookups, tmp_path, *names: str) -> dict[str, CheckResult]:
+    """The named checks (and what they require, reported too) on `lookups`."""
+    order = [c for c in CHECKS.values() if c.name in _with_prerequisites(names)]
+    ctx = CheckContext(lookups=lookups, seed=1234, artifacts=tmp_path / "images", quick=True)
+    return {r.name: r for r in run_checks(order, ctx, [c.name for c in order]).results}
+
+
+def _with_prerequisites(names) -> set[str]:
+    out, todo = set(), list(names)
+    while todo:
+        n = todo.pop()
+        if n not in out:
+            out.add(n)
+            todo += CHECKS[n].prerequisites
+    return out
+
+
+def ids(result: CheckResult) -> set[tuple[str, str | None]]:
+    return {(d.id, d.face) for d in result.diagnoses}
+
+
+# ---- readTexture ------------------------------------------------------------
+
+def test_a_correct_read_texture_passes(tmp_path):
+    r = run(FakeLookups(), tmp_path, "read_texture")["read_texture"]
+    assert (r.status, r.fraction, ids(r)) == (PASSED, 1.0, set())
+
+
+@pytest.mark.parametrize("mistake, diagnosis", [
+    ("nearest", "nearest-neighbor"),
+    ("half-texel", "half-texel-offset"),
+    ("size-minus-one", "scaled-by-size-minus-one"),
+    ("u-flipped", "u-flipped"),
+    ("v-flipped", "v-flipped"),
+    ("uv-swapped", "uv-swapped"),
+])
+def test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points(tmp_path, mistake, diagnosis):
+    results = run(FakeLookups(texture=mistake), tmp_path, "fetch_sweep", "diagnosis")
+    texture = results["read_texture"]
+    assert texture.status == FAILED and texture.fraction < 1.0
+    assert ids(texture) == {(diagnosis, None)}
+    # fetchColor is right: judged with readTexture's mistake allowed for.
+    if mistake in ("nearest", "half-texel"):
+        assert results["fetch_sweep"].fraction == 1.0, results["fetch_sweep"].output[:500]
+        assert results["diagnosis"].status == PASSED, results["diagnosis"].output
+
+
+def test_an_out_of_bounds_read_is_attributed_to_read_texture(tmp_path):
+    r = run(FakeLookups(texture="out-of-bounds"), tmp_path, "read_texture")["read_texture"]
+    assert r.status == FAILED
+    assert ("out-of-bounds-read", None) in ids(r)
+
+
+# ---- fetchColor -------------------------------------------------------------
+
+def test_a_correct_fetch_color_passes_every_mapping_check(tmp_path):
+    results = run(FakeLookups(), tmp_path, "fetch_sweep", "diagnosis", "stability")
+    for name in ("read_texture", "fetch_sweep", "diagnosis", "stability"):
+        r = results[name]
+        assert (r.status, r.fraction, ids(r)) == (PASSED, 1.0, set()), (name, r.output[:800])
+
+
+@pytest.mark.parametrize("mistakes, expected", [
+    ({"+X": "u-flipped"}, {("u-flipped", "+X")}),
+    ({"+Z": "v-flipped"}, {("v-flipped", "+Z")}),
+    ({"-Y": "uv-swapped"}, {("uv-swapped", "-Y")}),
+    ({"+X": "wrong-face:-X", "-X": "wrong-face:+X"}, {("wrong-face", "+X"), ("wrong-face", "-X")}),
+    ("not-normalized", {("not-normalized", None)}),
+    ("black", {("not-implemented", None)}),
+])
+def test_fetch_color_mistakes_are_named_per_face(tmp_path, mistakes, expected):
+    results = run(FakeLookups(fetch=mistakes), tmp_path, "fetch_sweep", "diagnosis")
+    assert results["read_texture"].status == PASSED        # readTexture is not blamed
+    assert ids(results["diagnosis"]) == expected, results["diagnosis"].output
+    assert results["fetch_sweep"].status == FAILED and results["fetch_sweep"].fraction < 1.0
+
+
+def test_a_seam_is_found_where_one_face_is_flipped(tmp_path):
+    r = run(FakeLookups(fetch={"+X": "u-flipped"}), tmp_path, "stability")["stability"]
+    assert r.status == FAILED and ("discontinuous-seam", None) in ids(r)
+
+
+def test_arrows_point_the_right_way_only_when_fetch_color_is_right(tmp_path):
+    right = run(FakeLookups(), tmp_path / "a", "arrows")["arrows"]
+    assert (right.status, right.fraction, ids(right)) == (PASSED, 1.0, set())
+    swapped = run(FakeLookups(fetch={"+X": "wrong-face:-X", "-X": "wrong-face:+X"}), tmp_path / "b", "arrows")["arrows"]
+    assert swapped.status == FAILED and {i for i, _ in ids(swapped)} <= {"arrow-wrong", "arrow-missing"} and ids(swapped)
+
+
+def test_speed_is_not_timed_for_a_lookup_that_returns_black(tmp_path):
+    results = run(FakeLookups(fetch="black"), tmp_path, "speed")
+    assert results["speed"].status == SKIPPED and results["speed"].fraction == 0.0
+    assert "at least 50%" in results["speed"].output
+
+
+# ---- the runner's contract --------------------------------------------------
+
+def _registry():
+    registry: dict = {}
+
+    @check(registry=registry)
+    def producer(ctx, result):
+        """Produces a number."""
+        result.status, result.fraction = FAILED, 0.5
+        return 7
+
+    @check(requires=(producer,), registry=registry)
+    def consumer(ctx, result, number):
+        """Uses it."""
+        result.output = f"got {number}"
+        return number * 2
+
+    @check(requires=(Needs(producer, passing=lambda n: n > 10, why="the number must exceed 10."),), registry=registry)
+    def picky(ctx, result, number):
+        """Needs a large number."""
+
+    @check(registry=registry)
+    def broken(ctx, result):
+        """Fails inside the harness."""
+        result.diagnoses.append(Diagnosis("crash", "half-written"))
+        raise KeyError("a bug in the grader")
+
+    @check(requires=(broken,), registry=registry)
+    def after_broken(ctx, result, value):
+        """Depends on the broken one."""
+
+    return registry
+
+
+def test_findings_are_passed_typed_and_a_failed_prerequisite_still_hands_its_finding_over(tmp_path):
+    registry = _registry()
+    results = {r.name: r for r in run_checks(list(registry.values()), None).results}
+    assert results["producer"].status == FAILED
+    assert results["consumer"].status == PASSED and results["consumer"].output == "got 7"
+    assert results["consumer"].title == "Uses it."
+
+
+def test_a_dependent_is_skipped_with_a_reason_when_its_condition_fails(tmp_path):
+    results = {r.name: r for r in run_checks(list(_registry().values()), None).results}
+    assert results["picky"].status == SKIPPED and results["picky"].output == "Not run: the number must exceed 10."
+
+
+def test_a_harness_error_shows_no_traceback_to_the_student_and_skips_dependents():
+    results = {r.name: r for r in run_checks(list(_registry().values()), None).results}
+    broken = results["broken"]
+    assert broken.status == ERROR and broken.diagnoses == []
+    assert "Traceback" not in broken.output and "KeyError" not in broken.output
+    assert "KeyError: 'a bug in the grader'" in broken.error_log
+    after = results["after_broken"]
+    assert after.status == SKIPPED and "Fails inside the harness." in after.output
+
+
+def test_unselected_prerequisites_run_but_are_not_reported():
+    registry = _registry()
+    run = run_checks(list(registry.values()), None, ["consumer"])
+    assert [r.name for r in run.results] == ["consumer"] and run.hidden_runs == ["producer"]
+    assert run.results[0].output == "got 7"
+
+
+def test_a_requirement_that_is_not_a_check_is_refused_at_definition():
+    with pytest.raises(CheckDefinitionError, match="not a @check function"):
+        @check(requires=(len,), registry={})
+        def odd(ctx, result, x):
+            """Odd."""
