@@ -33,6 +33,30 @@ class Diagnosis:
         return out
 
 
+@dataclass(frozen=True)
+class TexelHit:
+    """Where a lookup landed in a texture that encodes texel positions
+    (checks/textures.py, coordinate_faces), decoded from the colour it
+    returned, so a report can say "face, texel, (u, v)" instead of printing
+    colours that mean nothing to a student."""
+    face: str                      # a FACE_NAMES entry; "" when the colour is not one of the texture's
+    texel: tuple[float, float]     # lattice position p = (u W, v H), in texels
+    uv: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Mismatch:
+    """One of a check's worst cases, as data (reports format it).
+    `call` is the lookup as the student would write it (grader text, but
+    reports escape it like anything else)."""
+    call: str                                  # e.g. "fetchColor(Vector3(1, 0.5, 0))"
+    expected: tuple[float, ...]                # the reference's colour
+    got: tuple[float, ...]                     # the submission's colour (may hold NaN)
+    expected_at: TexelHit | None = None        # set when the texture encodes positions
+    got_at: TexelHit | None = None
+    group: str = ""                            # e.g. "Fibonacci sphere"
+
+
 @dataclass
 class CheckResult:
     name: str                      # rubric key, e.g. "read_texture"
@@ -46,6 +70,10 @@ class CheckResult:
     duration_s: float = 0.0
     # A harness error's traceback: for the instructor (logs), never shown to a student.
     error_log: str = ""
+    # Worst cases as data, worst first (reports show them under the output);
+    # mismatch_counts: group -> how many mismatches in all, for "... and N more".
+    mismatches: list[Mismatch] = field(default_factory=list)
+    mismatch_counts: dict[str, int] = field(default_factory=dict)
     # Filled in by score.py from the rubric:
     score: float = 0.0
     max_score: float = 0.0
