@@ -43,8 +43,10 @@ system-deps:
 core-deps:
 	@bash scripts/install-system-deps.sh core
 
-$(VENV)/.installed: requirements.txt | core-deps
-	@bash scripts/make-venv.sh $(VENV) requirements.txt $(PYTHON)
+# requirements.lock: the exact versions (with hashes) the fixtures were made
+# with; regenerate it from requirements.txt with scripts/lock-requirements.sh.
+$(VENV)/.installed: requirements.lock | core-deps
+	@bash scripts/make-venv.sh $(VENV) requirements.lock $(PYTHON)
 	@touch $@
 
 venv: $(VENV)/.installed
@@ -53,9 +55,9 @@ venv: $(VENV)/.installed
 test: system-deps venv reference
 	$(PY) -m pytest -n 2 -q tests
 
-# The suite without the tests marked slow (whole-class grading, browsers, sanitizers).
+# The suite without the slow, sanitizer and browser tests (markers: pytest.ini, tests/conftest.py).
 test-fast: system-deps venv reference
-	$(PY) -m pytest -n 2 -q -m "not slow" tests
+	$(PY) -m pytest -n 2 -q -m "not slow and not sanitizer and not browser" tests
 
 # Regenerate fixtures/ after changing a scene, a map or the reference.
 fixtures: venv reference

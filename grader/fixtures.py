@@ -6,13 +6,22 @@ everything that produced it (reference sources, scene files, maps, this
 generator's version). The grader checks it at start and refuses stale
 fixtures with a message naming what changed (`--allow-stale` overrides).
 Everything here is deterministic: two runs write identical bytes.
+
+The manifest also records the environment that made the fixtures: the
+versions of the libraries the render comparison depends on (numpy,
+scikit-image, flip-evaluator, OpenImageIO) and of the compilers that built
+the reference. The render thresholds (SSIM, FLIP) were measured with them:
+grading elsewhere adds a warning to the report (environment_warnings), and
+`grade --strict` refuses (EnvironmentMismatch). requirements.lock pins them.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import json
 import os
+import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,8 +42,19 @@ RENDER_SPP = 4
 MAIN_SCENE = PROJECT_ROOT / "envmap_test.cfg"
 
 
+# What the manifest's "environment" records: Python distributions (by their
+# package names) and compilers (by command).
+LIBRARIES = ("numpy", "scikit-image", "flip-evaluator", "OpenImageIO")
+COMPILERS = ("cc", "g++")
+
+
 class StaleFixtures(Exception):
     pass
+
+
+class EnvironmentMismatch(StaleFixtures):
+    """`--strict`: the libraries or compilers differ from those that made the
+    fixtures. A kind of StaleFixtures: the fixtures do not fit this machine."""
 
 
 @dataclass(frozen=True)
@@ -117,6 +137,7 @@ def generate(progress=print) -> dict:
         progress(f"  wrote {_rel(path)}")
     manifest = {
         "generator_version": GENERATOR_VERSION,
+        "environment": environment(),
         "inputs": {_rel(p): _sha256(p) for p in inputs()},
         "files": {_rel(p): _sha256(p) for p in files},
         "render": {"width": RENDER_SIZE[0], "height": RENDER_SIZE[1], "samples_per_pixel": RENDER_SPP},
@@ -173,3 +194,61 @@ def check_stale(project: Path = PROJECT_ROOT) -> None:
     if problems:
         raise StaleFixtures("Fixtures are stale: " + "; ".join(problems)
                             + ". Run `make fixtures` to regenerate them (or pass --allow-stale).")
+
+
+# ---- the environment the fixtures were made in ---------------------------------------
+
+
+def _library_version(name: str) -> str:
+    from importlib import metadata
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+@functools.lru_cache(maxsize=None)
+def _compiler_version(command: str) -> str:
+    """The first line of `command --version` (e.g. "gcc (Debian 12.2.0-14) 12.2.0")."""
+    try:
+        done = subprocess.run([command, "--version"], capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return "not found"
+    lines = done.stdout.strip().splitlines()
+    return lines[0].strip() if done.returncode == 0 and lines else "not found"
+
+
+def environment() -> dict:
+    """What fixtures/manifest.json records about this machine."""
+    return {"libraries": {name: _library_version(name) for name in LIBRARIES},
+            "compilers": {command: _compiler_version(command) for command in COMPILERS}}
+
+
+def environment_warnings(project: Path = PROJECT_ROOT) -> list[str]:
+    """One sentence per library or compiler whose version differs from the
+    one the fixtures were made with (empty when they match, or when there is
+    no manifest: check_stale reports that). For the report's warnings."""
+    try:
+        recorded = json.loads((project / MANIFEST.relative_to(PROJECT_ROOT)).read_text()).get("environment")
+    except (OSError, ValueError):
+        return []
+    if not isinstance(recorded, dict):
+        return ["fixtures/manifest.json does not record the library and compiler versions the fixtures were "
+                "made with: run `make fixtures` to record them."]
+    out = []
+    for kind, current in (("libraries", lambda n: _library_version(n)), ("compilers", _compiler_version)):
+        for name, then in sorted(dict(recorded.get(kind) or {}).items()):
+            now = current(name)
+            if now != then:
+                out.append(f"{name} is {now!r} here but the fixtures were made with {then!r}: render scores "
+                           "may differ slightly (`make venv` installs the locked versions; `make fixtures` "
+                           "re-records them).")
+    return out
+
+
+def check_environment(project: Path = PROJECT_ROOT) -> None:
+    """Raise EnvironmentMismatch when environment_warnings() has anything to say."""
+    problems = environment_warnings(project)
+    if problems:
+        raise EnvironmentMismatch("Grading environment differs from the one that made the fixtures: "
+                                  + " ".join(problems) + " (--strict refuses; grade without it to only warn.)")

@@ -14,7 +14,7 @@ from pathlib import Path
 from . import PROJECT_ROOT
 
 INCLUDE = ("grader", "reference", "student_template", "Cubemap", "fixtures", "scenes",
-           "envmap_test.cfg", "requirements.txt", "packages.txt", "Makefile", "scripts",
+           "envmap_test.cfg", "requirements.txt", "requirements.lock", "packages.txt", "Makefile", "scripts",
            "docs/study/study.csv")   # the speed check draws the submission on the study's chart
 # Build outputs, caches, a student's local self-check, CI files: never shipped.
 EXCLUDE_PARTS = {"__pycache__", ".venv", "build", "out", "selfcheck", ".github", ".pytest_cache", "fuzz"}
@@ -24,20 +24,22 @@ SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once when it builds the autograder image (as root).
 # The grader needs Python 3.11 or later: Gradescope's Ubuntu 24.04 base image
 # has it; on 22.04 python3.11 is installed beside the system's 3.10.
+# Everything is installed the way `make venv` does it on an instructor's
+# machine: the packages of packages.txt grading needs, then exactly the
+# versions of requirements.lock (pip install --require-hashes).
 set -euo pipefail
 cd /autograder/source
 export DEBIAN_FRONTEND=noninteractive
-apt-get update -qq
-apt-get install -y -qq --no-install-recommends \\
-    python3 python3-venv python3-pip g++ gcc make bubblewrap >/dev/null
+apt-get update -q
+apt-get install -y -q --no-install-recommends python3 make
+bash scripts/install-system-deps.sh core
 python=python3
 if ! python3 -c 'import sys; sys.exit(sys.version_info < (3, 11))'; then
-  apt-get install -y -qq --no-install-recommends python3.11 python3.11-venv >/dev/null
+  apt-get install -y -q --no-install-recommends python3.11 python3.11-venv
   python=python3.11
 fi
-"$python" -m venv .venv
-.venv/bin/pip install --quiet --upgrade pip
-.venv/bin/pip install --quiet -r requirements.txt
+bash scripts/make-venv.sh .venv requirements.lock "$python"
+touch .venv/.installed
 make reference
 # Fail here, when the image is built, rather than on every submission.
 .venv/bin/python -m grader fixtures --check

@@ -78,3 +78,58 @@ def test_grading_refuses_stale_fixtures_and_says_what_to_run(project_copy, tmp_p
     with pytest.raises(fixtures.StaleFixtures, match=r"reference/src/lookup.c changed.*make fixtures"):
         grade(PROJECT_ROOT / "examples" / "perfect", tmp_path / "out", GradeOptions())
     assert not (tmp_path / "out").exists()     # refused before anything was graded
+
+
+# ---- the environment that made the fixtures ------------------------------------------
+
+
+def test_manifest_records_library_and_compiler_versions():
+    import json
+    from importlib import metadata
+    recorded = json.loads(fixtures.MANIFEST.read_text())["environment"]
+    assert set(recorded["libraries"]) == {"numpy", "scikit-image", "flip-evaluator", "OpenImageIO"}
+    assert recorded["libraries"]["numpy"] == metadata.version("numpy")
+    assert set(recorded["compilers"]) == {"cc", "g++"}
+    assert all(v != "not found" and v[0].isalpha() for v in recorded["compilers"].values()), recorded
+
+
+def test_same_environment_gives_no_warning():
+    assert fixtures.environment_warnings() == []
+    fixtures.check_environment()
+
+
+def test_another_numpy_warns_and_strict_refuses(monkeypatch):
+    real = fixtures._library_version
+    monkeypatch.setattr(fixtures, "_library_version", lambda n: "1.26.4" if n == "numpy" else real(n))
+    warnings = fixtures.environment_warnings()
+    assert len(warnings) == 1 and warnings[0].startswith("numpy is '1.26.4' here but the fixtures were made with")
+    assert "make venv" in warnings[0]
+    with pytest.raises(fixtures.EnvironmentMismatch, match="numpy is '1.26.4'"):
+        fixtures.check_environment()
+
+
+def test_a_manifest_without_versions_says_to_record_them(project_copy):
+    import json
+    manifest = project_copy / "fixtures" / "manifest.json"
+    data = json.loads(manifest.read_text())
+    del data["environment"]
+    manifest.write_text(json.dumps(data))
+    assert fixtures.environment_warnings(project_copy) == [
+        "fixtures/manifest.json does not record the library and compiler versions the fixtures were made with: "
+        "run `make fixtures` to record them."]
+
+
+def test_grade_warns_in_the_report_and_strict_exits_3(monkeypatch, tmp_path, capsys):
+    """In-process through the command line: the report carries the warning;
+    --strict refuses before grading, with exit status 3 and the reason."""
+    import json
+    from grader import cli
+    broken = PROJECT_ROOT / "tests" / "submissions" / "build" / "syntax_error.cpp"
+    monkeypatch.setattr(fixtures, "_compiler_version", lambda c: "g++ (Imaginary) 99.0")
+    assert cli.main(["grade", str(broken), "--quick", "--out", str(tmp_path / "warned")]) == 0
+    warnings = json.loads((tmp_path / "warned" / "results.json").read_text())["extra_data"]["warnings"]
+    assert any(w.startswith("g++ is 'g++ (Imaginary) 99.0' here") for w in warnings), warnings
+    capsys.readouterr()
+    assert cli.main(["grade", str(broken), "--quick", "--strict", "--out", str(tmp_path / "strict")]) == 3
+    assert "cc is 'g++ (Imaginary) 99.0' here" in capsys.readouterr().err
+    assert not (tmp_path / "strict").exists()

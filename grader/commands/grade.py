@@ -45,6 +45,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
                    help="run student code with resource limits only (no bubblewrap)")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
+    p.add_argument("--strict", action="store_true",
+                   help="refuse (exit 3) when library or compiler versions differ from those that made fixtures/")
 
 
 def example_submissions() -> list[Path]:
@@ -93,6 +95,9 @@ def run(args) -> int:
     from ..score import RubricError
     for submission, out in zip(submissions, output_folders(submissions, args.out)):
         try:
+            if args.strict:   # EnvironmentMismatch is a StaleFixtures
+                from ..fixtures import check_environment
+                check_environment()
             result = grade(submission, out, options)
         except (StaleFixtures, RubricError) as e:   # the instructor's to fix, before anything is graded
             print(f"grade: {e}", file=sys.stderr)
