@@ -240,14 +240,28 @@ def test_reply_headers_are_validated():
 
 # ---- sandbox selection ----------------------------------------------------------------
 
-def test_without_a_sandbox_auto_falls_back_with_a_warning(stand_in, monkeypatch):
-    from grader.worker import process
-    monkeypatch.setattr(process, "sandbox_problem", lambda: "no user namespaces (test)")
-    worker = Worker(stand_in, sandbox="auto")
-    assert worker.mode == "plain"
-    assert worker.warning == "sandbox unavailable: no user namespaces (test); ran with resource limits only"
-    with pytest.raises(WorkerHarnessError):
+def test_mode_resolution_never_falls_back_silently(stand_in, monkeypatch):
+    monkeypatch.setattr(sandbox, "sandbox_problem", lambda: "no user namespaces (test)")
+    monkeypatch.setattr(sandbox, "privilege_drop_problem", lambda: "not root (test)")
+    with pytest.raises(sandbox.SandboxUnavailable) as refused:
+        Worker(stand_in, sandbox="auto")
+    assert "no user namespaces (test)" in str(refused.value) and "--unsafe-no-sandbox" in str(refused.value)
+    with pytest.raises(sandbox.SandboxUnavailable):
+        SubmissionRunner(stand_in, faces())
+    worker = Worker(stand_in, sandbox="auto", allow_unsafe=True)
+    assert (worker.mode, worker.isolation) == ("plain", "unsafe-none")
+    assert worker.warning.startswith("sandbox unavailable: no user namespaces (test); ")
+    runner = SubmissionRunner(stand_in, faces(), allow_unsafe=True)
+    assert runner.isolation == "unsafe-none" and runner.warnings == [worker.warning]
+    with pytest.raises(sandbox.SandboxUnavailable):
         Worker(stand_in, sandbox="sandbox")
+    # Root without bubblewrap: privilege-drop, no warning needed.
+    monkeypatch.setattr(sandbox, "privilege_drop_problem", lambda: None)
+    runner = SubmissionRunner(stand_in, faces())
+    assert runner.isolation == "privilege-drop" and runner.warnings == []
+    monkeypatch.setattr(sandbox, "sandbox_problem", lambda: None)
+    assert SubmissionRunner(stand_in, faces()).isolation == "bubblewrap"
+    assert SubmissionRunner(stand_in, faces(), sandbox="no-bwrap").isolation == "privilege-drop"
 
 
 @pytest.mark.skipif(SANDBOX_PROBLEM is not None, reason=f"no sandbox here: {SANDBOX_PROBLEM}")

@@ -5,7 +5,9 @@
 - worker.c (built into build/worker by native.py) sets resource limits,
   installs crash handlers and a seccomp filter, then dlopen()s the
   submission and serves lookups over a private pipe pair (protocol.py).
-- sandbox.py wraps it in bubblewrap when the machine allows, else says why.
+- sandbox.py picks the isolation: bubblewrap when the machine allows, else
+  privilege-drop (root: chroot + nobody), else SandboxUnavailable unless
+  unsafe is allowed.
 - process.Worker is one such process seen from Python; runner.SubmissionRunner
   runs whole batches and attributes each failure to the input that causes it.
 
@@ -13,9 +15,9 @@ README.md beside this file describes the design and the protocol.
 """
 from .failures import KINDS, SubmissionFailure
 from .process import Limits, Worker, WorkerHarnessError
-from .runner import Failure, Outcome, SubmissionRunner, describe_fetch, describe_read_texture
-from .sandbox import fallback_warning, sandbox_problem
+from .runner import Failure, Outcome, SubmissionRunner, TimedPasses, describe_fetch, describe_read_texture
+from .sandbox import SandboxUnavailable, fallback_warning, privilege_drop_problem, resolve_mode, sandbox_problem
 
-__all__ = ["KINDS", "Failure", "Limits", "Outcome", "SubmissionFailure", "SubmissionRunner", "Worker",
-           "WorkerHarnessError", "describe_fetch", "describe_read_texture", "fallback_warning",
-           "sandbox_problem"]
+__all__ = ["KINDS", "Failure", "Limits", "Outcome", "SandboxUnavailable", "SubmissionFailure", "SubmissionRunner",
+           "TimedPasses", "Worker", "WorkerHarnessError", "describe_fetch", "describe_read_texture",
+           "fallback_warning", "privilege_drop_problem", "resolve_mode", "sandbox_problem"]

@@ -30,7 +30,10 @@ _FILE_CALLS = {"unlink", "unlinkat", "rename", "renameat", "renameat2", "rmdir",
                "link", "linkat", "symlink", "symlinkat", "chmod", "fchmodat", "chown", "lchown",
                "fchownat", "mknod", "mknodat", "truncate"}
 _NETWORK_CALLS = {"socket", "socketpair", "connect", "bind", "listen"}
-_SIGNAL_CALLS = {"kill", "tkill", "tgkill"}
+_SIGNAL_CALLS = {"kill", "tkill", "tgkill", "rt_sigqueueinfo", "rt_tgsigqueueinfo", "pidfd_open",
+                 "pidfd_send_signal", "pidfd_getfd"}
+_MEMORY_CALLS = {"mprotect", "pkey_mprotect", "munmap", "madvise", "mmap", "mremap", "remap_file_pages", "shmat",
+                 "process_madvise", "memfd_create"}
 
 
 class SubmissionFailure(Exception):
@@ -78,6 +81,9 @@ def _forbidden_message(text: str) -> str:
         return f"tried to use the network ({name})"
     if name in _SIGNAL_CALLS:
         return f"tried to send a signal to another process ({name})"
+    if name in _MEMORY_CALLS:
+        return (f"tried to change memory the grader owns ({name}): the texture's guard pages and the "
+                "grader's code keep their mappings, and no memory may become executable")
     return f"made a system call that submissions may not make ({name})"
 
 
@@ -164,7 +170,7 @@ def hint(failure: SubmissionFailure, function: str, *, timeout_s: float | None =
         return "an exception was thrown and not caught: return a colour for every input instead of throwing"
     if kind == FORBIDDEN_SYSCALL:
         return ("submissions may only compute colours: remove the call (no new processes, no writing files, "
-                "no network, no signals to other processes)")
+                "no network, no signals to other processes, no changes to the grader's memory)")
     if kind == EXITED:
         return "exit() (or similar) was called: return a colour instead of ending the program"
     if kind == PROTOCOL:

@@ -20,7 +20,10 @@ SOURCES = [Path(__file__).with_name("worker.c"), PROJECT_ROOT / "grader" / "shim
 BINARY = PROJECT_ROOT / "build" / "worker"
 CC = os.environ.get("CC", "cc")
 CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"]
-LIBS = ["-ldl"]
+# Full RELRO: the worker's GOT is read-only before the submission is loaded,
+# and the seccomp filter keeps it so (a submission once redirected the
+# worker's clock_gettime through it).
+LIBS = ["-Wl,-z,relro,-z,now", "-ldl"]
 
 _lock = threading.Lock()
 _checked: Path | None = None

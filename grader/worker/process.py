@@ -30,7 +30,7 @@ from .capture import CappedOutput
 from .failures import (EXCEPTION, EXITED, FORBIDDEN_SYSCALL, LOAD_ERROR, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash,
                        signal_name)
 from .native import worker_binary
-from .sandbox import INPUT_INSIDE, bwrap_command, fallback_warning, sandbox_problem
+from .sandbox import INPUT_INSIDE, ISOLATION, NOBODY, bwrap_command, resolve_mode
 
 LIBRARY_NAME = "submission.so"
 PIPE_BYTES = 1 << 20
@@ -48,6 +48,7 @@ class Limits:
     file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
     processes: int = 64                   # threads included; applied in the sandbox's own user namespace
     seccomp: bool = True
+    texture_mb: int = 24                  # the six-face texture window (512 x 512 faces need 18 MiB)
 
 
 def _enlarge_pipe(fd: int) -> None:
@@ -59,29 +60,66 @@ def _enlarge_pipe(fd: int) -> None:
         pass
 
 
+def _descendants(pid: int) -> list[int]:
+    """pid and every process below it (bubblewrap starts the worker as a
+    grandchild), from /proc/<pid>/task/<tid>/children."""
+    found, queue = [], [pid]
+    while queue:
+        p = queue.pop()
+        found.append(p)
+        try:
+            for task in os.listdir(f"/proc/{p}/task"):
+                with open(f"/proc/{p}/task/{task}/children") as f:
+                    queue += [int(c) for c in f.read().split()]
+        except OSError:
+            continue
+    return found
+
+
+def find_worker_pid(top: int, binary: Path) -> int | None:
+    """The worker's pid in our namespace, found from outside and verified:
+    the one process under `top` whose executable is our worker binary (same
+    inode; the sandbox bind-mounts the same file). Looked up right after the
+    set-up message, before any student code runs. None where /proc cannot say."""
+    try:
+        want = os.stat(binary)
+    except OSError:
+        return None
+    for pid in _descendants(top):
+        try:
+            exe = os.stat(f"/proc/{pid}/exe")
+        except OSError:
+            continue
+        if (exe.st_dev, exe.st_ino) == (want.st_dev, want.st_ino):
+            return pid
+    return None
+
+
+def process_cpu_ns(pid: int) -> int:
+    """CPU time (user + system, all threads, living and exited) the kernel
+    has charged to process `pid`, in ns: its process CPU-time clock, read
+    from outside (clock id MAKE_PROCESS_CPUCLOCK(pid, CPUCLOCK_SCHED))."""
+    return time.clock_gettime_ns(((~pid) << 3) | 2)
+
+
 def _deadline_left(deadline: float) -> float:
     return max(0.0, deadline - time.monotonic())
 
 
 class Worker:
     """A worker process serving one submission. Use as a context manager, or
-    call close(). `mode` is "sandbox" or "plain"; `warning` is the sentence for
-    the report when the sandbox was wanted but unavailable."""
+    call close(). `mode` is "sandbox" (bubblewrap), "privilege-drop" or
+    "plain"; `isolation` says the same in the words reports use; `warning`
+    is the sentence for the report when no isolation was possible and the
+    caller allowed that (allow_unsafe). Raises SandboxUnavailable when no
+    isolation is possible and allow_unsafe is False."""
 
     def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
                  preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
-                 start_timeout_s: float = 15.0):
-        if sandbox not in ("auto", "sandbox", "plain"):
-            raise ValueError(f"sandbox must be auto, sandbox or plain, not {sandbox!r}")
+                 start_timeout_s: float = 15.0, allow_unsafe: bool = False):
         self.library = Path(library)
         self.limits = limits
-        self.warning: str | None = None
-        problem = sandbox_problem() if sandbox != "plain" else None
-        if sandbox == "sandbox" and problem:
-            raise WorkerHarnessError(f"sandbox requested but unavailable: {problem}")
-        if sandbox == "auto" and problem:
-            self.warning = fallback_warning(problem)
-        self.mode = "plain" if sandbox == "plain" or problem else "sandbox"
+        self.mode, self.warning = resolve_mode(sandbox, allow_unsafe)
         self._preload = preload
         self._cap = (output_head, output_tail)
         self._start_timeout_s = start_timeout_s
@@ -89,7 +127,12 @@ class Worker:
         self._output: CappedOutput | None = None
         self._tmp: Path | None = None
         self._request_fd = self._response_fd = -1
+        self._worker_pid: int | None = None
         self.start_time_s = 0.0
+
+    @property
+    def isolation(self) -> str:
+        return ISOLATION[self.mode]
 
     # ---- life cycle -------------------------------------------------------
 
@@ -115,7 +158,12 @@ class Worker:
         input_dir, cwd = self._tmp / "input", self._tmp / "cwd"
         input_dir.mkdir()
         cwd.mkdir()
+        if self.mode == "privilege-drop":
+            # The worker's whole world after chroot: root-owned, read-only to
+            # nobody, holding only the submission (and a cross for load_cross).
+            input_dir.chmod(0o755)
         shutil.copyfile(self.library, input_dir / LIBRARY_NAME)
+        (input_dir / LIBRARY_NAME).chmod(0o644)
         request_r, request_w = os.pipe()
         response_r, response_w = os.pipe()
         output_r, output_w = os.pipe()
@@ -127,6 +175,9 @@ class Worker:
             env["LD_PRELOAD"] = ":".join(self._preload)
         if self.mode == "sandbox":
             cmd = bwrap_command(binary, input_dir, args + [f"{INPUT_INSIDE}/{LIBRARY_NAME}"], env)
+        elif self.mode == "privilege-drop":
+            cmd = [str(binary), "--chroot", str(input_dir), "--uid", NOBODY, "--gid", NOBODY, *args,
+                   f"/{LIBRARY_NAME}"]
         else:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
         try:
@@ -144,6 +195,7 @@ class Worker:
         self._output = CappedOutput(output_r, *self._cap)
         deadline = time.monotonic() + self._start_timeout_s
         try:
+            self._setup(binary, deadline)
             status, count, payload = self._receive(None, None, deadline, "loading the submission")
             if status != protocol.READY or count != 1:
                 self._fail(PROTOCOL, f"expected the ready message, got status {protocol.STATUS_NAMES[status]}")
@@ -151,6 +203,25 @@ class Worker:
             self.close()
             raise
         self.start_time_s = time.monotonic() - began
+
+    def _setup(self, binary: Path, deadline: float) -> None:
+        """The worker's first message, written before any student code ran:
+        the only one we trust. A set-up failure is ours, not the student's."""
+        head = self._read_exact(protocol.HEADER.size, deadline, "setting up the worker")
+        if head is None:
+            self._finish()
+            raise WorkerHarnessError(f"the worker exited during set-up (exit status {self._proc.returncode}); "
+                                     f"it printed: {self.output()[-500:]!r}")
+        magic, status, _, size = protocol.HEADER.unpack(head)
+        if magic != protocol.RESPONSE_MAGIC or status not in (protocol.SANDBOXED, protocol.SETUP_ERROR) \
+                or size > protocol.MAX_TEXT_BYTES:
+            self._kill()
+            raise WorkerHarnessError(f"the worker's first message is not a set-up report (status {status})")
+        payload = self._read_exact(size, deadline, "setting up the worker") if size else b""
+        if status == protocol.SETUP_ERROR:
+            self._finish()
+            raise WorkerHarnessError(protocol.decode_text(payload or b""))
+        self._worker_pid = find_worker_pid(self._proc.pid, binary)
 
     def _limit_args(self) -> list[str]:
         lim = self.limits
@@ -160,9 +231,10 @@ class Worker:
         if lim.cpu_seconds:
             args += ["--cpu-s", str(lim.cpu_seconds)]
         # Only in the sandbox: outside it, RLIMIT_NPROC counts all of the
-        # grader user's processes (the seccomp filter stops fork either way).
+        # user's processes (the seccomp filter stops fork either way).
         if self.mode == "sandbox" and lim.processes:
             args += ["--nproc", str(lim.processes)]
+        args += ["--texture-mb", str(lim.texture_mb)]
         if not lim.seccomp:
             args.append("--no-seccomp")
         return args
@@ -218,8 +290,14 @@ class Worker:
         copied into a guarded buffer whose last byte ends a page ("end") or
         whose first byte starts one ("start")."""
         faces = np.asarray(faces)
-        if faces.ndim != 4 or faces.shape[0] != 6 or faces.shape[3] != 3:
+        if faces.ndim != 4 or faces.shape[0] != 6 or faces.shape[3] != 3 or 0 in faces.shape:
             raise ValueError(f"faces must have shape (6, H, W, 3), not {faces.shape}")
+        if faces.shape[1] * faces.shape[2] * 72 > self.limits.texture_mb << 20:
+            # Checked here, not by the worker: whatever it answers is the submission's.
+            raise WorkerHarnessError(f"faces of {faces.shape[2]} x {faces.shape[1]} texels do not fit the "
+                                     f"{self.limits.texture_mb} MiB texture window (Limits.texture_mb)")
+        if placement not in protocol.PLACEMENTS:
+            raise ValueError(f"placement must be one of {', '.join(protocol.PLACEMENTS)}, not {placement!r}")
         payload = protocol.set_faces_payload(faces)
         self._call(protocol.SET_FACES, protocol.PLACEMENTS[placement], payload, 0, 0, timeout_s, "setting the faces")
 
@@ -235,6 +313,8 @@ class Worker:
         """readTexture(face's own guarded copy, u, v) for each (u, v) (n, 2) -> (n, 3)."""
         if not 0 <= face < 6:
             raise ValueError(f"face must be 0..5, not {face}")
+        if placement not in protocol.PLACEMENTS:
+            raise ValueError(f"placement must be one of {', '.join(protocol.PLACEMENTS)}, not {placement!r}")
         uv = np.ascontiguousarray(uv, dtype=np.float64).reshape(-1, 2)
         n = len(uv)
         head = struct.pack("=ii", face, protocol.PLACEMENTS[placement])
@@ -242,10 +322,35 @@ class Worker:
                                 "readTexture")
         return protocol.decode_doubles(payload, n)
 
+    def fetch_timed(self, dirs: np.ndarray, timeout_s: float = 10.0) -> tuple[np.ndarray, int]:
+        """fetch(dirs) and the CPU time (ns) the kernel charged to the worker
+        process for it, read from outside: nothing the submission controls
+        (its clock, its replies) enters the figure. It includes reading the
+        request and writing the reply, the same for every library timed."""
+        if self._worker_pid is None:
+            raise WorkerHarnessError("the worker's CPU time cannot be read here (/proc did not show its pid)")
+        before = process_cpu_ns(self._worker_pid)
+        rgb = self.fetch(dirs, timeout_s)
+        try:
+            used = process_cpu_ns(self._worker_pid) - before
+        except OSError:
+            self._fail(EXITED, "the worker ended while it was being timed")
+        return rgb, used
+
+    def cpu_ns(self) -> int:
+        """CPU time the worker process has used so far (see fetch_timed)."""
+        if self._worker_pid is None:
+            raise WorkerHarnessError("the worker's CPU time cannot be read here (/proc did not show its pid)")
+        return process_cpu_ns(self._worker_pid)
+
     def time_fetch_ns(self, dirs: np.ndarray, repeats: int = 5, timeout_s: float = 30.0) -> np.ndarray:
         """Nanoseconds each of `repeats` sub_fetch_batch calls over `dirs` took,
-        measured inside the worker."""
+        measured INSIDE the worker by its own clock_gettime: the submission
+        can forge these, so grading does not use them (fetch_timed does);
+        kept for bench/bench_isolation.py's comparison with the old way."""
         dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        if not 1 <= repeats <= 100_000:
+            raise ValueError(f"repeats must be 1..100000, not {repeats}")
         head = struct.pack("=II", repeats, 0)
         _, payload = self._call(protocol.TIME_FETCH, len(dirs), head + dirs.tobytes(), repeats, repeats * 8,
                                 timeout_s, "fetchColor")
@@ -261,7 +366,9 @@ class Worker:
         (loaded, message). Afterwards fetch uses the submission's own texels."""
         name = "cross.hdr"
         shutil.copyfile(path, self._tmp / "input" / name)
-        inside = f"{INPUT_INSIDE}/{name}" if self.mode == "sandbox" else str(self._tmp / "input" / name)
+        (self._tmp / "input" / name).chmod(0o644)
+        inside = {"sandbox": f"{INPUT_INSIDE}/{name}", "privilege-drop": f"/{name}"}.get(
+            self.mode, str(self._tmp / "input" / name))
         count, payload = self._call(protocol.LOAD_CROSS, 0, inside.encode(), None, None, timeout_s,
                                     "loadFromCrossHDR")
         if count not in (0, 1):
@@ -284,8 +391,13 @@ class Worker:
             raise SubmissionFailure(EXCEPTION, f"uncaught exception: {text}" if text else "uncaught exception",
                                     fatal=False, output=self.output(),
                                     detail="bad_alloc" if "bad_alloc" in text else "")
+        # Every byte on the reply pipe may have been written by the submission
+        # (it shares the worker's address space and file descriptors), so even
+        # "the request was bad" is its responsibility: our requests are
+        # validated before they are sent (_check_request, set_faces).
         if status in (protocol.ARGUMENT, protocol.BAD_REQUEST):
-            raise WorkerHarnessError(f"{what}: the worker refused the request: {protocol.decode_text(reply)}")
+            self._fail(PROTOCOL, f"{what}: the worker answered {protocol.STATUS_NAMES[status]} "
+                                 f"({protocol.decode_text(reply)[:200]!r}) to a request the grader had checked")
         self._fail(PROTOCOL, f"unexpected reply status {protocol.STATUS_NAMES[status]} to {what}")
 
     def _send(self, buffers: list, deadline: float, what: str) -> None:

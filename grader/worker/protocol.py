@@ -22,8 +22,11 @@ HEADER = struct.Struct("=IIQQ")
 SET_FACES, FETCH, READ_TEXTURE, TIME_FETCH, LOAD_CROSS, QUIT = 1, 2, 3, 4, 5, 6
 # Replies (status).
 OK, EXCEPTION, ARGUMENT, CRASH, LOAD_ERROR, READY, BAD_REQUEST = 0, 1, 2, 3, 4, 5, 6
+# Sent before the submission is loaded: the only replies the grader trusts.
+SANDBOXED, SETUP_ERROR = 7, 8
 STATUS_NAMES = {OK: "ok", EXCEPTION: "exception", ARGUMENT: "argument", CRASH: "crash",
-                LOAD_ERROR: "load-error", READY: "ready", BAD_REQUEST: "bad-request"}
+                LOAD_ERROR: "load-error", READY: "ready", BAD_REQUEST: "bad-request",
+                SANDBOXED: "sandboxed", SETUP_ERROR: "setup-error"}
 # Text replies (exception and error messages) longer than this are refused.
 MAX_TEXT_BYTES = 64 << 10
 
@@ -38,7 +41,7 @@ CRASH_REPORT = struct.Struct("=iiiiqQ224s")   # 256 bytes
 PLACEMENTS = {"end": 0, "start": 1}
 # Worker exit codes (worker.c): a crash already reported, a load failure, a
 # broken protocol.
-EXIT_CRASH, EXIT_LOAD, EXIT_PROTOCOL = 70, 71, 72
+EXIT_CRASH, EXIT_LOAD, EXIT_PROTOCOL, EXIT_SETUP = 70, 71, 72, 73
 
 
 class ProtocolViolation(Exception):
@@ -83,10 +86,10 @@ def check_reply_size(status: int, count: int, size: int, expected_count: int | N
     if status == CRASH:
         if size != CRASH_REPORT.size:
             raise ProtocolViolation(f"crash report of {size} bytes, expected {CRASH_REPORT.size}")
-    elif status in (EXCEPTION, ARGUMENT, LOAD_ERROR, BAD_REQUEST):
+    elif status in (EXCEPTION, ARGUMENT, LOAD_ERROR, BAD_REQUEST, SETUP_ERROR):
         if size > MAX_TEXT_BYTES:
             raise ProtocolViolation(f"{STATUS_NAMES[status]} message of {size} bytes")
-    elif status == READY:
+    elif status in (READY, SANDBOXED):
         if size != 0:
             raise ProtocolViolation(f"ready reply with a {size}-byte payload")
     elif status == OK:

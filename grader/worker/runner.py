@@ -24,6 +24,7 @@ import numpy as np
 
 from .failures import FACE_NAMES, SubmissionFailure, hint
 from .process import Limits, Worker
+from .sandbox import ISOLATION, resolve_mode
 
 
 @dataclass(frozen=True)
@@ -69,25 +70,45 @@ def describe_read_texture(face: int, u: float, v: float) -> str:
     return f"readTexture(face {FACE_NAMES[face]}, u = {float(u)!r}, v = {float(v)!r})"
 
 
+@dataclass
+class TimedPasses:
+    """fetchColor timed from outside: one entry per pass, each over its own
+    directions. cpu_ns is the CPU time the kernel charged to the worker
+    process for the pass (request and reply included)."""
+    cpu_ns: list[int] = field(default_factory=list)
+    lookups: list[int] = field(default_factory=list)
+    values: list[np.ndarray] = field(default_factory=list)
+    failure: Failure | None = None
+
+    def ns_per_lookup(self) -> float | None:
+        """The fastest pass, per lookup: on a shared machine noise only adds time."""
+        rates = [ns / n for ns, n in zip(self.cpu_ns, self.lookups) if n]
+        return min(rates) if rates else None
+
+
 class SubmissionRunner:
     """Lookups on one submission's library with the faces (6, H, W, 3) given.
 
     timeout_s + per_input_s * n is the wall-clock limit of one call over n
-    inputs. Other keyword arguments go to Worker."""
+    inputs. The isolation mode is settled here, once (sandbox.resolve_mode:
+    SandboxUnavailable when none is possible and allow_unsafe is False);
+    `isolation` names it for reports and `warnings` carries what a report
+    must say about it. Other keyword arguments go to Worker."""
 
     def __init__(self, library: str | Path, faces: np.ndarray, *, sandbox: str = "auto",
                  limits: Limits = Limits(), timeout_s: float = 5.0, per_input_s: float = 1e-4,
                  max_failures: int = 16, budget_s: float = 120.0, preload: tuple[str, ...] = (),
-                 max_timeouts: int = 2):
+                 max_timeouts: int = 2, allow_unsafe: bool = False):
         self.library = Path(library)
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
-        self.sandbox, self.limits, self.preload = sandbox, limits, preload
+        self.mode, warning = resolve_mode(sandbox, allow_unsafe)
+        self.sandbox, self.limits, self.preload = self.mode, limits, preload
         self.timeout_s, self.per_input_s = timeout_s, per_input_s
         self.max_failures, self.budget_s = max_failures, budget_s
         # Each timeout costs a whole time limit (and more to narrow it down):
         # after this many in one call, the rest of the batch is given up.
         self.max_timeouts = max_timeouts
-        self.warnings: list[str] = []
+        self.warnings: list[str] = [warning] if warning else []
         self.worker_starts = 0
         self._worker: Worker | None = None
         self._placement: str | None = None
@@ -102,6 +123,11 @@ class SubmissionRunner:
 
     def close(self) -> None:
         self._drop_worker()
+
+    @property
+    def isolation(self) -> str:
+        """"bubblewrap", "privilege-drop" or "unsafe-none"."""
+        return ISOLATION[self.mode]
 
     def output(self) -> str:
         """What the submission printed in the current (or, after close(),
@@ -139,19 +165,28 @@ class SubmissionRunner:
         return self._run_batch(len(uv), run, None, "readTexture",
                                lambda i: describe_read_texture(face, *uv[i]))
 
-    def time_fetch(self, dirs: np.ndarray, repeats: int = 5) -> tuple[float | None, Failure | None]:
-        """(median ns per lookup, None), or (None, the failure) when the
-        timed batch fails; run fetch() on the same directions first to have
-        failures attributed to inputs."""
-        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
-        try:
-            worker = self._ready_worker("end")
-            return worker.time_fetch(dirs, repeats, timeout_s=self._timeout(len(dirs) * repeats)), None
-        except SubmissionFailure as failure:
-            self._drop_worker()
-            return None, self._failure(failure, "fetchColor", None, "timing fetchColor over the batch")
-        except _LoadFailed:
-            return None, self._load_failure
+    def time_fetch(self, passes: list[np.ndarray]) -> TimedPasses:
+        """fetchColor over each batch of directions in `passes` (give every
+        pass fresh ones, so nothing can be cached between passes), each timed
+        by the worker process's CPU time read from outside, with the colours
+        returned for checking. Stops at the first failure (TimedPasses.failure)."""
+        timed = TimedPasses()
+        for dirs in passes:
+            dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+            try:
+                worker = self._ready_worker("end")
+                rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
+            except SubmissionFailure as failure:
+                self._drop_worker()
+                timed.failure = self._failure(failure, "fetchColor", None, "timing fetchColor over a batch")
+                break
+            except _LoadFailed:
+                timed.failure = self._load_failure
+                break
+            timed.cpu_ns.append(ns)
+            timed.lookups.append(len(dirs))
+            timed.values.append(rgb)
+        return timed
 
     # ---- the search -------------------------------------------------------
 
@@ -220,10 +255,9 @@ class SubmissionRunner:
             raise _LoadFailed()
         if self._worker is None or not self._worker.alive:
             self._drop_worker()
-            worker = Worker(self.library, sandbox=self.sandbox, limits=self.limits, preload=self.preload)
+            # The mode was settled (and allowed) in __init__.
+            worker = Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload)
             self.worker_starts += 1
-            if worker.warning and worker.warning not in self.warnings:
-                self.warnings.append(worker.warning)
             try:
                 worker.start()
                 worker.set_faces(self.faces, placement or "end", timeout_s=self._timeout(0))

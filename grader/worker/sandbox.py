@@ -8,9 +8,13 @@ project tree, fixtures/, build/libenvmap.so, other submissions and the
 results directory are simply not there.
 
 Where bubblewrap is missing or cannot create namespaces (a container without
-user namespaces, another OS), `sandbox_problem()` says why and the worker runs
-plain, with its resource limits and seccomp filter only; the grader shows
-`fallback_warning()` in the report.
+user namespaces, another OS), `sandbox_problem()` says why. Then, when the
+grader runs as root (Gradescope, most Docker images), the worker runs in
+privilege-drop mode: it chroots into a fresh folder holding only the
+submission and becomes uid/gid nobody before loading it. Where neither is
+possible, `resolve_mode` raises SandboxUnavailable unless the caller allowed
+running without isolation ("unsafe-none", with a warning for the report).
+Never silently: every runner says which isolation it used.
 """
 from __future__ import annotations
 
@@ -25,8 +29,17 @@ SANDBOX_ROOT = "/sandbox"
 WORKER_INSIDE = f"{SANDBOX_ROOT}/worker"
 INPUT_INSIDE = f"{SANDBOX_ROOT}/input"
 NOBODY = "65534"
-# Modes a Worker can be asked for: "auto" uses the sandbox when it works.
-MODES = ("auto", "sandbox", "plain")
+# Modes a Worker can be asked for: "auto" picks the safest that works here;
+# "sandbox" is bubblewrap, "privilege-drop" the root-only chroot + setuid,
+# "plain" no isolation beyond limits and seccomp.
+MODES = ("auto", "sandbox", "privilege-drop", "plain")
+# What reports call each mode (GradeResult.isolation).
+ISOLATION = {"sandbox": "bubblewrap", "privilege-drop": "privilege-drop", "plain": "unsafe-none"}
+
+
+class SandboxUnavailable(Exception):
+    """No isolation is possible here and the caller did not allow grading
+    without it (--unsafe-no-sandbox). The message says why and what to do."""
 
 
 def system_binds() -> list[str]:
@@ -85,7 +98,65 @@ def sandbox_problem() -> str | None:
 
 
 def fallback_warning(reason: str) -> str:
-    return f"sandbox unavailable: {reason}; ran with resource limits only"
+    return (f"sandbox unavailable: {reason}; ran with resource limits and the seccomp filter only "
+            "(isolation unsafe-none: the submission could read and write what the grader's user can)")
+
+
+@functools.lru_cache(maxsize=1)
+def privilege_drop_problem() -> str | None:
+    """None when the worker can chroot and become nobody here (we are root);
+    otherwise why not (once per process)."""
+    if not sys.platform.startswith("linux"):
+        return f"privilege-drop needs Linux (this is {sys.platform})"
+    if os.geteuid() != 0:
+        return "the grader does not run as root, so it cannot switch the worker to another user"
+    import tempfile
+    from .native import worker_binary
+    with tempfile.TemporaryDirectory(prefix="envmap-drop-") as root:
+        try:
+            done = subprocess.run([str(worker_binary()), "--check-drop", "--chroot", root, "--uid", NOBODY,
+                                   "--gid", NOBODY], capture_output=True, timeout=20)
+        except (OSError, subprocess.TimeoutExpired) as exc:
+            return f"the worker could not drop its privileges: {exc}"
+    if done.returncode != 0:
+        return f"the worker could not drop its privileges (exit status {done.returncode})"
+    return None
+
+
+def unavailable_message(problem: str) -> str:
+    return (f"No isolation is possible for student code on this machine: {problem}; and without root the "
+            "worker cannot drop its privileges either. Install bubblewrap with user namespaces enabled, or run "
+            "the grader as root (privilege-drop mode), or pass --unsafe-no-sandbox to grade anyway (the "
+            "submission could then read the grader's environment and write its files).")
+
+
+def resolve_mode(requested: str = "auto", allow_unsafe: bool = False) -> tuple[str, str | None]:
+    """(mode, warning) for a worker asked for `requested`: "auto" takes
+    bubblewrap, else privilege-drop, else plain only with `allow_unsafe`
+    (else SandboxUnavailable). "no-bwrap" is "auto" without bubblewrap
+    (--no-sandbox). Forced modes that cannot run here raise SandboxUnavailable."""
+    if requested not in (*MODES, "no-bwrap"):
+        raise ValueError(f"sandbox mode must be one of {', '.join(MODES)}, not {requested!r}")
+    if requested == "plain":
+        return "plain", None
+    if requested == "sandbox":
+        problem = sandbox_problem()
+        if problem:
+            raise SandboxUnavailable(f"bubblewrap requested but unavailable: {problem}")
+        return "sandbox", None
+    if requested == "privilege-drop":
+        problem = privilege_drop_problem()
+        if problem:
+            raise SandboxUnavailable(f"privilege-drop mode requested but unavailable: {problem}")
+        return "privilege-drop", None
+    bwrap = sandbox_problem() if requested == "auto" else "bubblewrap not wanted (--no-sandbox)"
+    if bwrap is None:
+        return "sandbox", None
+    if privilege_drop_problem() is None:
+        return "privilege-drop", None
+    if allow_unsafe:
+        return "plain", fallback_warning(bwrap)
+    raise SandboxUnavailable(unavailable_message(bwrap))
 
 
 def compiler_command(cmd: list[str], read_only: list[Path], writable: Path) -> list[str]:

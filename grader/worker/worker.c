@@ -1,27 +1,38 @@
 /*
  * worker.c - the only process that runs student code.
  *
- *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--no-seccomp]
+ *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--texture-mb N]
+ *          [--chroot DIR --uid N --gid N] [--no-seccomp] [--check-drop]
  *          REQUEST_FD RESPONSE_FD SUBMISSION.so
  *
  * Order matters: limits, signal handlers (on an alternate stack, so a stack
- * overflow is reported too), the seccomp filter, and only then dlopen() the
- * submission, so its static initialisers already run under all of them.
+ * overflow is reported too), the C++ runtime preloaded, the texture windows
+ * reserved, privileges dropped (privilege-drop mode: chroot into a folder
+ * holding only the submission, then uid/gid nobody), the seccomp filter, a
+ * SANDBOXED message (the last one the grader can trust: no student code has
+ * run yet), and only then dlopen() the submission, so its static
+ * initialisers already run under all of them.
  * Requests arrive on REQUEST_FD and answers leave on RESPONSE_FD (a private
  * pipe pair: student code may print to fds 1 and 2, which the grader
  * captures). The protocol is described in README.md beside this file and
  * mirrored in protocol.py, which validates every reply.
  *
- * Texture buffers are copied into read-only mappings between PROT_NONE guard
- * pages, placed so that the texels end where a guard page starts ("end") or
- * start where one ends ("start"). A SIGSEGV inside a guard page is reported as
- * an out-of-bounds read of that buffer, with the distance in bytes. Nothing
+ * Textures live in two fixed windows reserved once before the filter: a
+ * read-only MAP_SHARED view of a memfd between PROT_NONE guards, one for the
+ * six faces and one for the single face readTexture gets. Texels are written
+ * with pwrite() on the memfd, so the windows never change after start-up, and
+ * the filter refuses mprotect/munmap/mremap/madvise/mmap(MAP_FIXED) on them
+ * (and on every library's code and relocations), so a guard cannot be
+ * switched off from inside. The texels end where a guard starts ("end") or
+ * start where one ends ("start"). A SIGSEGV inside a guard is reported as an
+ * out-of-bounds read of that buffer, with the distance in bytes. Nothing
  * student-written is linked into this file.
  */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <grp.h>
 #include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -53,7 +64,7 @@
 enum { OP_SET_FACES = 1, OP_FETCH = 2, OP_READ_TEXTURE = 3, OP_TIME_FETCH = 4,
        OP_LOAD_CROSS = 5, OP_QUIT = 6 };
 enum { ST_OK = 0, ST_EXCEPTION = 1, ST_ARGUMENT = 2, ST_CRASH = 3, ST_LOAD_ERROR = 4,
-       ST_READY = 5, ST_BAD_REQUEST = 6 };
+       ST_READY = 5, ST_BAD_REQUEST = 6, ST_SANDBOXED = 7, ST_SETUP_ERROR = 8 };
 enum { CAUSE_SIGNAL = 0, CAUSE_GUARD_AFTER = 1, CAUSE_GUARD_BEFORE = 2,
        CAUSE_STACK_OVERFLOW = 3, CAUSE_CPU_LIMIT = 4, CAUSE_FORBIDDEN_SYSCALL = 5,
        CAUSE_TEXTURE_WRITE = 6 };
@@ -61,7 +72,7 @@ enum { PLACE_END = 0, PLACE_START = 1 };
 enum { WHERE_ALL_FACES = -1 };
 
 /* Exit codes, for when the grader sees the status but not the report. */
-enum { EXIT_CRASH = 70, EXIT_LOAD = 71, EXIT_PROTOCOL = 72 };
+enum { EXIT_CRASH = 70, EXIT_LOAD = 71, EXIT_PROTOCOL = 72, EXIT_SETUP = 73 };
 
 struct header {
     uint32_t magic, op;
@@ -79,11 +90,14 @@ static int request_fd = -1, response_fd = -1;
 
 /* ---- writing replies (async-signal-safe: used from handlers) ------------- */
 
+/* Raw syscalls, not write(): glibc's write() is a pthread cancellation
+ * point, and a submission that cancelled its own thread could otherwise
+ * unwind out of our crash handler into its own cleanup code. */
 static int write_all(int fd, const void *data, size_t size)
 {
     const char *p = data;
     while (size > 0) {
-        ssize_t n = write(fd, p, size);
+        ssize_t n = syscall(__NR_write, fd, p, size);
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)
@@ -99,7 +113,8 @@ static void reply(uint32_t status, uint64_t count, const void *payload, uint64_t
     struct header h = { RESPONSE_MAGIC, status, count, size };
     if (write_all(response_fd, &h, sizeof h) != 0 ||
         (size > 0 && write_all(response_fd, payload, size) != 0))
-        _exit(EXIT_PROTOCOL);
+        for (;;)
+            syscall(__NR_exit_group, EXIT_PROTOCOL);
 }
 
 static void reply_text(uint32_t status, const char *text)
@@ -107,52 +122,76 @@ static void reply_text(uint32_t status, const char *text)
     reply(status, 0, text, strlen(text));
 }
 
-/* ---- guarded texture mappings -------------------------------------------- */
+/* ---- texture windows ---------------------------------------------------- */
 
-struct guarded {
-    char *mapping;         /* whole mapping, guards included */
-    size_t mapping_size;
-    char *data;            /* the texels */
+/* One reservation, fixed for the worker's life:
+ *
+ *   [guard][six-face body][guard][one-face body][guard]
+ *
+ * Guards are PROT_NONE; bodies are read-only MAP_SHARED views of one memfd
+ * (the six-face body at file offset 0, the one-face body right after it).
+ * Texels are written through a second, writable view of the memfd elsewhere
+ * (pwrite would meet RLIMIT_FSIZE), so no mapping changes after the filter is
+ * installed, and the filter refuses any call that would change one. */
+#define GUARD_BYTES ((size_t)1 << 20)
+
+struct window {
+    char *body;            /* start of the readable body */
+    char *writable;        /* the same bytes, writable, elsewhere */
+    size_t capacity;       /* body size */
+    char *data;            /* the texels now in it (NULL: none) */
     size_t size;
     int where;             /* face, or WHERE_ALL_FACES */
 };
 
-/* Slots: the six-face buffer in placement p at p, face f in placement p at
- * 2 + 2*f + p. */
-#define SLOT_COUNT 14
-static struct guarded slots[SLOT_COUNT];
+static char *region;       /* the whole reservation, guards included */
+static size_t region_size;
+static struct window six, one;
+static int one_face = -1, one_placement = -1;   /* what `one` holds */
 static size_t page_size;
 
-static void guarded_free(struct guarded *g)
+static size_t round_pages(size_t n)
 {
-    if (g->mapping)
-        munmap(g->mapping, g->mapping_size);
-    memset(g, 0, sizeof *g);
+    return (n + page_size - 1) / page_size * page_size;
 }
 
-/* Copy `size` bytes between two PROT_NONE guard pages; read-only afterwards,
- * so a write into the texture faults too. */
-static int guarded_copy(struct guarded *g, const void *src, size_t size, int placement, int where)
+/* Reserve the windows (before the filter and RLIMIT_FSIZE). */
+static int reserve_windows(size_t six_capacity)
 {
-    size_t body = (size + page_size - 1) / page_size * page_size;
-    if (body == 0)
-        body = page_size;
-    size_t total = body + 2 * page_size;
-    char *m = mmap(NULL, total, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (m == MAP_FAILED)
+    size_t six_body = round_pages(six_capacity ? six_capacity : page_size);
+    size_t one_body = round_pages((six_body + 5) / 6);
+    size_t file_size = six_body + one_body;
+    region_size = 3 * GUARD_BYTES + six_body + one_body;
+    int fd = (int)syscall(__NR_memfd_create, "textures", MFD_CLOEXEC);
+    if (fd < 0 || ftruncate(fd, (off_t)file_size) != 0)
         return -1;
-    if (mprotect(m + page_size, body, PROT_READ | PROT_WRITE) != 0) {
-        munmap(m, total);
+    region = mmap(NULL, region_size, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    char *writable = mmap(NULL, file_size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (region == MAP_FAILED || writable == MAP_FAILED)
         return -1;
-    }
-    char *data = placement == PLACE_END ? m + page_size + body - size : m + page_size;
-    memcpy(data, src, size);
-    mprotect(m + page_size, body, PROT_READ);
-    g->mapping = m;
-    g->mapping_size = total;
-    g->data = data;
-    g->size = size;
-    g->where = where;
+    six = (struct window){ region + GUARD_BYTES, writable, six_body, NULL, 0, WHERE_ALL_FACES };
+    one = (struct window){ six.body + six_body + GUARD_BYTES, writable + six_body, one_body, NULL, 0, 0 };
+    if (mmap(six.body, six_body, PROT_READ, MAP_SHARED | MAP_FIXED, fd, 0) == MAP_FAILED ||
+        mmap(one.body, one_body, PROT_READ, MAP_SHARED | MAP_FIXED, fd, (off_t)six_body) == MAP_FAILED)
+        return -1;
+    close(fd);   /* the mappings keep the memory; no fd left for the submission to find */
+    return 0;
+}
+
+/* Put `size` bytes into window `w`, ending where its trailing guard starts
+ * ("end") or starting where its leading guard ends ("start"); the rest of the
+ * body reads as zeros (no texels of an earlier call). */
+static int window_fill(struct window *w, const char *src, size_t size, int placement, int where)
+{
+    if (size > w->capacity)
+        return -1;
+    if (w->data)
+        memset(w->writable + (w->data - w->body), 0, w->size);
+    size_t offset = placement == PLACE_END ? w->capacity - size : 0;
+    memcpy(w->writable + offset, src, size);
+    w->data = w->body + offset;
+    w->size = size;
+    w->where = where;
     return 0;
 }
 
@@ -164,7 +203,8 @@ static size_t stack_limit;
 static void report_crash(const struct crash_report *r)
 {
     reply(ST_CRASH, 0, r, sizeof *r);
-    _exit(EXIT_CRASH);
+    for (;;)
+        syscall(__NR_exit_group, EXIT_CRASH);
 }
 
 static void on_fault(int signo, siginfo_t *info, void *context)
@@ -182,25 +222,23 @@ static void on_fault(int signo, siginfo_t *info, void *context)
         r.cause = CAUSE_CPU_LIMIT;
         report_crash(&r);
     }
-    if (signo == SIGSEGV || signo == SIGBUS) {
-        for (int i = 0; i < SLOT_COUNT; i++) {
-            const struct guarded *g = &slots[i];
-            char *first = g->mapping, *last = g->mapping + g->mapping_size;
-            if (!first || addr < first || addr >= last)
-                continue;
-            r.where = g->where;
-            if (addr >= g->data && addr < g->data + g->size) {
-                r.cause = CAUSE_TEXTURE_WRITE;   /* readable: only a write faults here */
-                r.distance = addr - g->data;
-            } else if (addr < g->data) {
-                r.cause = CAUSE_GUARD_BEFORE;
-                r.distance = g->data - addr;
-            } else {
-                r.cause = CAUSE_GUARD_AFTER;
-                r.distance = addr - (g->data + g->size);
-            }
-            report_crash(&r);
+    if ((signo == SIGSEGV || signo == SIGBUS) && region && addr >= region && addr < region + region_size) {
+        /* The middle guard: the nearer body's. */
+        const struct window *w = addr < six.body + six.capacity + GUARD_BYTES / 2 ? &six : &one;
+        r.where = w->where;
+        if (addr >= w->body && addr < w->body + w->capacity) {
+            r.cause = CAUSE_TEXTURE_WRITE;   /* readable: only a write faults here */
+            r.distance = w->data ? addr - w->data : 0;
+        } else if (!w->data || addr < w->data) {
+            r.cause = CAUSE_GUARD_BEFORE;
+            r.distance = (w->data ? w->data : w->body) - addr;
+        } else {
+            r.cause = CAUSE_GUARD_AFTER;
+            r.distance = addr - (w->data + w->size);
         }
+        report_crash(&r);
+    }
+    if (signo == SIGSEGV || signo == SIGBUS) {
         /* A fault about one stack-size below the top of the stack. */
         size_t depth = (size_t)(stack_top - addr);
         if (signo == SIGSEGV && addr <= stack_top && depth <= stack_limit + (1u << 20) &&
@@ -230,6 +268,12 @@ static const struct syscall_name forbidden_names[] = {
     NAME(process_vm_writev) NAME(io_uring_setup) NAME(bpf) NAME(perf_event_open)
     NAME(userfaultfd) NAME(keyctl) NAME(add_key) NAME(request_key) NAME(reboot)
     NAME(init_module) NAME(finit_module) NAME(delete_module) NAME(kexec_load)
+    NAME(memfd_create) NAME(remap_file_pages) NAME(shmat) NAME(process_madvise)
+    NAME(pidfd_open) NAME(pidfd_send_signal) NAME(pidfd_getfd) NAME(rt_sigqueueinfo)
+    NAME(rt_tgsigqueueinfo) NAME(seccomp) NAME(kcmp) NAME(name_to_handle_at)
+    NAME(open_by_handle_at) NAME(fanotify_init) NAME(prctl)
+    /* Refused only on the grader's memory (protected ranges) or for W^X. */
+    NAME(mprotect) NAME(pkey_mprotect) NAME(munmap) NAME(madvise) NAME(mmap) NAME(mremap)
 #undef NAME
 };
 
@@ -242,7 +286,7 @@ static void copy_user_string(const char *src, char *out, size_t out_size)
     size_t n = 0;
     char c;
     while (src && n + 1 < out_size && scratch[0] >= 0) {
-        if (write(scratch[1], src + n, 1) != 1 || read(scratch[0], &c, 1) != 1 || c == 0)
+        if (syscall(__NR_write, scratch[1], src + n, 1) != 1 || syscall(__NR_read, scratch[0], &c, 1) != 1 || c == 0)
             break;
         out[n++] = c;
     }
@@ -310,9 +354,32 @@ static void on_forbidden_syscall(int signo, siginfo_t *info, void *context)
 #define OUR_AUDIT_ARCH AUDIT_ARCH_AARCH64
 #endif
 
-#define MAX_FILTER 256
+#define MAX_FILTER 4000
 static struct sock_filter program[MAX_FILTER];
 static unsigned short program_length;
+
+/* Forward jumps to labels, resolved once the program is complete. */
+#define MAX_LABELS 1024
+static int label_at[MAX_LABELS];
+static int label_count;
+static struct { unsigned short insn; short label; char field; } fixups[2 * MAX_LABELS];
+static int fixup_count;
+static int program_broken;
+
+static int new_label(void)
+{
+    if (label_count >= MAX_LABELS) {
+        program_broken = 1;
+        return 0;
+    }
+    label_at[label_count] = -1;
+    return label_count++;
+}
+
+static void place(int label)
+{
+    label_at[label] = program_length;
+}
 
 static void emit(struct sock_filter f)
 {
@@ -396,6 +463,191 @@ static void on_nonnull(long nr, int arg, unsigned action)
     ret(action);
 }
 
+/* Conditional jump on A against k (code: BPF_JEQ, BPF_JGT, BPF_JGE, BPF_JSET)
+ * to labels; -1 means the next instruction. */
+static void jump_to(unsigned code, unsigned k, int if_true, int if_false)
+{
+    int at = program_length;
+    emit((struct sock_filter)BPF_JUMP(BPF_JMP | code | BPF_K, k, 0, 0));
+    if (if_true >= 0 && fixup_count < 2 * MAX_LABELS)
+        fixups[fixup_count].insn = (unsigned short)at, fixups[fixup_count].label = (short)if_true,
+        fixups[fixup_count++].field = 't';
+    if (if_false >= 0 && fixup_count < 2 * MAX_LABELS)
+        fixups[fixup_count].insn = (unsigned short)at, fixups[fixup_count].label = (short)if_false,
+        fixups[fixup_count++].field = 'f';
+}
+
+static void always_to(int label)
+{
+    int at = program_length;
+    emit((struct sock_filter)BPF_JUMP(BPF_JMP | BPF_JA, 0, 0, 0));
+    if (fixup_count < 2 * MAX_LABELS)
+        fixups[fixup_count].insn = (unsigned short)at, fixups[fixup_count].label = (short)label,
+        fixups[fixup_count++].field = 'k';
+}
+
+static int resolve_labels(void)
+{
+    for (int i = 0; i < fixup_count; i++) {
+        int target = label_at[fixups[i].label], at = fixups[i].insn;
+        if (target < 0 || target <= at)
+            return -1;
+        unsigned offset = (unsigned)(target - at - 1);
+        if (fixups[i].field == 'k')
+            program[at].k = offset;
+        else if (offset > 255)
+            return -1;
+        else if (fixups[i].field == 't')
+            program[at].jt = (unsigned char)offset;
+        else
+            program[at].jf = (unsigned char)offset;
+    }
+    return 0;
+}
+
+static void stmt(unsigned code, unsigned k)
+{
+    emit((struct sock_filter)BPF_STMT(code, k));
+}
+
+/* Memory the submission must not remap, unmap or reprotect: the texture
+ * windows and every file mapping present before it is loaded (the worker,
+ * ld.so, libc, the C++ runtime: their code, relocations and data), so it can
+ * neither switch a guard off nor patch the code that reports a fault. */
+#define MAX_RANGES 40
+static struct { uint64_t first, end; } protected_ranges[MAX_RANGES];
+static int range_count;
+
+static void protect(uint64_t first, uint64_t end)
+{
+    if (range_count > 0 && protected_ranges[range_count - 1].end == first) {
+        protected_ranges[range_count - 1].end = end;   /* adjacent: one range */
+        return;
+    }
+    if (range_count < MAX_RANGES) {
+        protected_ranges[range_count].first = first;
+        protected_ranges[range_count++].end = end;
+        return;
+    }
+    /* Too many: widen the last one (protects a gap too, which is only stricter). */
+    protected_ranges[range_count - 1].end = end;
+}
+
+/* Every mapping backed by a file or the kernel ([vdso], [vvar]): code,
+ * relocations (read-only after RELRO) and data of the worker, ld.so, libc
+ * and the C++ runtime. Anonymous memory is left alone (malloc unmaps and
+ * trims it). Read from /proc/self/maps before the filter and any chroot. */
+static int collect_protected_ranges(void)
+{
+    FILE *maps = fopen("/proc/self/maps", "re");
+    if (!maps)
+        return -1;
+    char line[4096];
+    while (fgets(line, sizeof line, maps)) {
+        unsigned long long first, end, offset, inode;
+        char perms[8], dev[32];
+        int name_at = 0;
+        if (sscanf(line, "%llx-%llx %7s %llx %31s %llu %n", &first, &end, perms, &offset, dev, &inode,
+                   &name_at) < 6 || name_at <= 0)
+            continue;
+        const char *name = line + name_at;
+        if (name[0] == '/' || !strncmp(name, "[vdso]", 6) || !strncmp(name, "[vvar", 5))
+            protect(first, end);
+    }
+    fclose(maps);
+    return 0;
+}
+
+/* Trap when [args[a], args[a] + args[len]) overlaps a protected range; when
+ * flag_mask is not 0, only if args[flag_arg] & flag_mask. Otherwise falls
+ * through with the syscall number in A again. Uses scratch M[0] (end, low
+ * word) and M[1] (end, high word). */
+static void on_protected_overlap(long nr, int a, int len, int flag_arg, unsigned flag_mask)
+{
+    int skip = new_label(), in_block = new_label();
+    jump_to(BPF_JEQ, (unsigned)nr, in_block, -1);
+    always_to(skip);
+    place(in_block);
+    if (flag_mask) {
+        load(ARG_LOW(flag_arg));
+        jump_to(BPF_JSET, flag_mask, -1, skip);
+    }
+    /* end = a + len, 64 bits from two 32-bit halves with the carry. */
+    load(ARG_LOW(len));
+    stmt(BPF_MISC | BPF_TAX, 0);
+    load(ARG_LOW(a));
+    stmt(BPF_ALU | BPF_ADD | BPF_X, 0);
+    stmt(BPF_ST, 0);
+    int no_carry = new_label(), carried = new_label();
+    emit((struct sock_filter)BPF_JUMP(BPF_JMP | BPF_JGE | BPF_X, 0, 0, 0));   /* sum >= len: no carry */
+    fixups[fixup_count].insn = (unsigned short)(program_length - 1), fixups[fixup_count].label = (short)no_carry,
+    fixups[fixup_count++].field = 't';
+    stmt(BPF_LD | BPF_IMM, 1);
+    always_to(carried);
+    place(no_carry);
+    stmt(BPF_LD | BPF_IMM, 0);
+    place(carried);
+    stmt(BPF_ST, 1);
+    load(ARG_HIGH(len));
+    stmt(BPF_MISC | BPF_TAX, 0);
+    load(ARG_HIGH(a));
+    stmt(BPF_ALU | BPF_ADD | BPF_X, 0);
+    stmt(BPF_MISC | BPF_TAX, 0);
+    stmt(BPF_LD | BPF_MEM, 1);
+    stmt(BPF_ALU | BPF_ADD | BPF_X, 0);
+    stmt(BPF_ST, 1);
+    for (int i = 0; i < range_count; i++) {
+        uint64_t first = protected_ranges[i].first, end = protected_ranges[i].end;
+        unsigned first_hi = (unsigned)(first >> 32), first_lo = (unsigned)first;
+        unsigned end_hi = (unsigned)(end >> 32), end_lo = (unsigned)end;
+        int next = new_label(), check_start = new_label(), low_end = new_label(), low_start = new_label(),
+            trap = new_label();
+        /* call end > first? */
+        stmt(BPF_LD | BPF_MEM, 1);
+        jump_to(BPF_JGT, first_hi, check_start, -1);
+        jump_to(BPF_JEQ, first_hi, low_end, next);
+        place(low_end);
+        stmt(BPF_LD | BPF_MEM, 0);
+        jump_to(BPF_JGT, first_lo, check_start, next);
+        /* call start < end? */
+        place(check_start);
+        load(ARG_HIGH(a));
+        jump_to(BPF_JGT, end_hi, next, -1);
+        jump_to(BPF_JEQ, end_hi, low_start, trap);
+        place(low_start);
+        load(ARG_LOW(a));
+        jump_to(BPF_JGE, end_lo, next, trap);
+        place(trap);
+        ret(TRAP);
+        place(next);
+    }
+    place(skip);
+    load((unsigned)offsetof(struct seccomp_data, nr));
+}
+
+/* Trap when args[arg] & mask (and, with mask2 not 0, args[arg2] & mask2);
+ * otherwise fall through with the syscall number in A again. */
+static void trap_on_bits(long nr, int arg, unsigned mask, int arg2, unsigned mask2)
+{
+    int skip = new_label(), in_block = new_label();
+    jump_to(BPF_JEQ, (unsigned)nr, in_block, -1);
+    always_to(skip);
+    place(in_block);
+    load(ARG_LOW(arg));
+    if (mask2) {
+        int second = new_label();
+        jump_to(BPF_JSET, mask, second, skip);
+        place(second);
+        load(ARG_LOW(arg2));
+        jump_to(BPF_JSET, mask2, -1, skip);
+    } else {
+        jump_to(BPF_JSET, mask, -1, skip);
+    }
+    ret(TRAP);
+    place(skip);
+    load((unsigned)offsetof(struct seccomp_data, nr));
+}
+
 static const int guarded_signals[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSYS, SIGXCPU };
 
 static int install_filter(void)
@@ -425,6 +677,24 @@ static int install_filter(void)
     on_arg(__NR_kill, 0, pid, ALLOW, TRAP);
     on_arg(__NR_tgkill, 0, pid, ALLOW, TRAP);
     on_arg(__NR_tkill, 0, pid, ALLOW, TRAP);
+    on_arg(__NR_rt_sigqueueinfo, 0, pid, ALLOW, TRAP);
+    on_arg(__NR_rt_tgsigqueueinfo, 0, pid, ALLOW, TRAP);
+    on_arg(__NR_prctl, 0, PR_SET_SECCOMP, TRAP, ALLOW);
+    /* W^X: no memory becomes executable after loading except the
+     * submission's own file mappings (dlopen maps them from the file). */
+    trap_on_bits(__NR_mprotect, 2, PROT_EXEC, 0, 0);
+    trap_on_bits(__NR_pkey_mprotect, 2, PROT_EXEC, 0, 0);
+    trap_on_bits(__NR_mmap, 2, PROT_EXEC, 2, PROT_WRITE);
+    trap_on_bits(__NR_mmap, 2, PROT_EXEC, 3, MAP_ANONYMOUS);
+    /* The grader's memory (texture windows, the code that reports faults)
+     * keeps its mappings and protections. */
+    on_protected_overlap(__NR_mprotect, 0, 1, 0, 0);
+    on_protected_overlap(__NR_pkey_mprotect, 0, 1, 0, 0);
+    on_protected_overlap(__NR_munmap, 0, 1, 0, 0);
+    on_protected_overlap(__NR_madvise, 0, 1, 0, 0);
+    on_protected_overlap(__NR_mmap, 0, 1, 3, MAP_FIXED);
+    on_protected_overlap(__NR_mremap, 0, 1, 0, 0);
+    on_protected_overlap(__NR_mremap, 4, 2, 3, MREMAP_FIXED);
     /* Our crash handlers stay ours, and limits cannot be raised. */
     on_arg_in_set(__NR_rt_sigaction, guarded_signals,
                   sizeof guarded_signals / sizeof guarded_signals[0], FAIL(EPERM));
@@ -433,7 +703,10 @@ static int install_filter(void)
     for (size_t i = 0; i < sizeof forbidden_names / sizeof forbidden_names[0]; i++) {
         long nr = forbidden_names[i].nr;
         int handled = nr == __NR_clone || nr == __NR_openat || nr == __NR_kill ||
-                      nr == __NR_tgkill || nr == __NR_tkill;
+                      nr == __NR_tgkill || nr == __NR_tkill || nr == __NR_rt_sigqueueinfo ||
+                      nr == __NR_rt_tgsigqueueinfo || nr == __NR_mprotect || nr == __NR_pkey_mprotect ||
+                      nr == __NR_munmap || nr == __NR_madvise || nr == __NR_mmap || nr == __NR_mremap ||
+                      nr == __NR_prctl;
 #ifdef __NR_open
         handled = handled || nr == __NR_open;
 #endif
@@ -441,7 +714,7 @@ static int install_filter(void)
             on_call(nr, TRAP);
     }
     ret(ALLOW);
-    if (program_length >= MAX_FILTER)
+    if (program_length >= MAX_FILTER || program_broken || resolve_labels() != 0)
         return -1;
     struct sock_fprog fprog = { program_length, program };
     if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0)
@@ -567,29 +840,22 @@ static void set_faces(const char *payload, uint64_t size, uint64_t placement)
         reply_text(ST_BAD_REQUEST, "SET_FACES size or placement mismatch");
         return;
     }
-    for (int i = 0; i < SLOT_COUNT; i++)
-        guarded_free(&slots[i]);
-    if (guarded_copy(&slots[placement], payload + sizeof dims, texels, (int)placement, WHERE_ALL_FACES) != 0) {
-        reply_text(ST_BAD_REQUEST, "cannot map the texture (address-space limit?)");
+    one_face = one_placement = -1;
+    if (window_fill(&six, payload + sizeof dims, texels, (int)placement, WHERE_ALL_FACES) != 0) {
+        reply_text(ST_BAD_REQUEST, "the faces do not fit the texture window");
         return;
     }
     face_w = dims[0];
     face_h = dims[1];
     message[0] = 0;
-    reply_status(sub.set_faces(map, (const float *)slots[placement].data, face_w, face_h,
+    reply_status(sub.set_faces(map, (const float *)six.data, face_w, face_h,
                                message, sizeof message), 0, NULL, 0);
-}
-
-static const struct guarded *six_faces(void)
-{
-    return slots[PLACE_END].mapping ? &slots[PLACE_END]
-         : slots[PLACE_START].mapping ? &slots[PLACE_START] : NULL;
 }
 
 static void read_texture(const char *payload, uint64_t size, uint64_t n)
 {
     int32_t head[2];
-    const struct guarded *all = six_faces();
+    const char *all = six.data;
     if (size < sizeof head || size - sizeof head != n * 2 * sizeof(double) || !all) {
         reply_text(ST_BAD_REQUEST, all ? "READ_TEXTURE size mismatch" : "READ_TEXTURE before SET_FACES");
         return;
@@ -600,13 +866,16 @@ static void read_texture(const char *payload, uint64_t size, uint64_t n)
         reply_text(ST_BAD_REQUEST, "READ_TEXTURE face or placement out of range");
         return;
     }
-    /* Each face in its own guarded mapping, so reading past it faults. */
-    struct guarded *g = &slots[2 + 2 * face + placement];
+    /* The face alone in its own window, so reading past it faults. */
     size_t face_bytes = (size_t)face_w * (size_t)face_h * 3 * sizeof(float);
-    if (!g->mapping && guarded_copy(g, all->data + (size_t)face * face_bytes, face_bytes, placement, face) != 0) {
-        reply_text(ST_BAD_REQUEST, "cannot map the face (address-space limit?)");
+    if ((face != one_face || placement != one_placement) &&
+        window_fill(&one, all + (size_t)face * face_bytes, face_bytes, placement, face) != 0) {
+        one_face = one_placement = -1;
+        reply_text(ST_BAD_REQUEST, "cannot write the face's window");
         return;
     }
+    one_face = face;
+    one_placement = placement;
     double *uv = malloc(n * 2 * sizeof(double) + 1), *rgb = malloc(n * 3 * sizeof(double) + 1);
     if (!uv || !rgb) {
         reply_text(ST_BAD_REQUEST, "out of memory for the batch");
@@ -616,7 +885,7 @@ static void read_texture(const char *payload, uint64_t size, uint64_t n)
     }
     memcpy(uv, payload + sizeof head, n * 2 * sizeof(double));
     message[0] = 0;
-    int status = sub.read_texture_batch(map, (const float *)g->data, uv, n, rgb, message, sizeof message);
+    int status = sub.read_texture_batch(map, (const float *)one.data, uv, n, rgb, message, sizeof message);
     reply_status(status, n, rgb, n * 3 * sizeof(double));
     free(uv);
     free(rgb);
@@ -704,20 +973,69 @@ static int serve(void)
     }
 }
 
+/* Setup failed before any student code ran: say so on the reply pipe (the
+ * grader can trust this message: nothing else has written there yet). */
+static int setup_failed(const char *what)
+{
+    char text[256];
+    snprintf(text, sizeof text, "worker set-up: %s (%s)", what, strerror(errno));
+    reply_text(ST_SETUP_ERROR, text);
+    return EXIT_SETUP;
+}
+
+/* The C++ runtime, loaded before the filter and any chroot: the submission's
+ * DT_NEEDED entries then resolve to these by soname, and their code is
+ * protected like ours. Missing ones are fine (a C submission needs none). */
+static void preload_runtime(void)
+{
+    static const char *const names[] = { "libm.so.6", "libgcc_s.so.1", "libstdc++.so.6" };
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        dlopen(names[i], RTLD_NOW | RTLD_GLOBAL);
+}
+
+/* Privilege-drop mode: a root-started worker locks itself into `dir` (a
+ * fresh folder holding only the submission) and becomes uid/gid nobody,
+ * for good. */
+static int drop_privileges(const char *dir, long uid, long gid)
+{
+    if (dir && (chroot(dir) != 0 || chdir("/") != 0))
+        return -1;
+    if (uid >= 0) {
+        if (setgroups(0, NULL) != 0 || setresgid((gid_t)gid, (gid_t)gid, (gid_t)gid) != 0 ||
+            setresuid((uid_t)uid, (uid_t)uid, (uid_t)uid) != 0)
+            return -1;
+        /* Really gone: root cannot be taken back. */
+        if (getuid() != (uid_t)uid || geteuid() != (uid_t)uid || getgid() != (gid_t)gid ||
+            (uid != 0 && setresuid(0, 0, 0) == 0)) {
+            errno = EPERM;
+            return -1;
+        }
+    }
+    return prctl(PR_SET_DUMPABLE, 0, 0, 0, 0);
+}
+
 int main(int argc, char **argv)
 {
-    long as_mb = 0, cpu_s = 0, nproc = -1;
+    long as_mb = 0, cpu_s = 0, nproc = -1, texture_mb = 24, uid = -1, gid = -1;
     long long fsize = 0;
-    int seccomp = 1, i = 1;
+    const char *chroot_dir = NULL;
+    int seccomp = 1, check_drop = 0, i = 1;
     for (; i < argc && strncmp(argv[i], "--", 2) == 0; i++) {
         if (!strcmp(argv[i], "--as-mb") && i + 1 < argc) as_mb = atol(argv[++i]);
         else if (!strcmp(argv[i], "--cpu-s") && i + 1 < argc) cpu_s = atol(argv[++i]);
         else if (!strcmp(argv[i], "--fsize") && i + 1 < argc) fsize = atoll(argv[++i]);
         else if (!strcmp(argv[i], "--nproc") && i + 1 < argc) nproc = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--texture-mb") && i + 1 < argc) texture_mb = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--chroot") && i + 1 < argc) chroot_dir = argv[++i];
+        else if (!strcmp(argv[i], "--uid") && i + 1 < argc) uid = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--gid") && i + 1 < argc) gid = atol(argv[++i]);
         else if (!strcmp(argv[i], "--no-seccomp")) seccomp = 0;
+        else if (!strcmp(argv[i], "--check-drop")) check_drop = 1;
         else return EXIT_LOAD;
     }
-    if (argc - i != 3)
+    if (check_drop)   /* can this machine run privilege-drop mode? */
+        return drop_privileges(chroot_dir, uid, gid) == 0 && getuid() == (uid_t)uid ? 0 : EXIT_SETUP;
+    if (argc - i != 3 || (uid >= 0) != (gid >= 0) || texture_mb <= 0 || texture_mb > 4096)
         return EXIT_LOAD;
     request_fd = atoi(argv[i]);
     response_fd = atoi(argv[i + 1]);
@@ -733,21 +1051,26 @@ int main(int argc, char **argv)
     set_limit(RLIMIT_CORE, 0, 0);
     if (as_mb > 0) set_limit(RLIMIT_AS, (rlim_t)as_mb << 20, (rlim_t)as_mb << 20);
     if (cpu_s > 0) set_limit(RLIMIT_CPU, (rlim_t)cpu_s, (rlim_t)cpu_s + 1);
-    if (fsize >= 0) set_limit(RLIMIT_FSIZE, (rlim_t)fsize, (rlim_t)fsize);
     if (nproc >= 0) set_limit(RLIMIT_NPROC, (rlim_t)nproc, (rlim_t)nproc);
     /* Unbuffered, so output printed just before a crash is not lost. */
     setvbuf(stdout, NULL, _IONBF, 0);
     install_handlers();
-#ifdef __linux__
+    preload_runtime();
+    if (reserve_windows((size_t)texture_mb << 20) != 0)
+        return setup_failed("cannot reserve the texture windows");
+    if (fsize >= 0) set_limit(RLIMIT_FSIZE, (rlim_t)fsize, (rlim_t)fsize);
     if (pipe2(scratch, O_CLOEXEC) != 0)
         scratch[0] = scratch[1] = -1;
-    if (seccomp && install_filter() != 0) {
-        reply_text(ST_LOAD_ERROR, "worker: cannot install the seccomp filter");
-        return EXIT_LOAD;
-    }
-#else
-    (void)seccomp;
-#endif
+    if (seccomp && collect_protected_ranges() != 0)
+        return setup_failed("cannot read /proc/self/maps");
+    protect((uint64_t)(uintptr_t)region, (uint64_t)(uintptr_t)region + region_size);
+    if ((chroot_dir || uid >= 0) && drop_privileges(chroot_dir, uid, gid) != 0)
+        return setup_failed("cannot drop privileges");
+    if (seccomp && install_filter() != 0)
+        return setup_failed("cannot install the seccomp filter");
+    /* The last message from the grader's own code: from here on, anything on
+     * the reply pipe may come from the submission. */
+    reply(ST_SANDBOXED, 0, NULL, 0);
     if (load_submission(library) != 0)
         return EXIT_LOAD;
     return serve();
