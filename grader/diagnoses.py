@@ -343,6 +343,17 @@ _ENTRIES = [
         "per call, trigonometry (atan2, acos) or pow, loops over texels, "
         "printing while grading.",
     ),
+    DiagnosisInfo(
+        "timed-output-wrong", "speed",
+        "Your lookups return wrong colours while they are being timed",
+        "The speed check keeps the colours of every timed lookup and compares "
+        "them with the reference. Yours match far less often there than in the "
+        "untimed checks, so the time measured is not the time of a working "
+        "lookup and does not count.",
+        "fetchColor must do the same work whatever the faces' size or the "
+        "number of directions: no shortcuts for large batches or large faces, "
+        "no results kept from earlier calls.",
+    ),
 ]
 
 CATALOGUE: dict[str, DiagnosisInfo] = {e.id: e for e in _ENTRIES}

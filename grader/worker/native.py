@@ -41,6 +41,40 @@ def _content_hash() -> str:
     return h.hexdigest()
 
 
+NULL_SOURCE = Path(__file__).with_name("null_submission.c")
+NULL_LIBRARY = PROJECT_ROOT / "build" / "null_submission.so"
+_null_checked: Path | None = None
+
+
+def null_library() -> Path:
+    """build/null_submission.so (null_submission.c: lookups that do nothing),
+    built like the worker: content hash, lock, atomic rename."""
+    global _null_checked
+    with _lock:
+        if _null_checked is not None:
+            return _null_checked
+        h = hashlib.sha256()
+        for path in (NULL_SOURCE, SOURCES[1]):
+            h.update(path.name.encode() + b"\0" + path.read_bytes())
+        h.update(CC.encode())
+        digest = h.hexdigest()
+        stamp = NULL_LIBRARY.with_name("null_submission.sha256")
+        NULL_LIBRARY.parent.mkdir(parents=True, exist_ok=True)
+        with open(NULL_LIBRARY.with_name(".worker.lock"), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            if not (NULL_LIBRARY.is_file() and stamp.is_file() and stamp.read_text().strip() == digest):
+                tmp = NULL_LIBRARY.with_name(f".null_submission.{os.getpid()}.so")
+                cmd = [CC, "-std=c11", "-O2", "-shared", "-fPIC", "-Wall", "-Werror", "-o", str(tmp), str(NULL_SOURCE)]
+                done = subprocess.run(cmd, capture_output=True, text=True)
+                if done.returncode != 0:
+                    raise WorkerBuildError(f"{' '.join(cmd)} failed:\n{done.stderr}")
+                os.chmod(tmp, 0o755)
+                os.replace(tmp, NULL_LIBRARY)
+                stamp.write_text(digest + "\n")
+        _null_checked = NULL_LIBRARY
+        return NULL_LIBRARY
+
+
 def worker_binary() -> Path:
     """The path of an up-to-date worker executable, building it if needed."""
     global _checked
