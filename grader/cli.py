@@ -19,6 +19,7 @@ COMMANDS = {
     "fixtures": "regenerate fixtures/ from the reference",
     "bundle": "copy the reference sources into student_template/",
     "gradescope": "build autograder.zip for Gradescope",
+    "prairielearn": "grade /grade/student for PrairieLearn's external grader",
     "cubemap": "generate and convert environment maps",
     "study": "speed against accuracy of the lookup methods",
 }

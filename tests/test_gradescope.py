@@ -99,3 +99,45 @@ def test_grader_that_cannot_start_still_leaves_valid_results(autograder, tmp_pat
     data = run_autograder(broken, SUBMISSIONS / "correct" / "switch_on_face.cpp")
     assert data["extra_data"]["status"] == "ungradable"
     assert "not your fault" in data["output"]
+
+
+# ---- the leaderboard (off by default) ---------------------------------------------------
+
+
+def test_leaderboard_is_off_in_the_shipped_rubric():
+    from grader.gradescope import leaderboard_enabled
+    from grader.score import load_rubric
+    assert leaderboard_enabled(load_rubric(PROJECT_ROOT / "grader" / "rubric.toml")) is False
+    assert leaderboard_enabled({"gradescope": {"leaderboard": True}}) is True
+    assert leaderboard_enabled({"gradescope": {"leaderboard": "yes"}}) is False   # only a real true
+
+
+def test_leaderboard_entries_need_both_axes():
+    from types import SimpleNamespace
+
+    from grader.gradescope import leaderboard
+    timed = SimpleNamespace(checks=[SimpleNamespace(metrics={"flip_mean": 0.1}),
+                                    SimpleNamespace(metrics={"ns_per_lookup": 41.5, "uniform_smooth_rms": 0.0125})])
+    assert leaderboard(timed) == [
+        {"name": "Speed (ns per lookup)", "value": 41.5, "order": "asc"},
+        {"name": "Accuracy (RMS error on the study's map)", "value": 0.0125, "order": "asc"}]
+    crashed = SimpleNamespace(checks=[SimpleNamespace(metrics={"ns_per_lookup": float("nan")})])
+    assert leaderboard(crashed) == []
+
+
+@pytest.mark.slow
+def test_leaderboard_in_results_when_the_rubric_turns_it_on(autograder, tmp_path):
+    on = tmp_path / "on"
+    shutil.copytree(autograder, on, symlinks=True)
+    rubric = on / "source" / "grader" / "rubric.toml"
+    text = rubric.read_text()
+    assert "leaderboard = false" in text
+    rubric.write_text(text.replace("leaderboard = false", "leaderboard = true"))
+    data = run_autograder(on, SUBMISSIONS / "correct" / "switch_on_face.cpp", "--quick")
+    board = {e["name"]: e["value"] for e in data["leaderboard"]}
+    assert set(board) == {"Speed (ns per lookup)", "Accuracy (RMS error on the study's map)"}
+    assert all(v > 0 for v in board.values())
+    broken = run_autograder(on, SUBMISSIONS / "build" / "syntax_error.cpp", "--quick")
+    assert "leaderboard" not in broken       # nothing measured: not on the board
+    default = run_autograder(autograder, SUBMISSIONS / "correct" / "switch_on_face.cpp", "--quick")
+    assert "leaderboard" not in default

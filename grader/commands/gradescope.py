@@ -6,10 +6,17 @@ runs setup.sh once to build the image, then run_autograder for every
 submission, each in its own container. Set the course secret in
 grader/rubric.toml ([grading] secret) before building: the zip carries it
 to Gradescope, whose students never see the autograder's files.
+
+With --grade, it is what run_autograder calls for each submission: `grade
+--student-view` into RESULTS, plus Gradescope's leaderboard (speed and
+accuracy) when the rubric has [gradescope] leaderboard = true. Exit status
+3 when the grader could not grade (run_autograder then writes a results.json
+that says so).
 """
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
@@ -22,10 +29,39 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.description = __doc__.split("\n", 1)[1].strip("\n")
     p.add_argument("--out", type=Path, default=PROJECT_ROOT / "build" / "autograder.zip",
                    help="where to write the zip (default: build/autograder.zip)")
+    p.add_argument("--grade", type=Path, metavar="SUBMISSION",
+                   help="instead: grade SUBMISSION as Gradescope does (run_autograder calls this)")
+    p.add_argument("--results", type=Path, default=Path("/autograder/results"),
+                   help="with --grade: where results.json goes (default: /autograder/results)")
+    p.add_argument("--quick", action="store_true", help="with --grade: smaller direction sets (tests)")
+    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
+                   help="with --grade: grade even where student code cannot be isolated (no bubblewrap, not root)")
 
 
 def run(args) -> int:
+    if args.grade is not None:
+        return grade_for_gradescope(args.grade, args.results, quick=args.quick,
+                                    allow_unsafe=getattr(args, "allow_unsafe", False))
     from ..gradescope import build_bundle
     path = build_bundle(args.out)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): upload it as the autograder on Gradescope")
     return 0
+
+
+def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, allow_unsafe: bool = False) -> int:
+    from ..grade import GradeOptions, grade
+    from ..gradescope import add_leaderboard, leaderboard, leaderboard_enabled
+    from ..results import UNGRADABLE
+    from ..score import load_rubric
+    options = GradeOptions(quick=quick, include_hidden=False, allow_unsafe=allow_unsafe)
+    try:
+        result = grade(submission, results, options)
+        rubric = load_rubric(options.rubric)
+    except Exception as e:   # stale fixtures, a bad rubric, no sandbox: the instructor's, not the student's
+        print(f"gradescope: {type(e).__name__}: {e}", file=sys.stderr)
+        return 3
+    entries = leaderboard(result) if leaderboard_enabled(rubric) else []
+    if entries:
+        add_leaderboard(results / "results.json", entries)
+    print(f"{result.submission}: {result.score:g} / {result.max_score:g} ({result.status})")
+    return 3 if result.status == UNGRADABLE else 0
