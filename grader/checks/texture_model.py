@@ -144,16 +144,26 @@ def evaluate(model: TextureModel, face_texels: np.ndarray, uv: np.ndarray):
     stays inside the face's memory, zeros before the face's first texel (the
     page the face sits on is zero-filled), and faults after its last one.
     Rows that read past the end are NaN and flagged."""
-    texels = np.asarray(face_texels, np.float64)
-    height, width = texels.shape[:2]
-    flat = np.concatenate([np.zeros((1, 3)), texels.reshape(-1, 3)])
+    texels = np.asarray(face_texels)
+    return evaluate_in_buffer(model, texels[None], np.zeros(len(np.reshape(uv, (-1, 2))), np.int64), uv)
+
+
+def evaluate_in_buffer(model: TextureModel, faces: np.ndarray, face: np.ndarray, uv: np.ndarray):
+    """As `evaluate`, with readTexture given the address of face `face[i]`
+    (n,) of the buffer `faces` (k, H, W, 3) holding k faces one after the
+    other, as fetchColor sees them: an unclamped read past one face reads
+    the next one."""
+    faces = np.asarray(faces, np.float64)
+    count, height, width = faces.shape[:3]
+    flat = np.concatenate([np.zeros((1, 3)), faces.reshape(-1, 3)])
     uv = np.asarray(uv, np.float64).reshape(-1, 2)
+    base = np.asarray(face, np.int64) * (width * height)
     x0, x1, a, _ = axis_taps(model.x, *_axis_inputs(model.x, uv, 0, width, height))
     y0, y1, b, _ = axis_taps(model.y, *_axis_inputs(model.y, uv, 1, width, height))
-    total = width * height
+    total = count * width * height
 
     def read(x, y):
-        k = y * width + x
+        k = base + y * width + x
         return flat[np.where(k < 0, 0, np.minimum(k, total - 1) + 1)], k >= total
 
     a, b = a[:, None], b[:, None]

@@ -1,0 +1,396 @@
+"""fetchColor through a calibrated instrument: where it samples, recovered
+through the submission's OWN readTexture.
+
+The faces handed over encode position (R = x + 1, G = y + 1, B = face + 1).
+What comes back from fetchColor is readTexture's answer at the face and
+(u, v) fetchColor chose. Instead of assuming readTexture is the handout's,
+the fitted model of the student's readTexture (grader.checks.texture_model)
+predicts, for every candidate fetchColor behaviour (the handout's face and
+(u, v), flipped, swapped, remapped, divided by the length), what the
+submission would return; the candidate that reproduces the answers names the
+fetchColor mistake. So a wrong readTexture never becomes a fetchColor
+diagnosis, and fetchColor's mistakes are found whatever readTexture does.
+
+Everything here is independent of how results are scored or reported:
+`analyse` returns a FetchAnalysis with one FaceVerdict per face (analysed,
+or why not) and the whole-lookup findings (ties, precision, overflow).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import reference
+from ..results import Diagnosis
+from .compare import tolerance
+from .directions import fibonacci_sphere, tied_axes
+from .texture_model import Fit, TextureModel, evaluate_in_buffer
+from .textures import coordinate_faces, decode_sample_coordinates
+
+FACE_SIZE = 32
+SHARE = 0.9          # a candidate must explain 90% of a face's directions
+MIN_DIRECTIONS = 20  # fewer answers toward a face than this: not analysed
+
+
+def face_name(k: int) -> str:
+    return reference.FACE_NAMES[k]
+
+
+# ---- candidate fetchColor behaviours ---------------------------------------
+
+# How fetchColor may turn s = (signed component / m) in [-1, 1] into u: the
+# handout's (1 + s)/2, or a remapping mistake.
+REMAPS = {
+    "handout": lambda s: (1.0 + s) / 2.0,
+    "not remapped (u = s)": lambda s: s,
+    "no division by 2 (u = 1 + s)": lambda s: 1.0 + s,
+    "no + 1 (u = s/2)": lambda s: s / 2.0,
+}
+
+
+@dataclass(frozen=True)
+class Candidate:
+    swap: bool = False
+    flip_u: bool = False
+    flip_v: bool = False
+    remap: str = "handout"
+    by_length: bool = False      # divides by |d| instead of m
+
+    @property
+    def ids(self) -> list[str]:
+        out = [name for name, on in (("uv-swapped", self.swap), ("u-flipped", self.flip_u), ("v-flipped", self.flip_v)) if on]
+        if self.remap != "handout":
+            out.append("uv-range")
+        return out
+
+    @property
+    def cost(self) -> int:
+        return self.swap + self.flip_u + self.flip_v + 2 * (self.remap != "handout") + 2 * self.by_length
+
+    def uv(self, ref_uv: np.ndarray, m_over_len: np.ndarray) -> np.ndarray:
+        s = 2.0 * ref_uv - 1.0                       # back to the signed ratio
+        if self.by_length:
+            s = s * m_over_len[:, None]
+        uv = REMAPS[self.remap](s)
+        a, b = (uv[:, 1], uv[:, 0]) if self.swap else (uv[:, 0], uv[:, 1])
+        return np.stack([1 - a if self.flip_u else a, 1 - b if self.flip_v else b], axis=1)
+
+
+CANDIDATES = sorted((Candidate(*flags) for flags in itertools.product(
+    (False, True), (False, True), (False, True), tuple(REMAPS), (False, True))), key=lambda c: c.cost)
+
+
+# ---- results ---------------------------------------------------------------
+
+@dataclass
+class FaceVerdict:
+    face: int                       # the face the reference picks
+    directions: int                 # clear directions toward it
+    answered: int                   # of those, answered (no crash)
+    sampled: int | None = None      # the face fetchColor sampled (majority), None: unknown
+    candidate: Candidate | None = None
+    share: float = 0.0              # directions the best candidate explains
+    crash: str | None = None        # the input that crashed, when it kept the face from being analysed
+
+    @property
+    def analysed(self) -> bool:
+        return self.crash is None and self.answered >= MIN_DIRECTIONS
+
+    @property
+    def correct(self) -> bool:
+        return (self.analysed and self.sampled == self.face and self.candidate is not None
+                and not self.candidate.ids and not self.candidate.by_length)
+
+
+@dataclass
+class FetchAnalysis:
+    instrument: str                           # "fitted", "closest" or "none"
+    reason: str = ""                          # why fetchColor could not be analysed (instrument "none")
+    faces: list[FaceVerdict] = field(default_factory=list)
+    not_implemented: bool = False
+    ties_untouched: str | None = None         # an example tie sent to a face it does not touch
+    precision: str | None = None              # "tiny" / "huge": float conversion
+    overflow: str | None = None               # "huge" / "tiny": squaring overflows / underflows
+    length_dependent: bool = False            # answer changes with the direction's length
+
+    def diagnoses(self) -> list[Diagnosis]:
+        out: list[Diagnosis] = []
+        if self.instrument == "none":
+            return [Diagnosis("fetch-not-analysed", self.reason)]
+        if self.not_implemented:
+            return [Diagnosis("not-implemented", "fetchColor returns black (or a colour that is not in the texture) "
+                              "for every direction: it still looks like the starting code.")]
+        if self.length_dependent or any(v.candidate is not None and v.candidate.by_length and v.share >= SHARE
+                                        for v in self.faces):
+            out.append(Diagnosis("not-normalized", "The answer changes with the direction's length, or (u, v) do "
+                                 "not reach the face's edges: divide the face-plane coordinates by the major "
+                                 "component's magnitude m."))
+        for v in self.faces:
+            name = face_name(v.face)
+            if v.crash is not None:
+                out.append(Diagnosis("face-not-analysed", f"Directions toward {name} could not be analysed "
+                                     f"(crash at {v.crash}).", face=name))
+                continue
+            if not v.analysed:
+                continue
+            if v.sampled is None:
+                out.append(Diagnosis("wrong-face", f"Directions toward {name} return a colour that is not in "
+                                     "the texture (black?).", face=name))
+                continue
+            if v.sampled != v.face:
+                out.append(Diagnosis("wrong-face", f"Directions toward {name} sample the {face_name(v.sampled)} face.",
+                                     face=name))
+            if v.share >= SHARE and v.candidate is not None:
+                for mistake in v.candidate.ids:
+                    out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
+            else:
+                out.append(Diagnosis("uv-mismatch", f"On the {name} face, (u, v) follow no pattern we recognise "
+                                     f"({v.share:.0%} of directions explained by the best guess).", face=name))
+        if self.ties_untouched:
+            out.append(Diagnosis("tie-untouched-face", self.ties_untouched))
+        if self.precision:
+            out.append(Diagnosis("float-precision", self.precision))
+        elif self.overflow:
+            out.append(Diagnosis("length-overflow", self.overflow))
+        return out
+
+    def table(self) -> list[str]:
+        rows = ["| direction toward | face sampled | (u, v) mistakes | explained |", "|---|---|---|---:|"]
+        for v in self.faces:
+            if v.crash is not None:
+                rows.append(f"| {face_name(v.face)} | could not be analysed (crash at {v.crash}) | | |")
+            elif not v.analysed:
+                rows.append(f"| {face_name(v.face)} | too few answers ({v.answered}) | | |")
+            else:
+                sampled = face_name(v.sampled) if v.sampled is not None else "none"
+                ids = ", ".join(v.candidate.ids) or "none" if v.candidate and v.share >= SHARE else "?"
+                rows.append(f"| {face_name(v.face)} | {sampled} | {ids} | {v.share:.0%} |")
+        return rows
+
+
+def _detail(mistake: str, v: FaceVerdict) -> str:
+    name = face_name(v.face)
+    if mistake == "uv-range":
+        return f"On the {name} face, (u, v) are not mapped to [0, 1] as the handout says: {v.candidate.remap}."
+    return {
+        "u-flipped": f"On the {name} face, u runs the wrong way (your u is 1 - u of the (u, v) table in README.md).",
+        "v-flipped": f"On the {name} face, v runs the wrong way (your v is 1 - v of the (u, v) table in README.md).",
+        "uv-swapped": f"On the {name} face, u and v are swapped.",
+    }[mistake]
+
+
+# ---- the analysis ----------------------------------------------------------
+
+class Instrument:
+    """The student's readTexture as fitted, over the coordinate cube: what
+    fetchColor's answer would be for a face and (u, v)."""
+
+    def __init__(self, model: TextureModel, faces: np.ndarray):
+        self.model, self.faces = model, faces
+        w, h = faces.shape[2], faces.shape[1]
+        self.tol = float(tolerance(w, h, float(max(w, h) + 1)))
+
+    def predict(self, face: np.ndarray, uv: np.ndarray) -> np.ndarray:
+        return evaluate_in_buffer(self.model, self.faces, face, uv)[0]
+
+    def explains(self, face: np.ndarray, uv: np.ndarray, answers: np.ndarray) -> np.ndarray:
+        pred = self.predict(face, uv)
+        with np.errstate(invalid="ignore"):
+            return (np.abs(pred - answers) <= self.tol).all(axis=1)
+
+
+def _instrument(fit: Fit) -> tuple[str, TextureModel | None, str]:
+    if fit.constant:
+        return "none", None, ("fetchColor could not be analysed: readTexture returns the same colour wherever it "
+                              "reads, so its answers do not tell which face or (u, v) fetchColor asked for. Fix "
+                              "readTexture first.")
+    if fit.fits:
+        return "fitted", fit.model, ""
+    if fit.share >= 0.9:
+        return "closest", fit.closest, ""
+    return "none", None, ("fetchColor could not be analysed: readTexture follows no pattern the grader knows "
+                          f"(the closest explains {fit.share:.0%} of its answers), so its answers cannot be read "
+                          "back as a face and (u, v). Fix readTexture first.")
+
+
+def _failure_text(outcome, rows: np.ndarray) -> str | None:
+    """The first failure among `rows` (indices of a batch), in words."""
+    wanted = set(int(i) for i in rows)
+    for f in outcome.failures:
+        if f.index is not None and f.index in wanted:
+            return f.input
+    return None
+
+
+def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
+    """Face by face, what fetchColor does, read through the fitted readTexture."""
+    kind, model, reason = _instrument(fit)
+    if model is None:
+        return FetchAnalysis(kind, reason)
+    faces = coordinate_faces(FACE_SIZE, FACE_SIZE)
+    lookups.set_faces(faces)
+    inst = Instrument(model, faces)
+    out = FetchAnalysis(kind)
+
+    dirs = fibonacci_sphere(6000 if quick else 20_000)
+    ref_faces, ref_uv = reference.direction_to_face(dirs)
+    sub = lookups.fetch(dirs)
+    values = np.asarray(sub.values, np.float64)
+    sub_faces, _, _ = decode_sample_coordinates(values)
+    answered = np.asarray(sub.evaluated, bool) & np.isfinite(values).all(axis=1)
+    clear = tied_axes(dirs).sum(axis=1) == 1
+    m_over_len = np.abs(dirs).max(axis=1) / np.linalg.norm(dirs, axis=1)
+
+    if (clear & answered).any() and np.all(sub_faces[clear & answered] < 0):
+        out.not_implemented = True
+        return out
+
+    for f in range(6):
+        toward = clear & (ref_faces == f)
+        rows = toward & answered
+        verdict = FaceVerdict(f, int(toward.sum()), int(rows.sum()))
+        out.faces.append(verdict)
+        if verdict.answered < MIN_DIRECTIONS:
+            failed = np.flatnonzero(toward & ~answered)
+            verdict.crash = _failure_text(sub, failed) or ("every direction toward it" if len(failed) else None)
+            continue
+        known = rows & (sub_faces >= 0)
+        if known.sum() < SHARE * rows.sum():
+            verdict.sampled = None
+            continue
+        sampled = np.bincount(sub_faces[known], minlength=6)
+        g = int(np.argmax(sampled))
+        verdict.sampled = g
+        idx = np.flatnonzero(rows)
+        best, best_share = None, -1.0
+        for cand in CANDIDATES:
+            ok = inst.explains(np.full(len(idx), g), cand.uv(ref_uv[idx], m_over_len[idx]), values[idx])
+            share = float(ok.mean())
+            if share > best_share + 1e-12:
+                best, best_share = cand, share
+            if share >= 0.999:
+                break
+        verdict.candidate, verdict.share = best, best_share
+
+    _lengths(lookups, dirs[clear][:: max(1, int(clear.sum()) // 1500)], inst, out)
+    _ties(lookups, inst, out)
+    return out
+
+
+def _consistent(a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
+    with np.errstate(invalid="ignore"):
+        return np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1) & (np.abs(a - b) <= tol).all(axis=1)
+
+
+# Lengths that break a lookup computing in float (|component| below float's
+# normal range, or above its largest value) and one that squares the
+# components (x*x overflows above 1.3e154, underflows to 0 below 1e-162).
+FLOAT_TINY, FLOAT_HUGE = 1e-41, 1e39
+SQUARE_HUGE, SQUARE_TINY = 1e155, 1e-170
+
+
+def _lengths(lookups, dirs: np.ndarray, inst: Instrument, out: FetchAnalysis) -> None:
+    base = np.asarray(lookups.fetch(dirs).values, np.float64)
+    broken = {}
+    for scale in (10.0, FLOAT_TINY, FLOAT_HUGE, SQUARE_HUGE, SQUARE_TINY):
+        got = np.asarray(lookups.fetch(dirs * scale).values, np.float64)
+        ok = _consistent(got, base, inst.tol)
+        judged = np.isfinite(base).all(axis=1)
+        broken[scale] = float(np.mean(~ok[judged])) if judged.any() else 0.0
+    if broken[10.0] > 0.1:
+        out.length_dependent = True
+        return
+    if broken[FLOAT_TINY] > 0.1 or broken[FLOAT_HUGE] > 0.1:
+        which = [w for w, s in (("tiny (|d| = 1e-41)", FLOAT_TINY), ("huge (|d| = 1e39)", FLOAT_HUGE)) if broken[s] > 0.1]
+        out.precision = (f"fetchColor gives another answer for {' and '.join(which)} directions than for the same "
+                         "directions at length 1, while it handles lengths such as 1e155 and 1e-170 differently or "
+                         "not at all: the components go through float (float x = direction.x, or a float "
+                         "parameter), which cannot hold magnitudes below 1.2e-38 exactly or above 3.4e38 at all. "
+                         "Keep them in double until you have divided by m.")
+    elif broken[SQUARE_HUGE] > 0.1 or broken[SQUARE_TINY] > 0.1:
+        which = [w for w, s in (("huge (|d| = 1e155)", SQUARE_HUGE), ("tiny (|d| = 1e-170)", SQUARE_TINY)) if broken[s] > 0.1]
+        out.overflow = (f"fetchColor breaks for {' and '.join(which)} directions but not for 1e39 or 1e-41: "
+                        "x*x + y*y + z*z overflows to infinity above |d| = 1.3e154 (and underflows to 0 below "
+                        "about 1e-162), so normalising first divides by infinity or 0. Divide by m, the largest "
+                        "|component|, instead: it needs no squares.")
+
+
+# ASSIGNMENT.md's (u, v) table: per face, (u axis, u sign, v axis, v sign).
+FACE_AXES = ((2, 1, 1, 1), (2, -1, 1, 1), (0, 1, 2, 1), (0, 1, 2, -1), (0, 1, 1, -1), (0, 1, 1, 1))
+
+
+def face_uv(dirs: np.ndarray, face: np.ndarray) -> np.ndarray:
+    """(u, v) of each direction on the given face (which it must touch), with
+    m its major axis's magnitude: exact at ties, where a nudge would move (u, v)."""
+    table = np.array(FACE_AXES)[face]
+    m = np.abs(dirs).max(axis=1)
+    rows = np.arange(len(dirs))
+    u = (1 + table[:, 1] * dirs[rows, table[:, 0]] / m) / 2
+    v = (1 + table[:, 3] * dirs[rows, table[:, 2]] / m) / 2
+    return np.stack([u, v], axis=1)
+
+
+def tie_directions() -> np.ndarray:
+    """Directions where two or three components tie as the largest in
+    magnitude: edges (random third component) and corners."""
+    rng = np.random.default_rng(15)
+    out = []
+    for free in range(3):
+        tied = [i for i in range(3) if i != free]
+        for sa, sb in itertools.product((1.0, -1.0), repeat=2):
+            d = np.zeros((12, 3))
+            d[:, tied[0]], d[:, tied[1]] = sa, sb
+            d[:, free] = rng.uniform(-0.9, 0.9, 12)
+            out.append(d)
+    out.append(np.array(list(itertools.product((1.0, -1.0), repeat=3))))
+    return np.concatenate(out)
+
+
+def _ties(lookups, inst: Instrument, out: FetchAnalysis) -> None:
+    """Ties sent to a face the direction does not touch. An answer counts as
+    right when the fitted readTexture gives it on one of the touched faces at
+    the handout's (u, v): an unclamped readTexture reading into the next face
+    at u = 1 is readTexture's mistake, not a wrong face."""
+    dirs = tie_directions()
+    verdicts = {v.face: v for v in out.faces if v.analysed}
+    got = lookups.fetch(dirs)
+    values = np.asarray(got.values, np.float64)
+    faces, _, _ = decode_sample_coordinates(values)
+    a = np.abs(dirs)
+    m = a.max(axis=1)
+    touched = np.zeros((len(dirs), 6), bool)
+    explained = np.zeros(len(dirs), bool)
+    for axis in range(3):
+        at_max = a[:, axis] == m
+        touched[at_max & (dirs[:, axis] > 0), 2 * axis] = True
+        touched[at_max & (dirs[:, axis] < 0), 2 * axis + 1] = True
+        rows = np.flatnonzero(at_max)
+        if len(rows):
+            d = dirs[rows]
+            k = 2 * axis + (d[:, axis] < 0)
+            uv = face_uv(d, k)
+            m_over_len = np.abs(d).max(axis=1) / np.linalg.norm(d, axis=1)
+            # As fetchColor treats that face elsewhere: its (u, v) mistake and
+            # the face it samples instead, so a wrong face or a flip is not
+            # also reported as a tie sent astray.
+            for f in np.unique(k):
+                sel = k == f
+                v = verdicts.get(int(f))
+                g = np.full(int(sel.sum()), v.sampled if v is not None and v.sampled is not None else f)
+                cand = v.candidate if v is not None and v.candidate is not None and v.share >= SHARE else Candidate()
+                explained[rows[sel]] |= inst.explains(g, cand.uv(uv[sel], m_over_len[sel]), values[rows[sel]])
+                if v is not None and v.sampled is not None:
+                    touched[rows[sel], v.sampled] = True
+    answered = np.asarray(got.evaluated, bool) & (faces >= 0)
+    wrong = answered & ~explained & ~touched[np.arange(len(dirs)), np.maximum(faces, 0)]
+    if wrong.sum() >= max(1, 0.1 * answered.sum()):
+        i = int(np.flatnonzero(wrong)[0])
+        text = ", ".join(f"{x:g}" for x in dirs[i])
+        ok = " or ".join(face_name(k) for k in np.flatnonzero(touched[i]))
+        out.ties_untouched = (f"fetchColor(Vector3({text})) samples the {face_name(int(faces[i]))} face, which this "
+                              f"direction does not touch (it lies on the edge of {ok}): {int(wrong.sum())} of "
+                              f"{len(dirs)} directions on edges and corners go to an untouched face. With strict "
+                              "comparisons (>) a tie fails every test and falls through to the last branch; use "
+                              ">= so that a tied direction picks one of the faces it touches.")
