@@ -1,20 +1,44 @@
 """A submission -> a shared library the worker can load (grader/shim/submission_abi.h).
 
-build_submission() accepts a folder, a single .cpp file, or a .zip / .tar.gz
-of either; finds the student's EnvironmentMap.cpp in it;
-compiles it alone, with our own copies of everything else (the template's
-headers and EnvironmentMapLoader.cpp, the reference C sources, the shim);
-and links one library exporting only the sub_* entry points.
+build_submission() accepts a folder, a single .cpp file, or an archive of
+either (grader/submissions.py finds the student's EnvironmentMap.cpp
+without trusting the upload), then builds it in steps, each of which can
+refuse the submission with its own diagnosis id:
+
+1. include policy, read from the text (refused-include): a submission may
+   include the three API headers and the standard library, by name only;
+2. the preprocessor lists the files it actually read (-M, sandboxed):
+   each must be one of our API headers or under the compiler's own system
+   include folders (refused-include);
+3. the student's file is compiled ALONE to assembly with ONLY the template's
+   three API headers visible (a private copy in the build folder; never
+   the reference's headers), no LTO; the assembly may not read files or
+   build directives (.incbin, .include, .macro, ...);
+4. the object is inspected (our own ELF reader, no tool parses it): only
+   ordinary sections (no .gnu.lto_*), and undefined symbols only from
+   libc/libm/libstdc++/libgcc and the template's EnvironmentMap members
+   (em_* -> calls-reference, anything else -> forbidden-object);
+5. it is linked with shim.o, loader.o and the reference objects the
+   loader needs (rgbe, cross, error: never the lookup), exporting only the
+   sub_* entry points.
+
+Steps 2-5 run in a scratch folder outside the project holding copies of
+everything they read, under bubblewrap where it works; where it does not
+but we are root, as the unprivileged uid/gid 65534 ("privilege-drop");
+otherwise as ourselves ("none"). Always with stdin /dev/null, a scrubbed
+environment, CPU/memory limits and a wall-clock deadline.
 
 Builds are cached by content hash under build/submissions/<key>/: the key
 covers the student's source, every file of ours that goes into the library,
 the flags and the compiler versions. The cache stores the compiler's own
 output with paths made neutral; what the student reads (which file, in
-which order, friendly sentences) is worked out on every call, so the same
-source in a .zip and as a loose file shares one library.
+which order, friendly sentences) is worked out on every call
+(grader/build_messages.py), so the same source in a .zip and as a loose
+file shares one library.
 
 A bad submission never raises: it gives BuildResult(ok=False) with the
-reason. Our own sources failing to compile raises HarnessBuildError.
+reason and a diagnosis_id. Our own sources failing to compile raises
+HarnessBuildError.
 """
 from __future__ import annotations
 
@@ -25,19 +49,21 @@ import os
 import re
 import shutil
 import signal
+import stat
+import struct
 import subprocess
-import tarfile
 import tempfile
 import threading
 import time
-import zipfile
+from bisect import bisect_right
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 from . import PROJECT_ROOT
+from .build_messages import MEMORY_LIMIT_BYTES, describe
+from .submissions import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
+                          SubmissionError, select_source as _select_source)
 
 TEMPLATE = PROJECT_ROOT / "student_template"
 REFERENCE = PROJECT_ROOT / "reference"
@@ -45,27 +71,27 @@ SHIM = PROJECT_ROOT / "grader" / "shim"
 DEFAULT_CACHE = PROJECT_ROOT / "build" / "submissions"
 
 CXX, CC = "g++", "gcc"
-CXXFLAGS = ["-std=c++17", "-O2", "-Wall", "-Wextra", "-fPIC"]
-CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-fPIC", "-D_POSIX_C_SOURCE=200809L"]
+# No LTO anywhere: an object carrying LTO bytecode would have code the
+# student never showed us compiled at link time, outside any check.
+CXXFLAGS = ["-std=c++17", "-O2", "-Wall", "-Wextra", "-fPIC", "-fno-lto"]
+CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-fPIC", "-fno-lto", "-D_POSIX_C_SOURCE=200809L"]
 SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-g"]
 # Plain messages: no colour, no line wrapping, a bounded number of errors.
 DIAGNOSTIC_FLAGS = ["-fdiagnostics-color=never", "-fmessage-length=0", "-fmax-errors=10"]
-MEMORY_LIMIT_BYTES = 2 << 30
+LINK_FLAGS = ["-fno-lto", "-fno-use-linker-plugin", "-Wl,--no-undefined", "-Wl,-z,noexecstack",
+              "-Wl,-z,relro", "-Wl,-z,now"]
 LIBRARY_NAME = "submission.so"
 STUDENT_OBJECT = "EnvironmentMap.o"
-# The members of EnvironmentMap a submission defines; the rest are ours.
-STUDENT_MEMBERS = ("fetchColor", "readTexture")
-MAX_LOG_LINES = 60
-MAX_LOG_CHARS = 6000
+STUDENT_ASSEMBLY = "EnvironmentMap.s"
+# The only headers a submission sees (copies in the scratch folder's include/).
+API_HEADERS = ("EnvironmentMap.h", "Vector3.h", "Color.h")
+# The reference sources EnvironmentMapLoader.cpp needs (reading a .hdr
+# cross); the lookup, renderer and scene parser are never linked.
+LOADER_REFERENCE_SOURCES = ("cross.c", "error.c", "rgbe.c")
+NOBODY_UID = NOBODY_GID = 65534
 
-SOURCE_NAME = "EnvironmentMap.cpp"
-# What a submission may be: it holds one small source file, so anything
-# far larger is refused rather than read.
-MAX_SOURCE_BYTES = 1 << 20
-MAX_MEMBERS = 20000
-ARCHIVE_SUFFIXES = (".zip", ".tar.gz", ".tgz", ".tar")
-# Folders that hold no submission: version control, macOS archive debris.
-SKIPPED_DIRS = ("__MACOSX",)
+# Re-exported for older callers.
+select_source = functools.partial(_select_source, template=TEMPLATE)
 
 
 class HarnessBuildError(RuntimeError):
@@ -85,186 +111,141 @@ class BuildResult:
     cached: bool = False
     source_name: str = SOURCE_NAME  # the source's path inside the submission, as messages show it
     timed_out: bool = False
+    # Why the build failed, an id of grader/diagnoses.py: "build-error" (the
+    # compiler's), or a refusal: no-source, empty-submission, unknown-format,
+    # unreadable-archive, refused-include, calls-reference, forbidden-object.
+    diagnosis_id: str = "build-error"
+    isolation: str = ""           # how the compiler ran: bubblewrap, privilege-drop or none ("" when cached)
 
 
-# ---- finding the student's file -----------------------------------------------
+# ---- include policy, from the text ------------------------------------------------------
 
-Reader = Callable[[], bytes]   # reads one file of a submission (capped at MAX_SOURCE_BYTES)
-
-
-class SubmissionError(Exception):
-    """The submission holds no usable EnvironmentMap.cpp; the message says why."""
-
-
-@dataclass
-class ChosenSource:
-    text: bytes
-    name: str                 # path inside the submission, e.g. "src/EnvironmentMap.cpp"
-    origin: Path | None       # the file on disk, None when it came out of an archive
-    notes: list[str]
-
-
-def _safe_member(name: str) -> str | None:
-    """A member path as a relative POSIX path, or None when it is unsafe
-    (absolute, '..') or in a folder that holds no submission."""
-    parts = [p for p in name.replace("\\", "/").split("/") if p not in ("", ".")]
-    if not parts or name.startswith(("/", "\\")) or ".." in parts or re.match(r"^[A-Za-z]:", name):
-        return None
-    if any(p in SKIPPED_DIRS or p.startswith(".") for p in parts[:-1]):
-        return None
-    return "/".join(parts)
+# One C++ token or piece of text at a time, so that comments, string and
+# character literals, raw strings and numbers (1'000, digit separators) are
+# told apart as the compiler does; the order of the alternatives matters.
+_TOKEN = re.compile(r"""
+    (?P<raw>(?:u8|u|U|L)?R"(?P<delim>[^()\\\s"]{0,16})\((?:.|\n)*?\)(?P=delim)")
+  | (?P<ident>[A-Za-z_]\w*)
+  | (?P<number>\.?[0-9](?:[eEpP][+-]|'[0-9A-Za-z_]|[0-9A-Za-z_.])*)
+  | (?P<string>"(?:\\.|[^"\\\n])*"?)
+  | (?P<char>'(?:\\.|[^'\\\n])*'?)
+  | (?P<block>/\*(?:.|\n)*?(?:\*/|\Z))
+  | (?P<line>//[^\n]*)
+  | (?P<other>.|\n)
+""", re.X)
+_SPLICE = re.compile(r"\\[ \t\f\v]*\r?\n")
+_DIRECTIVE = re.compile(r"^[ \t\f\v]*(?:#|%:)[ \t\f\v]*(\w*)(.*)$", re.M)
+_INCLUDES = ("include", "include_next", "import", "embed")
+# A header named plainly: letters, digits, _ . + - and / between them.
+_PLAIN_HEADER = re.compile(r'^(<[\w.+-]+(?:/[\w.+-]+)*>|"[\w.+-]+(?:/[\w.+-]+)*")\s*$')
+_HAS_INCLUDE = re.compile(r"\b(__has_include(?:_next)?|__has_embed)\b\s*(\(\s*([^)]*?)\s*\))?")
+_PRAGMA_FILES = re.compile(r"\b(dependency|pch_preprocess)\b")
+_TRIGRAPHS = {"??=": "#", "??/": "\\", "??'": "^", "??(": "[", "??)": "]", "??!": "|", "??<": "{",
+              "??>": "}", "??-": "~"}
 
 
-def _read_capped(stream, what: str) -> bytes:
-    with stream:
-        data = stream.read(MAX_SOURCE_BYTES + 1)
-    if len(data) > MAX_SOURCE_BYTES:
-        raise SubmissionError(f"{what} is larger than {MAX_SOURCE_BYTES >> 20} MiB: not a source file.")
-    return data
+def _plain_header(argument: str) -> bool:
+    match = _PLAIN_HEADER.match(argument)
+    if not match:
+        return False
+    name = match.group(1)[1:-1]
+    return ".." not in name.split("/")
 
 
-def _archive_files(path: Path, stack: ExitStack) -> dict[str, Reader]:
-    """Regular files of a .zip or tar archive: {relative path: reader}, valid
-    until `stack` closes. Nothing is extracted to disk, so no member can land
-    outside; symbolic links, devices and unsafe paths are skipped."""
-    files: dict[str, Reader] = {}
-    try:
-        if path.name.lower().endswith(".zip"):
-            archive = stack.enter_context(zipfile.ZipFile(path))
-            members = archive.infolist()
-            if len(members) > MAX_MEMBERS:
-                raise SubmissionError(f"{path.name} holds more than {MAX_MEMBERS} files.")
-            for info in members:
-                is_link = (info.external_attr >> 16) & 0o170000 == 0o120000
-                name = _safe_member(info.filename)
-                if info.is_dir() or is_link or name is None:
-                    continue
-                files[name] = functools.partial(lambda i: _read_capped(archive.open(i), i.filename), info)
+def _logical(text: str) -> tuple[str, list[int], list[int]]:
+    """The text with line splices removed, and what maps its offsets back to
+    physical lines: (text, offsets where a splice was removed, cumulative
+    newlines removed there)."""
+    out, cuts, removed = [], [], []
+    last = total = length = 0
+    for match in _SPLICE.finditer(text):
+        out.append(text[last:match.start()])
+        length += match.start() - last
+        total += 1
+        cuts.append(length)
+        removed.append(total)
+        last = match.end()
+    out.append(text[last:])
+    return "".join(out), cuts, removed
+
+
+def _blank(text: str) -> str:
+    """Comments and raw-string bodies become spaces (newlines kept), so
+    neither hides a directive nor fakes one."""
+    pieces = []
+    for match in _TOKEN.finditer(text):
+        kind = match.lastgroup
+        piece = match.group(0)
+        if kind in ("block", "line"):
+            pieces.append(re.sub(r"[^\n]", " ", piece) or " ")
+        elif kind == "raw":
+            pieces.append(re.sub(r"[^\n]", " ", piece))
         else:
-            archive = stack.enter_context(tarfile.open(path, "r:*"))
-            for count, info in enumerate(archive):
-                if count >= MAX_MEMBERS:
-                    raise SubmissionError(f"{path.name} holds more than {MAX_MEMBERS} files.")
-                name = _safe_member(info.name)
-                if info.isreg() and name is not None:
-                    files[name] = functools.partial(
-                        lambda i: _read_capped(archive.extractfile(i), i.name), info)
-    except (OSError, EOFError, zipfile.BadZipFile, tarfile.TarError) as exc:
-        raise SubmissionError(f"{path.name} cannot be opened as an archive: {exc}") from None
-    return files
+            pieces.append(piece)
+    return "".join(pieces)
 
 
-def _folder_files(path: Path) -> dict[str, Reader]:
-    """Regular files below a folder (symbolic links not followed)."""
-    files: dict[str, Reader] = {}
-    for dirpath, dirnames, filenames in os.walk(path):
-        dirnames[:] = sorted(d for d in dirnames if d not in SKIPPED_DIRS and not d.startswith("."))
-        for filename in filenames:
-            full = Path(dirpath) / filename
-            if full.is_symlink() or not full.is_file():
-                continue
-            files[full.relative_to(path).as_posix()] = functools.partial(
-                lambda f: _read_capped(f.open("rb"), f.name), full)
-            if len(files) > MAX_MEMBERS:
-                raise SubmissionError(f"{path.name} holds more than {MAX_MEMBERS} files.")
-    return files
+def _refusals_in(text: str) -> list[tuple[int, str]]:
+    logical, cuts, removed = _logical(text)
+    cleaned = _blank(logical)
+
+    def line_of(offset: int) -> int:
+        at = bisect_right(cuts, offset)
+        return cleaned.count("\n", 0, offset) + (removed[at - 1] if at else 0) + 1
+
+    found: list[tuple[int, str]] = []
+    for match in _DIRECTIVE.finditer(cleaned):
+        name, rest = match.group(1), match.group(2).strip()
+        line = line_of(match.start())
+        shown = f"#{name} {rest}".strip()[:120]
+        if name in ("include", "include_next", "import"):
+            if not _plain_header(rest):
+                found.append((line, f"{shown} (a header must be named plainly, as in #include <cmath> "
+                                    "or #include \"EnvironmentMap.h\": no path from /, no '..', no macro)"))
+        elif name == "embed":
+            found.append((line, f"{shown} (#embed reads a file: not allowed)"))
+        elif name == "pragma" and _PRAGMA_FILES.search(rest):
+            found.append((line, f"{shown} (this pragma reads a file: not allowed)"))
+        elif name == "" and rest and not rest.startswith("!"):
+            pass  # a null directive or a stray '#': the compiler says what is wrong
+    for match in _HAS_INCLUDE.finditer(cleaned):
+        if match.group(2) is None or not _plain_header(match.group(3)):
+            found.append((line_of(match.start()), f"{match.group(0)[:80]} (only a plain header name "
+                                                  "may be tested)"))
+    for match in re.finditer(r"_Pragma\b[^\n]*", cleaned):
+        if _PRAGMA_FILES.search(match.group(0)):
+            found.append((line_of(match.start()), f"{match.group(0)[:80]} (this pragma reads a file: "
+                                                  "not allowed)"))
+    for match in re.finditer(r"incbin", logical, re.I):  # in strings too: asm(".incbin ...")
+        found.append((line_of(match.start()), "assembler .incbin (it reads a file into the program: "
+                                              "not allowed)"))
+    return found
 
 
-def _depth_then_name(name: str) -> tuple[int, str]:
-    return (name.count("/"), name)
-
-
-def _choose(files: dict[str, Reader], where: str) -> tuple[str, list[str]]:
-    """The member to grade and the notes that explain the choice."""
-    exact = sorted((n for n in files if n.rsplit("/", 1)[-1] == SOURCE_NAME), key=_depth_then_name)
-    if exact:
-        notes = []
-        if len(exact) > 1:
-            same = len({files[n]() for n in exact}) == 1
-            notes.append(f"{where} holds {len(exact)} files named {SOURCE_NAME} ({', '.join(exact)}); "
-                         f"used {exact[0]}, the one nearest the top (ties: alphabetical order)"
-                         + ("; they are identical." if same else "."))
-        return exact[0], notes
-    other_case = sorted((n for n in files if n.rsplit("/", 1)[-1].lower() == SOURCE_NAME.lower()),
-                        key=_depth_then_name)
-    if other_case:
-        return other_case[0], [f"used {other_case[0]} as {SOURCE_NAME} (the name differs in case)."]
-    # A renamed file (e.g. "EnvironmentMap (1).cpp"): the one .cpp that defines fetchColor.
-    def defines_fetch_color(name: str) -> bool:
-        try:
-            return b"EnvironmentMap::fetchColor" in files[name]()
-        except SubmissionError:
-            return False
-    defining = [n for n in sorted(files, key=_depth_then_name)
-                if n.endswith(".cpp") and defines_fetch_color(n)]
-    if len(defining) == 1:
-        return defining[0], [f"no file is named {SOURCE_NAME}; used {defining[0]}, "
-                             "the only .cpp file that defines EnvironmentMap::fetchColor."]
-    listed = ", ".join(sorted(files)[:10]) or "nothing"
-    raise SubmissionError(f"No {SOURCE_NAME} in {where} (it holds: {listed}).")
-
-
-def _header_notes(files: dict[str, Reader], chosen: str) -> list[str]:
-    """Our headers submitted beside the source: used never, reported when changed."""
-    folder = chosen.rsplit("/", 1)[0] + "/" if "/" in chosen else ""
-    notes = []
-    for ours in sorted(TEMPLATE.glob("*.h")):
-        theirs = files.get(folder + ours.name)
-        if theirs is None:
-            continue
-        def normal(text: bytes) -> list[bytes]:
-            return [line.rstrip() for line in text.replace(b"\r\n", b"\n").strip().split(b"\n")]
-        if normal(theirs()) != normal(ours.read_bytes()):
-            notes.append(f"submitted {ours.name} differs from ours: ignored "
-                         f"(the grader builds with the template's {ours.name}).")
-    return notes
-
-
-_INCLUDE = re.compile(r"^[ \t]*(?:#|%:)[ \t]*(?:include|include_next|import)\b[ \t]*(.*)$", re.M)
-_SAFE_HEADER = re.compile(r'^(<[\w.+/-]+>|"[\w.+/-]+")')
-
-
-def refused_directives(text: bytes) -> list[str]:
-    """Lines of a source that could make the compiler read files outside the
-    submission (and print them in its messages): includes by absolute or
-    '..' path or by macro, and assembler .incbin."""
-    source = text.decode("latin-1").replace("\\\r\n", "").replace("\\\n", "")
-    refused = []
-    for match in _INCLUDE.finditer(source):
-        target = _SAFE_HEADER.match(match.group(1))
-        name = target.group(1)[1:-1] if target else ""
-        if not target or name.startswith("/") or ".." in name.split("/"):
-            refused.append(match.group(0).strip())
-    refused += [line.strip() for line in source.splitlines() if "incbin" in line.lower()]
-    return refused
-
-
-def select_source(path: Path) -> ChosenSource:
-    """Find the student's EnvironmentMap.cpp in a folder, file or archive."""
-    if path.is_file() and path.name.lower().endswith(ARCHIVE_SUFFIXES):
-        with ExitStack() as stack:
-            files = _archive_files(path, stack)
-            name, notes = _choose(files, path.name)
-            return ChosenSource(files[name](), name, None, notes + _header_notes(files, name))
-    if path.is_dir():
-        files = _folder_files(path)
-        name, notes = _choose(files, f"the folder {path.name}")
-        return ChosenSource(files[name](), name, path / name, notes + _header_notes(files, name))
-    if path.is_file():
-        text = _read_capped(path.open("rb"), path.name)
-        notes = [] if path.name == SOURCE_NAME else [f"graded {path.name} as {SOURCE_NAME}."]
-        return ChosenSource(text, path.name if path.suffix == ".cpp" else SOURCE_NAME, path, notes)
-    raise SubmissionError(f"{path} does not exist.")
+def refused_directives(text: bytes) -> list[tuple[int, str]]:
+    """(line, what) for each line of a source that could make the compiler
+    read a file other than a standard or API header: includes by path or by
+    macro, #embed, __has_include of a path, file-reading pragmas, .incbin.
+    The text is read as the compiler reads it (comments, splices, digraphs)
+    and, in case trigraphs are on, once more with them replaced."""
+    source = text.decode("latin-1")
+    found = dict.fromkeys(_refusals_in(source))
+    if "??" in source:
+        for trigraph, replacement in _TRIGRAPHS.items():
+            source = source.replace(trigraph, replacement)
+        found.update(dict.fromkeys(_refusals_in(source)))
+    return sorted(found)
 
 
 # ---- the files of ours that go into every library ----------------------------
 
 def _template_files() -> list[Path]:
-    return sorted(TEMPLATE.glob("*.h")) + [TEMPLATE / "EnvironmentMapLoader.cpp"]
+    return [TEMPLATE / name for name in API_HEADERS] + [TEMPLATE / "EnvironmentMapLoader.cpp"]
 
 
 def _reference_files() -> list[Path]:
-    return [REFERENCE / "include" / "envmap.h"] + sorted((REFERENCE / "src").glob("*.[ch]"))
+    return ([REFERENCE / "include" / "envmap.h"] + sorted((REFERENCE / "src").glob("*.h"))
+            + [REFERENCE / "src" / name for name in LOADER_REFERENCE_SOURCES])
 
 
 def _shim_files() -> list[Path]:
@@ -275,7 +256,8 @@ def _shim_files() -> list[Path]:
 def compiler_versions() -> str:
     lines = []
     for compiler in (CXX, CC):
-        out = subprocess.run([compiler, "--version"], capture_output=True, text=True, check=True)
+        out = subprocess.run([compiler, "--version"], capture_output=True, text=True, check=True,
+                             stdin=subprocess.DEVNULL)
         lines.append(out.stdout.splitlines()[0])
     return "\n".join(lines)
 
@@ -296,7 +278,46 @@ def _flags(sanitize: bool) -> tuple[list[str], list[str]]:
     return CXXFLAGS + extra + DIAGNOSTIC_FLAGS, CFLAGS + extra + DIAGNOSTIC_FLAGS
 
 
-# ---- running the compiler under limits -----------------------------------------
+# ---- the libraries a submission may call -----------------------------------------
+
+_RUNTIME_LIBRARIES = ("libc.so.6", "libm.so.6", "libmvec.so.1", "libstdc++.so.6", "libgcc_s.so.1",
+                      "ld-linux-x86-64.so.2", "ld-linux-aarch64.so.1")
+_SANITIZER_LIBRARIES = ("libasan.so", "libubsan.so")
+# Defined by the linker or the C runtime start files rather than a library.
+_LINKER_SYMBOLS = {"_GLOBAL_OFFSET_TABLE_", "__dso_handle", "_DYNAMIC", "__tls_get_addr",
+                   "_ITM_registerTMCloneTable", "_ITM_deregisterTMCloneTable", "__gmon_start__"}
+
+
+@functools.lru_cache(maxsize=None)
+def _library_paths(sanitize: bool) -> tuple[Path, ...]:
+    paths = []
+    for name in _RUNTIME_LIBRARIES + (_SANITIZER_LIBRARIES if sanitize else ()):
+        out = subprocess.run([CXX, f"-print-file-name={name}"], capture_output=True, text=True,
+                             stdin=subprocess.DEVNULL).stdout.strip()
+        if out and os.path.isabs(out) and os.path.isfile(out):
+            paths.append(Path(os.path.realpath(out)))
+    libgcc = subprocess.run([CXX, "-print-libgcc-file-name"], capture_output=True, text=True,
+                            stdin=subprocess.DEVNULL).stdout.strip()
+    if libgcc and os.path.isfile(libgcc):
+        paths.append(Path(os.path.realpath(libgcc)))
+    return tuple(paths)
+
+
+def _defined_symbols(paths: tuple[Path, ...]) -> set[str]:
+    """Global symbols defined by our trusted runtime libraries (nm)."""
+    names: set[str] = set()
+    for path in paths:
+        dynamic = ["-D"] if ".so" in path.name else []
+        out = subprocess.run(["nm", *dynamic, "-g", "--defined-only", str(path)], capture_output=True,
+                             text=True, stdin=subprocess.DEVNULL).stdout
+        for line in out.splitlines():
+            parts = line.split()
+            if len(parts) >= 3:
+                names.add(parts[-1].split("@")[0])
+    return names
+
+
+# ---- running the compiler: sandboxed, limited, stdin /dev/null ------------------
 
 @dataclass
 class _Step:
@@ -311,6 +332,18 @@ _COMPILER_ENVIRONMENT = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "LC_AL
                          **{k: os.environ[k] for k in ("TMPDIR",) if k in os.environ}}
 
 
+def build_isolation() -> str:
+    """How the student's compile and link run here: "bubblewrap",
+    "privilege-drop" (no bubblewrap, but we are root: uid/gid 65534) or
+    "none" (no bubblewrap, not root: as ourselves, limits only)."""
+    from .worker.sandbox import sandbox_problem
+    if sandbox_problem() is None:
+        return "bubblewrap"
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        return "privilege-drop"
+    return "none"
+
+
 def _limited(cmd: list[str], cpu_seconds: int) -> list[str]:
     """cmd under an address-space and a CPU-time limit. The limits are set by
     the shell's ulimit rather than setrlimit in a preexec_fn, which is unsafe
@@ -319,15 +352,30 @@ def _limited(cmd: list[str], cpu_seconds: int) -> list[str]:
     return ["/bin/sh", "-c", script, "sh", *cmd]
 
 
-def _run(cmd: list[str], cwd: Path, deadline: float) -> _Step:
-    """Run one compiler command in its own process group, killed at the deadline."""
+def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted") -> _Step:
+    """Run one compiler command in its own process group, killed at the
+    deadline. isolation: "trusted" (our own sources), or how a student's
+    file is built (build_isolation(); the scratch folder `cwd` is all of
+    ours it may see)."""
     remaining = deadline - time.monotonic()
     if remaining <= 0:
         return _Step(-1, "", timed_out=True)
     cpu = max(1, int(remaining) + 1)
-    proc = subprocess.Popen(_limited(cmd, cpu), cwd=cwd, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, start_new_session=True,
-                            env=_COMPILER_ENVIRONMENT)
+    env = dict(_COMPILER_ENVIRONMENT)
+    drop: dict = {}
+    if isolation == "bubblewrap":
+        from .worker.sandbox import compiler_command
+        cmd = compiler_command(cmd, [], cwd)
+    elif isolation == "privilege-drop":
+        # No bubblewrap, but root: the compiler runs as nobody, in a scratch
+        # folder only it (and root) can enter; its temporary files go there too.
+        drop = {"user": NOBODY_UID, "group": NOBODY_GID, "extra_groups": []}
+        env = {"PATH": "/usr/bin:/bin", "LC_ALL": "C", "TMPDIR": str(cwd / "tmp"), "HOME": str(cwd)}
+    elif isolation == "none":
+        env["TMPDIR"] = str(cwd / "tmp")
+    proc = subprocess.Popen(_limited(cmd, cpu), cwd=cwd, stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            start_new_session=True, env=env, **drop)
     try:
         out, _ = proc.communicate(timeout=remaining)
     except subprocess.TimeoutExpired:
@@ -355,22 +403,25 @@ def _publish(tmp: Path, final: Path) -> None:
 # ---- our part: template loader, shim and reference, built once per cache -------
 
 _common_lock = threading.Lock()  # threads of one process build our objects once
+COMMON_FILES = ("loader.o", "shim.o", "libreference.a", "exports.map", "allowed-symbols.txt")
 
 
 def _common_objects(cache_dir: Path, sanitize: bool) -> Path:
     """Our objects, built once per cache: loader.o and shim.o (always linked),
-    libreference.a (the reference C; the linker takes what the loader needs),
-    and exports.map."""
+    libreference.a (the reference C the loader needs), exports.map, the API
+    headers (include/) and the symbols a submission may use (allowed-symbols.txt)."""
     with _common_lock:
         return _build_common_objects(cache_dir, sanitize)
 
 
 def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
     cxxflags, cflags = _flags(sanitize)
+    libraries = _library_paths(sanitize)
     key = _fingerprint(_template_files() + _reference_files() + _shim_files(),
-                       compiler_versions(), *cxxflags, "|", *cflags)
+                       compiler_versions(), *cxxflags, "|", *cflags, "|",
+                       *(f"{p}:{p.stat().st_size}:{p.stat().st_mtime_ns}" for p in libraries))
     final = cache_dir / f"common-{key[:24]}"
-    if (final / "exports.map").is_file():
+    if (final / "allowed-symbols.txt").is_file():
         return final
     cache_dir.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".tmp-common-", dir=cache_dir))
@@ -379,7 +430,8 @@ def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
     jobs = [[CXX, *cxxflags, *includes, "-c", str(TEMPLATE / "EnvironmentMapLoader.cpp"), "-o", "loader.o"],
             [CXX, *cxxflags, *includes, "-c", str(SHIM / "shim.cpp"), "-o", "shim.o"]]
     reference_objects = []
-    for src in sorted((REFERENCE / "src").glob("*.c")):
+    for name in LOADER_REFERENCE_SOURCES:
+        src = REFERENCE / "src" / name
         jobs.append([CC, *cflags, f"-I{REFERENCE / 'include'}", "-c", str(src), "-o", f"ref_{src.stem}.o"])
         reference_objects.append(f"ref_{src.stem}.o")
     archive = ["ar", "rcs", "libreference.a", *reference_objects]
@@ -393,46 +445,323 @@ def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
     # Only the ABI leaves the library: the reference's em_* symbols inside it
     # can never be confused with the grader's own reference library.
     (tmp / "exports.map").write_text("{\n  global: sub_*;\n  local: *;\n};\n")
+    (tmp / "include").mkdir()
+    for name in API_HEADERS:
+        shutil.copyfile(TEMPLATE / name, tmp / "include" / name)
+    # What a student's object may leave undefined: the runtime libraries,
+    # the linker's own symbols and the template's EnvironmentMap members
+    # (loader.o). Never the reference's em_*.
+    allowed = _defined_symbols(libraries) | _LINKER_SYMBOLS
+    allowed |= {name for name, bind, defined in _object_symbols((tmp / "loader.o").read_bytes())[1]
+                if defined and bind != 0 and not name.startswith("em_")}
+    (tmp / "allowed-symbols.txt").write_text("\n".join(sorted(allowed)) + "\n")
     _publish(tmp, final)
     return final
 
 
+# ---- reading the student's object (hostile bytes: bounds-checked, no tool) --------
+
+class _BadObject(Exception):
+    pass
+
+
+def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]]]:
+    """(section names, [(symbol name, binding, defined)]) of an ELF64
+    little-endian relocatable object."""
+    try:
+        if data[:4] != b"\x7fELF" or data[4] != 2 or data[5] != 1:
+            raise _BadObject("not a 64-bit little-endian ELF object")
+        e_type, = struct.unpack_from("<H", data, 16)
+        if e_type != 1:
+            raise _BadObject("not a relocatable object")
+        shoff, = struct.unpack_from("<Q", data, 0x28)
+        shentsize, shnum, shstrndx = struct.unpack_from("<HHH", data, 0x3A)
+        if shentsize != 64:
+            raise _BadObject("unexpected section header size")
+
+        def header(i: int) -> tuple:
+            if not 0 <= i or shoff + 64 * (i + 1) > len(data):
+                raise _BadObject("section header out of bounds")
+            return struct.unpack_from("<IIQQQQIIQQ", data, shoff + 64 * i)
+        if shoff and shnum == 0:
+            shnum = header(0)[5]
+        if shstrndx == 0xFFFF:
+            shstrndx = header(0)[6]
+        if shnum > 1 << 20:
+            raise _BadObject("too many sections")
+        headers = [header(i) for i in range(shnum)]
+
+        def body(h: tuple) -> bytes:
+            offset, size = h[4], h[5]
+            if h[1] == 8:  # SHT_NOBITS
+                return b""
+            if offset + size > len(data):
+                raise _BadObject("section out of bounds")
+            return data[offset:offset + size]
+
+        def string(table: bytes, at: int) -> str:
+            if at >= len(table):
+                raise _BadObject("name out of bounds")
+            end = table.find(b"\0", at)
+            return table[at:end if end >= 0 else len(table)].decode("utf-8", "surrogateescape")
+
+        names_table = body(headers[shstrndx]) if shnum else b""
+        sections = [string(names_table, h[0]) for h in headers]
+        symbols = []
+        for h in headers:
+            if h[1] not in (2, 11):  # SHT_SYMTAB, SHT_DYNSYM
+                continue
+            table, strings = body(h), body(headers[h[6]]) if h[6] < shnum else b""
+            for at in range(24, len(table) - 23, 24):  # entry 0 is the null symbol
+                st_name, st_info, _, st_shndx, _, _ = struct.unpack_from("<IBBHQQ", table, at)
+                kind = st_info & 0xF
+                if st_name == 0 or kind in (3, 4):  # STT_SECTION, STT_FILE
+                    continue
+                symbols.append((string(strings, st_name), st_info >> 4, st_shndx != 0))
+        return sections, symbols
+    except (struct.error, IndexError, ValueError) as exc:
+        raise _BadObject(f"malformed object ({exc})") from None
+
+
+# Sections g++ writes for ordinary C++ (with -g and sanitizers too).
+_ORDINARY_SECTION = re.compile(r"""^(
+    | \.(text|data|bss|rodata|tdata|tbss|ldata|lbss|lrodata)(\..+)?
+    | \.data\.rel\.ro(\..+)? | \.data\.rel(\..+)?
+    | \.(init_array|fini_array|preinit_array|ctors|dtors)(\.\d+)?
+    | \.eh_frame | \.gcc_except_table(\..+)?
+    | \.comment | \.note\.GNU-stack | \.note\.gnu\.property
+    | \.group | \.symtab | \.strtab | \.shstrtab | \.symtab_shndx
+    | \.debug_\w+ | \.zdebug_\w+
+    | \.rela?\.(text|data|bss|rodata|tdata|ldata|lrodata|init_array|fini_array|preinit_array|ctors|dtors
+               |eh_frame|gcc_except_table|debug_\w+|data\.rel\.ro|data\.rel)(\..+)?
+)$""", re.X)
+# Assembler directives that read files or build other directives out of
+# text (which would get past any check of the source).
+_ASSEMBLER_FORBIDDEN = re.compile(r"\.(incbin|include|macro|irpc?|rept|altmacro|purgem|exitm)\b", re.I)
+_ASSEMBLER_STRING = re.compile(r'"(?:\\.|[^"\\\n])*"')
+
+
+def _demangle(names: list[str]) -> list[str]:
+    try:
+        done = subprocess.run(["c++filt"], input="\n".join(names), capture_output=True, text=True,
+                              timeout=10)
+        shown = done.stdout.splitlines()
+        return shown if len(shown) == len(names) else names
+    except (OSError, subprocess.SubprocessError):
+        return names
+
+
+def inspect_object(data: bytes, allowed: set[str]) -> tuple[str, str] | None:
+    """(diagnosis id, message) when the student's object is refused, else None."""
+    name = SOURCE_NAME
+    try:
+        sections, symbols = _object_symbols(data)
+    except _BadObject as exc:
+        return "forbidden-object", f"The compiled {name} could not be checked: {exc}."
+    lto = [s for s in sections if "lto" in s.lower()]
+    if lto:
+        return "forbidden-object", (
+            f"{name} carries link-time-optimisation sections ({', '.join(sorted(set(lto))[:3])}): "
+            "code the grader cannot see in your source. The grader builds without LTO; "
+            "remove the asm or attributes that create these sections.")
+    odd = sorted({s for s in sections if not _ORDINARY_SECTION.match(s)})
+    if odd:
+        return "forbidden-object", (
+            f"{name} puts code or data in sections a C++ compiler does not make "
+            f"({', '.join(repr(s) for s in odd[:5])}). Remove the section attributes or asm "
+            "that create them.")
+    undefined = sorted({s for s, _, defined in symbols if not defined})
+    reference = [s for s in undefined if s.startswith("em_")]
+    if reference:
+        return "calls-reference", (
+            f"{name} calls {', '.join(reference[:5])}: "
+            f"{'these are functions' if len(reference) > 1 else 'this is a function'} of the grader's "
+            "reference solution, which is not part of your program. fetchColor and readTexture must "
+            "compute their answers with your own code.")
+    unknown = [s for s in undefined if s not in allowed]
+    if unknown:
+        shown = _demangle(unknown[:5])
+        return "forbidden-object", (
+            f"{name} uses {', '.join(shown)}, which "
+            f"{'are' if len(unknown) > 1 else 'is'} neither in the C/C++ standard library nor in "
+            "EnvironmentMap.h: define it in your file, or use only the standard library.")
+    return None
+
+
+# ---- what the preprocessor read -----------------------------------------------------
+
+@functools.lru_cache(maxsize=None)
+def _system_include_dirs() -> tuple[str, ...]:
+    done = subprocess.run([CXX, "-std=c++17", "-E", "-x", "c++", "-v", "/dev/null"], capture_output=True,
+                          text=True, stdin=subprocess.DEVNULL)
+    text = done.stderr
+    if "search starts here:" not in text:
+        return ()
+    block = text.split("#include <...> search starts here:", 1)[-1].split("End of search list.", 1)[0]
+    return tuple(os.path.realpath(line.strip()) for line in block.splitlines() if line.strip())
+
+
+def _dependencies(text: str) -> list[str]:
+    """File names from a make rule written by -M (escaped spaces, splices)."""
+    text = text.replace("\\\n", " ").replace("$$", "$")
+    body = text.split(": ", 1)[1] if ": " in text else ""
+    names, current, i = [], "", 0
+    while i < len(body):
+        c = body[i]
+        if c == "\\" and i + 1 < len(body) and body[i + 1] in " #\\":
+            current += body[i + 1]
+            i += 2
+            continue
+        if c.isspace():
+            if current:
+                names.append(current)
+            current = ""
+        else:
+            current += c
+        i += 1
+    if current:
+        names.append(current)
+    return names
+
+
+def _outside_files(deps: list[str], scratch: Path) -> list[str]:
+    """The files the preprocessor read that are neither the source, our API
+    headers, nor under the compiler's system include folders."""
+    allowed_dirs = _system_include_dirs()
+    ours = {str(scratch / "include" / name) for name in API_HEADERS}
+    bad = []
+    for dep in deps:
+        path = dep if os.path.isabs(dep) else str(scratch / dep)
+        if dep == SOURCE_NAME or path in ours:
+            continue
+        if not os.path.lexists(path) and not os.path.isabs(dep) and ".." not in dep.split("/"):
+            continue  # not found (-MG): the compiler says so itself
+        # Under a system include folder, also when it is a link to elsewhere in /usr.
+        real, plain = os.path.realpath(path), os.path.normpath(path)
+        if any(real == d or real.startswith(d + "/") for d in allowed_dirs):
+            continue
+        if real.startswith("/usr/") and any(plain.startswith(d + "/") for d in allowed_dirs):
+            continue
+        bad.append(dep)
+    return bad
+
+
 # ---- the student's part ------------------------------------------------------------
 
-def _compile_and_link(source: bytes, common: Path, build_dir: Path, sanitize: bool,
-                      deadline: float, extra_flags: tuple[str, ...] = ()) -> dict:
-    """Compile the student's file alone, then link it with our objects. Returns
-    the cache record: {ok, timed_out, output} with output's paths neutral."""
+def _scratch(common: Path, source: bytes, isolation: str) -> Path:
+    """A fresh folder outside the project holding copies of everything the
+    student's build reads: the source, include/ (the API headers) and our
+    objects. In privilege-drop mode it belongs to nobody, mode 0700."""
+    scratch = Path(tempfile.mkdtemp(prefix="envmap-build-"))
+    (scratch / "include").mkdir()
+    (scratch / "tmp").mkdir()
+    for name in API_HEADERS:
+        shutil.copyfile(common / "include" / name, scratch / "include" / name)
+    for name in COMMON_FILES:
+        shutil.copyfile(common / name, scratch / name)
+    (scratch / SOURCE_NAME).write_bytes(source)
+    if isolation == "privilege-drop":
+        for path in [scratch, *scratch.rglob("*")]:
+            os.lchown(path, NOBODY_UID, NOBODY_GID)
+        scratch.chmod(0o700)
+    return scratch
+
+
+def _take(scratch: Path, name: str, limit: int = 256 << 20) -> bytes | None:
+    """A file the build wrote, read without following links, or None."""
+    try:
+        fd = os.open(scratch / name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as f:
+        if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+            return None
+        return f.read(limit)
+
+
+def _refusal(diagnosis_id: str, message: str, line: int | None = None) -> dict:
+    return {"ok": False, "timed_out": False, "output": "",
+            "refusal": {"diagnosis_id": diagnosis_id, "message": message, "line": line}}
+
+
+def _compile_and_link(source: bytes, common: Path, out_dir: Path, sanitize: bool,
+                      deadline: float, extra_flags: tuple[str, ...] = (),
+                      isolation: str = "none") -> dict:
+    """Preprocess (to list the files read), compile to assembly, assemble,
+    inspect and link the student's file in a scratch folder; the library
+    goes to `out_dir`. Returns the cache record: {ok, timed_out, output,
+    refusal} with output's paths neutral."""
     cxxflags, _ = _flags(sanitize)
-    (build_dir / SOURCE_NAME).write_bytes(source)
-    compile_cmd = [CXX, *cxxflags, *extra_flags, f"-I{TEMPLATE}", f"-I{REFERENCE / 'include'}",
-                   "-c", SOURCE_NAME, "-o", STUDENT_OBJECT]
-    link_cmd = [CXX, *cxxflags, "-shared", "-o", LIBRARY_NAME, STUDENT_OBJECT,
-                str(common / "shim.o"), str(common / "loader.o"), str(common / "libreference.a"),
-                "-Wl,--no-undefined",
-                f"-Wl,--version-script={common / 'exports.map'}", "-lm"]
-    # The student's file is compiled in the sandbox where this machine has
-    # one: a compiler reading hostile source sees nothing of ours but headers.
-    from .worker.sandbox import compiler_command, sandbox_problem
-    if sandbox_problem() is None:
-        compile_cmd = compiler_command(compile_cmd, [TEMPLATE, REFERENCE / "include"], build_dir)
-    outputs = []
-    ok = timed_out = False
-    for cmd in (compile_cmd, link_cmd):
-        step = _run(cmd, build_dir, deadline)
-        outputs.append(step.output)
-        if step.timed_out:
-            timed_out = True
-            break
-        if step.returncode != 0:
-            break
-    else:
-        ok = (build_dir / LIBRARY_NAME).is_file()
-    output = "".join(outputs)
-    for prefix in (build_dir, common, TEMPLATE, REFERENCE / "include", REFERENCE / "src", SHIM):
-        output = output.replace(f"{prefix}/", "")
-    output = re.sub(r"^/usr/bin/ld: ", "ld: ", output, flags=re.M)
-    return {"ok": ok, "timed_out": timed_out, "output": output}
+    scratch = _scratch(common, source, isolation)
+    try:
+        return _build_in(scratch, out_dir, cxxflags, tuple(extra_flags), deadline, isolation)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _build_in(scratch: Path, out_dir: Path, cxxflags: list[str], extra_flags: tuple[str, ...],
+              deadline: float, isolation: str) -> dict:
+    include = [f"-I{scratch / 'include'}"]
+    outputs: list[str] = []
+
+    def neutral(text: str) -> str:
+        text = text.replace(f"{scratch}/include/", "").replace(f"{scratch}/", "")
+        return re.sub(r"^/usr/bin/ld: ", "ld: ", text, flags=re.M)
+
+    def step(cmd: list[str], keep_output: bool = True) -> _Step:
+        done = _run(cmd, scratch, deadline, isolation)
+        if keep_output:
+            outputs.append(done.output)
+        return done
+
+    def failed(done: _Step) -> dict:
+        return {"ok": False, "timed_out": done.timed_out, "output": neutral("".join(outputs))}
+
+    # 1. Which files does the preprocessor read? (-MG: a missing header is
+    # left to the compiler to report.)
+    deps = step([CXX, *cxxflags, *extra_flags, *include, "-M", "-MG", "-MF", "deps.txt", SOURCE_NAME],
+                keep_output=False)
+    if deps.timed_out:
+        return failed(deps)
+    listed = _take(scratch, "deps.txt", 1 << 20)
+    if listed is not None:
+        outside = _outside_files(_dependencies(listed.decode("utf-8", "surrogateescape")), scratch)
+        if outside:
+            shown = ", ".join(neutral(o) for o in outside[:3])
+            return _refusal("refused-include", f"{SOURCE_NAME} makes the compiler read {shown}: a submission "
+                                               "may include only the C++ standard library and the template's "
+                                               "headers (EnvironmentMap.h, Vector3.h, Color.h).")
+    # 2. Compile to assembly, check it, assemble.
+    done = step([CXX, *cxxflags, *extra_flags, *include, "-S", SOURCE_NAME, "-o", STUDENT_ASSEMBLY])
+    if done.timed_out or done.returncode != 0:
+        return failed(done)
+    assembly = _take(scratch, STUDENT_ASSEMBLY) or b""
+    text = _ASSEMBLER_STRING.sub('""', assembly.decode("utf-8", "surrogateescape"))
+    directive = _ASSEMBLER_FORBIDDEN.search(text)
+    if directive:
+        return _refusal("forbidden-object", f"{SOURCE_NAME} contains the assembler directive "
+                                            f"{directive.group(0)}, which reads a file or builds "
+                                            "hidden code: not allowed in a submission.")
+    done = step([CXX, *cxxflags, "-c", STUDENT_ASSEMBLY, "-o", STUDENT_OBJECT])
+    if done.timed_out or done.returncode != 0:
+        return failed(done)
+    # 3. What the object holds and calls.
+    allowed = set((scratch / "allowed-symbols.txt").read_text().split()) \
+        if (scratch / "allowed-symbols.txt").is_file() else set()
+    problem = inspect_object(_take(scratch, STUDENT_OBJECT) or b"", allowed)
+    if problem:
+        return _refusal(*problem)
+    # 4. Link with our objects only.
+    done = step([CXX, *cxxflags, "-shared", "-o", LIBRARY_NAME, STUDENT_OBJECT, "shim.o", "loader.o",
+                 "libreference.a", *LINK_FLAGS, "-Wl,--version-script=exports.map", "-lm"])
+    if done.timed_out or done.returncode != 0:
+        return failed(done)
+    library = _take(scratch, LIBRARY_NAME)
+    if not library:
+        return failed(done)
+    (out_dir / LIBRARY_NAME).write_bytes(library)
+    (out_dir / LIBRARY_NAME).chmod(0o755)
+    return {"ok": True, "timed_out": False, "output": neutral("".join(outputs))}
 
 
 def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
@@ -445,32 +774,40 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
     path = Path(path)
     cache_dir = Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE
     try:
-        chosen = select_source(path)
+        chosen = _select_source(path, TEMPLATE)
     except SubmissionError as exc:
         return BuildResult(ok=False, library=None, source=path, log=str(exc),
-                           errors=[{"file": None, "line": None, "message": str(exc)}])
+                           errors=[{"file": None, "line": None, "message": str(exc)}],
+                           diagnosis_id=exc.diagnosis_id)
     sha = hashlib.sha256(chosen.text).hexdigest()
     result = BuildResult(ok=False, library=None, source=chosen.origin or path, sha256=sha,
                          notes=list(chosen.notes), source_name=chosen.name)
     refused = refused_directives(chosen.text)
     if refused:
-        message = (f"{chosen.name} may include headers by name only (e.g. <cmath>, \"EnvironmentMap.h\"); "
-                   f"refused: {'; '.join(refused[:3])}")
-        result.log, result.errors = message, [{"file": chosen.name, "line": None, "message": message}]
+        lines = "; ".join(f"line {line}: {what}" for line, what in refused[:3])
+        message = (f"{chosen.name} may include only the C++ standard library and the template's headers "
+                   f"(EnvironmentMap.h, Vector3.h, Color.h), by name. Refused: {lines}")
+        result.log = message
+        result.errors = [{"file": chosen.name, "line": refused[0][0], "message": message}]
+        result.diagnosis_id = "refused-include"
         return result
 
     common = _common_objects(cache_dir, sanitize)
     cxxflags, _ = _flags(sanitize)
-    key = _fingerprint([Path(__file__)], sha, common.name, *cxxflags, *extra_flags)
+    here = Path(__file__).parent
+    key = _fingerprint([Path(__file__), here / "submissions.py"], sha, common.name, *cxxflags,
+                       *extra_flags)
     final = cache_dir / key[:32]
     record_path = final / "build.json"
     if record_path.is_file():
         record = json.loads(record_path.read_text())
         result.cached = True
     else:
+        isolation = result.isolation = build_isolation()
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=cache_dir))
+        (tmp / SOURCE_NAME).write_bytes(chosen.text)
         record = _compile_and_link(chosen.text, common, tmp, sanitize, time.monotonic() + timeout_s,
-                                   tuple(extra_flags))
+                                   tuple(extra_flags), isolation)
         if record["timed_out"]:
             # Not cached: a loaded machine may finish the same build next time.
             shutil.rmtree(tmp, ignore_errors=True)
@@ -483,120 +820,12 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
     result.ok = bool(record["ok"])
     result.timed_out = bool(record["timed_out"])
     result.library = final / LIBRARY_NAME if result.ok else None
-    _describe(result, record["output"], timeout_s)
+    refusal = record.get("refusal")
+    if refusal:
+        message = refusal["message"].replace(SOURCE_NAME, chosen.name, 1)
+        result.diagnosis_id = refusal["diagnosis_id"]
+        result.log = message
+        result.errors = [{"file": chosen.name, "line": refusal.get("line"), "message": message}]
+        return result
+    describe(result, record["output"], timeout_s)
     return result
-
-
-# ---- what the student reads -------------------------------------------------------
-
-_DIAGNOSTIC = re.compile(r"^(?P<file>[^:\s][^:]*):(?P<line>\d+):(?:\d+:)? "
-                         r"(?P<kind>fatal error|error|warning|note): (?P<message>.*)$")
-_CONTEXT = re.compile(r"^(In file included from |\s+from |[^:\s][^:]*: (In |At global scope)|"
-                      r"ld: [^:]+: in function )")
-_LINK_ERROR = re.compile(r"multiple definition of|undefined reference to|^collect2: error")
-_LINK_DEFINITION = re.compile(r"multiple definition of `(?:[\w:<>]+::)?EnvironmentMap::(\w+)")
-_LINK_UNDEFINED = re.compile(r"undefined reference to `([^']+)'")
-_COMPILE_REDEFINITION = re.compile(r"redefinition of '[^']*EnvironmentMap::(\w+)\(")
-_TYPE_REDEFINITION = re.compile(r"redefinition of '(?:class|struct) (EnvironmentMap|Vector3|Color)'")
-_NO_DECLARATION = re.compile(r"no declaration matches '[^']*EnvironmentMap::(\w+)\(")
-_MISSING_HEADER = re.compile(r"fatal error: ([^:]+): No such file or directory")
-
-
-def _friendly(output: str) -> list[str]:
-    """Sentences for the mistakes a student is likely to make, one each."""
-    found: list[str] = []
-
-    def say(sentence: str) -> None:
-        if sentence not in found:
-            found.append(sentence)
-
-    for name in _LINK_DEFINITION.findall(output) + _COMPILE_REDEFINITION.findall(output):
-        if name not in STUDENT_MEMBERS:
-            say(f"{SOURCE_NAME} must not define {name}: it is provided "
-                f"({'inline in EnvironmentMap.h' if name == 'faceAddress' else 'EnvironmentMapLoader.cpp'}). "
-                "Delete your definition.")
-    for name in _TYPE_REDEFINITION.findall(output):
-        say(f"{SOURCE_NAME} must not define {name} again: include \"{name}.h\" instead.")
-    for name in _NO_DECLARATION.findall(output):
-        if name in STUDENT_MEMBERS:
-            say(f"{name} must keep the signature EnvironmentMap.h declares; the header cannot change.")
-        else:
-            say(f"EnvironmentMap::{name} is not declared in EnvironmentMap.h, which you cannot change: "
-                "write helpers as free functions in your file (e.g. in an anonymous namespace).")
-    if "virtual memory exhausted" in output or "out of memory allocating" in output:
-        say(f"The compiler ran out of memory (the limit is {MEMORY_LIMIT_BYTES >> 30} GiB).")
-    for header in _MISSING_HEADER.findall(output):
-        say(f"{SOURCE_NAME} includes \"{header}\", which the grader does not have: a submission is "
-            f"{SOURCE_NAME} alone, built with the template's headers (EnvironmentMap.h, Vector3.h, "
-            "Color.h) and the C++ standard library.")
-    for symbol in dict.fromkeys(_LINK_UNDEFINED.findall(output)):
-        member = re.match(r"EnvironmentMap::(\w+)\(", symbol)
-        if member and member.group(1) in STUDENT_MEMBERS:
-            say(f"{SOURCE_NAME} must define {member.group(1)} "
-                f"(the function {symbol}); it is missing.")
-        else:
-            say(f"{symbol} is declared but never defined: define it in {SOURCE_NAME}.")
-    return found
-
-
-def _blocks(output: str) -> list[tuple[str, list[str]]]:
-    """Group compiler output into (kind, lines): each error or warning with
-    its context lines before it and its source excerpt and notes after it."""
-    blocks: list[tuple[str, list[str]]] = []
-    pending: list[str] = []
-    for line in output.splitlines():
-        match = _DIAGNOSTIC.match(line)
-        if match and match.group("kind") != "note":
-            blocks.append(("warning" if match.group("kind") == "warning" else "error", pending + [line]))
-            pending = []
-        elif _LINK_ERROR.search(line):
-            blocks.append(("error", pending + [line]))
-            pending = []
-        elif _CONTEXT.match(line) or not blocks:
-            pending.append(line)
-        else:
-            # A note or source excerpt: it belongs, with any context before
-            # it, to the diagnostic it explains.
-            blocks[-1][1].extend(pending + [line])
-            pending = []
-    if pending:
-        blocks.append(("error", pending))
-    return blocks
-
-
-def _trim(lines: list[str]) -> str:
-    if len(lines) > MAX_LOG_LINES:
-        lines = lines[:MAX_LOG_LINES] + [f"... ({len(lines) - MAX_LOG_LINES} more lines)"]
-    text = "\n".join(lines)
-    if len(text) > MAX_LOG_CHARS:
-        text = text[:MAX_LOG_CHARS] + "\n... (trimmed)"
-    return text
-
-
-def _describe(result: BuildResult, output: str, timeout_s: float) -> None:
-    """Fill log, errors and warnings from the cached compiler output. The
-    log's first line is the headline: a friendly sentence when one applies,
-    else the first error with its file and line."""
-    name = result.source_name
-    # The student's file, wherever it was in the submission, was compiled as SOURCE_NAME.
-    output = re.sub(rf"(?<![\w/.]){re.escape(SOURCE_NAME)}(?=:)", name, output)
-    for line in output.splitlines():
-        match = _DIAGNOSTIC.match(line)
-        if match and match.group("kind") in ("error", "fatal error", "warning"):
-            entry = {"file": match.group("file"), "line": int(match.group("line")),
-                     "message": match.group("message")}
-            (result.warnings if match.group("kind") == "warning" else result.errors).append(entry)
-    sentences = [s.replace(SOURCE_NAME, name, 1) for s in _friendly(output)]
-    if result.timed_out:
-        sentences.insert(0, f"The build took longer than {timeout_s:g} s and was stopped.")
-    if not result.ok:
-        if not sentences and not result.errors:
-            sentences = ["The build failed; the compiler's messages follow."]
-        result.errors[:0] = [{"file": name, "line": None, "message": s} for s in sentences]
-        if not sentences:
-            first = result.errors[0]
-            sentences = [f"{first['file']}:{first['line']}: error: {first['message']}"]
-    blocks = _blocks(output)
-    ordered = [l for kind, lines in blocks if kind == "error" for l in lines] + \
-              [l for kind, lines in blocks if kind == "warning" for l in lines]
-    result.log = _trim(sentences + ([""] if sentences and ordered else []) + ordered)

@@ -219,7 +219,8 @@ def test_syntax_error_names_its_line(cache):
     ("missing_fetch_color.cpp", "must define fetchColor"),
     ("member_helper.cpp", "EnvironmentMap::clampU is not declared in EnvironmentMap.h"),
     ("includes_old_header.cpp", 'includes "hdr.h", which the grader does not have'),
-    ("includes_absolute_path.cpp", 'refused: #include "/etc/hostname"'),
+    # The refusal names the line (the file's 4th) before anything is compiled.
+    ("includes_absolute_path.cpp", 'Refused: line 4: #include "/etc/hostname"'),
 ])
 def test_common_mistakes_get_a_clear_sentence(case, sentence, cache):
     result = build_submission(BUILD_CASES / case, cache_dir=cache)
@@ -321,14 +322,19 @@ def test_unsafe_archive_members_are_never_used(cache, tmp_path):
 
     only_link = _tar(tmp_path / "link.tar.gz", {}, symlinks={"EnvironmentMap.cpp": "/etc/passwd"})
     refused = build_submission(only_link, cache_dir=cache)
-    assert not refused.ok and "No EnvironmentMap.cpp" in refused.log
+    assert not refused.ok and refused.diagnosis_id == "empty-submission"
 
 
 def test_nothing_to_build_is_a_failure_not_an_exception(cache, tmp_path):
     (tmp_path / "notes.txt").write_text("I ran out of time")
-    assert "No EnvironmentMap.cpp" in build_submission(tmp_path, cache_dir=cache).log
+    nothing = build_submission(tmp_path, cache_dir=cache)
+    assert "No EnvironmentMap.cpp" in nothing.log and "notes.txt" in nothing.log
+    assert nothing.diagnosis_id == "no-source"
+    # What a file is comes from its bytes: text named .zip is no archive.
     (tmp_path / "broken.zip").write_bytes(b"not a zip")
-    assert "cannot be opened" in build_submission(tmp_path / "broken.zip", cache_dir=cache).log
+    broken = build_submission(tmp_path / "broken.zip", cache_dir=cache)
+    assert "broken.zip is text, not an archive" in broken.log and ".zip, .tar or .tar.gz" in broken.log
+    assert broken.diagnosis_id == "unknown-format"
 
 
 def test_rebuilding_an_unchanged_source_uses_the_cache(cache):

@@ -1,0 +1,129 @@
+"""Compiler messages -> what the student reads (grader/build.py's log).
+
+The compiler's output is cached with paths made neutral; this module turns
+it, on every call, into friendly sentences for the common mistakes, then the
+compiler's messages, errors first, trimmed.
+"""
+from __future__ import annotations
+
+import re
+
+SOURCE_NAME = "EnvironmentMap.cpp"
+# The members of EnvironmentMap a submission defines; the rest are ours.
+STUDENT_MEMBERS = ("fetchColor", "readTexture")
+MEMORY_LIMIT_BYTES = 2 << 30
+MAX_LOG_LINES = 60
+MAX_LOG_CHARS = 6000
+
+
+_DIAGNOSTIC = re.compile(r"^(?P<file>[^:\s][^:]*):(?P<line>\d+):(?:\d+:)? "
+                         r"(?P<kind>fatal error|error|warning|note): (?P<message>.*)$")
+_CONTEXT = re.compile(r"^(In file included from |\s+from |[^:\s][^:]*: (In |At global scope)|"
+                      r"ld: [^:]+: in function )")
+_LINK_ERROR = re.compile(r"multiple definition of|undefined reference to|^collect2: error")
+_LINK_DEFINITION = re.compile(r"multiple definition of `(?:[\w:<>]+::)?EnvironmentMap::(\w+)")
+_LINK_UNDEFINED = re.compile(r"undefined reference to `([^']+)'")
+_COMPILE_REDEFINITION = re.compile(r"redefinition of '[^']*EnvironmentMap::(\w+)\(")
+_TYPE_REDEFINITION = re.compile(r"redefinition of '(?:class|struct) (EnvironmentMap|Vector3|Color)'")
+_NO_DECLARATION = re.compile(r"no declaration matches '[^']*EnvironmentMap::(\w+)\(")
+_MISSING_HEADER = re.compile(r"fatal error: ([^:]+): No such file or directory")
+
+
+def _friendly(output: str) -> list[str]:
+    """Sentences for the mistakes a student is likely to make, one each."""
+    found: list[str] = []
+
+    def say(sentence: str) -> None:
+        if sentence not in found:
+            found.append(sentence)
+
+    for name in _LINK_DEFINITION.findall(output) + _COMPILE_REDEFINITION.findall(output):
+        if name not in STUDENT_MEMBERS:
+            say(f"{SOURCE_NAME} must not define {name}: it is provided "
+                f"({'inline in EnvironmentMap.h' if name == 'faceAddress' else 'EnvironmentMapLoader.cpp'}). "
+                "Delete your definition.")
+    for name in _TYPE_REDEFINITION.findall(output):
+        say(f"{SOURCE_NAME} must not define {name} again: include \"{name}.h\" instead.")
+    for name in _NO_DECLARATION.findall(output):
+        if name in STUDENT_MEMBERS:
+            say(f"{name} must keep the signature EnvironmentMap.h declares; the header cannot change.")
+        else:
+            say(f"EnvironmentMap::{name} is not declared in EnvironmentMap.h, which you cannot change: "
+                "write helpers as free functions in your file (e.g. in an anonymous namespace).")
+    if "virtual memory exhausted" in output or "out of memory allocating" in output:
+        say(f"The compiler ran out of memory (the limit is {MEMORY_LIMIT_BYTES >> 30} GiB).")
+    for header in _MISSING_HEADER.findall(output):
+        say(f"{SOURCE_NAME} includes \"{header}\", which the grader does not have: a submission is "
+            f"{SOURCE_NAME} alone, built with the template's headers (EnvironmentMap.h, Vector3.h, "
+            "Color.h) and the C++ standard library.")
+    for symbol in dict.fromkeys(_LINK_UNDEFINED.findall(output)):
+        member = re.match(r"EnvironmentMap::(\w+)\(", symbol)
+        if member and member.group(1) in STUDENT_MEMBERS:
+            say(f"{SOURCE_NAME} must define {member.group(1)} "
+                f"(the function {symbol}); it is missing.")
+        else:
+            say(f"{symbol} is declared but never defined: define it in {SOURCE_NAME}.")
+    return found
+
+
+def _blocks(output: str) -> list[tuple[str, list[str]]]:
+    """Group compiler output into (kind, lines): each error or warning with
+    its context lines before it and its source excerpt and notes after it."""
+    blocks: list[tuple[str, list[str]]] = []
+    pending: list[str] = []
+    for line in output.splitlines():
+        match = _DIAGNOSTIC.match(line)
+        if match and match.group("kind") != "note":
+            blocks.append(("warning" if match.group("kind") == "warning" else "error", pending + [line]))
+            pending = []
+        elif _LINK_ERROR.search(line):
+            blocks.append(("error", pending + [line]))
+            pending = []
+        elif _CONTEXT.match(line) or not blocks:
+            pending.append(line)
+        else:
+            # A note or source excerpt: it belongs, with any context before
+            # it, to the diagnostic it explains.
+            blocks[-1][1].extend(pending + [line])
+            pending = []
+    if pending:
+        blocks.append(("error", pending))
+    return blocks
+
+
+def _trim(lines: list[str]) -> str:
+    if len(lines) > MAX_LOG_LINES:
+        lines = lines[:MAX_LOG_LINES] + [f"... ({len(lines) - MAX_LOG_LINES} more lines)"]
+    text = "\n".join(lines)
+    if len(text) > MAX_LOG_CHARS:
+        text = text[:MAX_LOG_CHARS] + "\n... (trimmed)"
+    return text
+
+
+def describe(result, output: str, timeout_s: float) -> None:
+    """Fill log, errors and warnings from the cached compiler output. The
+    log's first line is the headline: a friendly sentence when one applies,
+    else the first error with its file and line."""
+    name = result.source_name
+    # The student's file, wherever it was in the submission, was compiled as SOURCE_NAME.
+    output = re.sub(rf"(?<![\w/.]){re.escape(SOURCE_NAME)}(?=:)", name, output)
+    for line in output.splitlines():
+        match = _DIAGNOSTIC.match(line)
+        if match and match.group("kind") in ("error", "fatal error", "warning"):
+            entry = {"file": match.group("file"), "line": int(match.group("line")),
+                     "message": match.group("message")}
+            (result.warnings if match.group("kind") == "warning" else result.errors).append(entry)
+    sentences = [s.replace(SOURCE_NAME, name, 1) for s in _friendly(output)]
+    if result.timed_out:
+        sentences.insert(0, f"The build took longer than {timeout_s:g} s and was stopped.")
+    if not result.ok:
+        if not sentences and not result.errors:
+            sentences = ["The build failed; the compiler's messages follow."]
+        result.errors[:0] = [{"file": name, "line": None, "message": s} for s in sentences]
+        if not sentences:
+            first = result.errors[0]
+            sentences = [f"{first['file']}:{first['line']}: error: {first['message']}"]
+    blocks = _blocks(output)
+    ordered = [l for kind, lines in blocks if kind == "error" for l in lines] + \
+              [l for kind, lines in blocks if kind == "warning" for l in lines]
+    result.log = _trim(sentences + ([""] if sentences and ordered else []) + ordered)
