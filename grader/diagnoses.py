@@ -228,6 +228,71 @@ _ENTRIES = [
         "must give 0 or 1) and compare them with the (u, v) table in README.md.",
     ),
     DiagnosisInfo(
+        "uv-range", "mapping",
+        "(u, v) are not mapped to [0, 1]",
+        "Your code reads the right face and the right direction of u and v, "
+        "but does not turn the face-plane coordinate s = component / m (which "
+        "runs from -1 to 1) into u = (1 + s) / 2: it uses s itself, 1 + s or "
+        "s / 2, so half the face is never read and the rest is stretched.",
+        "Use u = (1 + s) / 2 and v = (1 + t) / 2 with the signs of the (u, v) "
+        "table in README.md; the face's centre must give (0.5, 0.5).",
+    ),
+    DiagnosisInfo(
+        "tie-untouched-face", "mapping",
+        "A direction on an edge or corner samples a face it does not touch",
+        "When two or three components tie as the largest in magnitude, the "
+        "direction lies on an edge or corner of the cube and every face it "
+        "touches is a correct answer. Your face choice sends such directions "
+        "to a face they do not touch, usually because every test uses a "
+        "strict > : a tie fails them all and falls through to the last branch.",
+        "Compare with >= (for example `ax >= ay && ax >= az`), so that a tie "
+        "picks one of the tied axes. The details name a direction to try.",
+    ),
+    DiagnosisInfo(
+        "float-precision", "mapping",
+        "Tiny or huge directions lose their precision in float",
+        "The components go through float somewhere (`float x = direction.x`, "
+        "or a helper with float parameters). float cannot hold magnitudes "
+        "below about 1e-38 exactly (they lose digits, then become 0, giving "
+        "0/0) or above 3.4e38 at all (they become infinite), so such "
+        "directions give another colour than the same direction at length 1.",
+        "Keep the components in double until you have divided them by m, "
+        "the largest magnitude: the ratios are then between -1 and 1 and "
+        "safe in float.",
+    ),
+    DiagnosisInfo(
+        "length-overflow", "mapping",
+        "Huge or tiny directions overflow when squared",
+        "Your code squares the components (to normalise the direction, or to "
+        "compare lengths): x*x + y*y + z*z overflows to infinity above "
+        "|d| = 1.3e154 and underflows to 0 below about 1e-162, and dividing "
+        "by infinity or 0 gives black or NaN. The cube map needs no length: "
+        "only the ratios to the largest component matter.",
+        "Divide by m, the largest |component|, instead of the length; if you "
+        "must normalise, divide by m first and square afterwards.",
+    ),
+    DiagnosisInfo(
+        "face-not-analysed", "mapping",
+        "The analysis of one face stopped at a crash",
+        "The grader could not find out what fetchColor does toward this face, "
+        "because your code crashed on the directions it needed. The face is "
+        "listed so that it is not mistaken for a correct one; the details "
+        "name the input that crashed.",
+        "Fix the crash first (see the crash diagnosis); the next submission's "
+        "report will then say what happens on this face.",
+    ),
+    DiagnosisInfo(
+        "fetch-not-analysed", "mapping",
+        "fetchColor could not be analysed through your readTexture",
+        "The grader finds out where fetchColor samples by reading back what "
+        "your readTexture returns from textures that encode their positions. "
+        "Your readTexture returns the same colour everywhere, or follows no "
+        "pattern the grader can model, so its answers do not say which face "
+        "and (u, v) fetchColor asked for. Nothing is concluded about fetchColor.",
+        "Fix readTexture first (see its check); fetchColor is analysed again "
+        "on the next submission.",
+    ),
+    DiagnosisInfo(
         "discontinuous-seam", "mapping",
         "Colours jump where two faces meet",
         "Moving a direction across the edge between two faces changes the "
@@ -295,6 +360,79 @@ _ENTRIES = [
         "Follow equations (1)-(3) exactly: alpha is the fractional part of "
         "`u*W` and weighs c10 and c11 (the texels to the right); beta is the "
         "fractional part of `v*H` and weighs c1 (the row above).",
+    ),
+    DiagnosisInfo(
+        "texel-offset", "filtering",
+        "readTexture reads a whole texel off",
+        "The lattice position is shifted by a whole texel, for example "
+        "p = (uW - 1, vH - 1): every colour comes from one texel to the left "
+        "and below (or right and above) of where the handout reads, and the "
+        "picture is shifted by one texel on every face.",
+        "Use p = (uW, vH) with no offset; texel (x, y) sits on the lattice "
+        "point (x, y).",
+    ),
+    DiagnosisInfo(
+        "truncation-of-negatives", "filtering",
+        "(int) truncates negative positions toward zero",
+        "Your p can be negative (it is shifted before rounding), and (int)p "
+        "rounds toward zero, so for p between -1 and 0 it gives 0 instead of "
+        "-1. The weight alpha = p - x0 then goes negative and the lookup "
+        "extrapolates beyond the edge texel.",
+        "Use floor(p) to find the lattice point below p, or (better) do not "
+        "shift p: with p = (uW, vH) it is never negative.",
+    ),
+    DiagnosisInfo(
+        "unclamped-edge", "filtering",
+        "readTexture's lattice points are not clamped to the face",
+        "At the edges of a face your lookup uses x = W, x = -1, y = H or "
+        "y = -1: it reads the first texel of the next row, the texel before "
+        "the face, or memory past the face (which crashes). This is what the "
+        "handout warns about.",
+        "Clamp x0 and x1 to [0, W-1] and y0 and y1 to [0, H-1] after "
+        "computing them (u = 1 gives x0 = W, and x1 = x0 + 1 is W whenever "
+        "x0 = W - 1).",
+    ),
+    DiagnosisInfo(
+        "wrapped-edge", "filtering",
+        "readTexture wraps around the face instead of clamping",
+        "At an edge your lookup reads the texel on the opposite side of the "
+        "same face (x = W becomes x = 0, with % W or a repeat mode). A cube "
+        "face does not repeat: its neighbour across the edge is another face.",
+        "Clamp the lattice points to [0, W-1] and [0, H-1] instead of taking "
+        "them modulo the size.",
+    ),
+    DiagnosisInfo(
+        "scaled-by-size-plus-one", "filtering",
+        "readTexture uses p = (u(W+1), v(H+1))",
+        "The lattice position is scaled by W + 1 instead of W, so the lookup "
+        "drifts by up to a texel toward the far edge of each face.",
+        "Use p = (uW, vH) as in the handout.",
+    ),
+    DiagnosisInfo(
+        "constant-weights", "filtering",
+        "readTexture's weights do not follow the position",
+        "Your lookup blends the four texels with the same weights wherever p "
+        "is (for example alpha = beta = 0.5), so the colour jumps at every "
+        "texel boundary instead of changing smoothly.",
+        "alpha and beta are the fractional parts of p: alpha = px - x0 and "
+        "beta = py - y0, computed in double (an int alpha is always 0).",
+    ),
+    DiagnosisInfo(
+        "rows-flipped", "filtering",
+        "readTexture reads the rows top-down",
+        "Your lookup reads row H-1-y (or uses 1 - v) where the handout's "
+        "buffer has y = 0 as the bottom row (v = 0). Every face is upside "
+        "down, whatever fetchColor does.",
+        "Index the texel at addr[3 * (y * W + x)] with y = 0 the bottom row, "
+        "as README.md describes the buffer.",
+    ),
+    DiagnosisInfo(
+        "columns-flipped", "filtering",
+        "readTexture reads the columns right to left",
+        "Your lookup reads column W-1-x (or uses 1 - u) where the handout's "
+        "buffer has x = 0 as the left column (u = 0). Every face is mirrored, "
+        "whatever fetchColor does.",
+        "Index the texel at addr[3 * (y * W + x)] with x = 0 the left column.",
     ),
     # ---- renders ----------------------------------------------------------
     DiagnosisInfo(
