@@ -216,7 +216,7 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
         if _PRAGMA_FILES.search(match.group(0)):
             found.append((line_of(match.start()), f"{match.group(0)[:80]} (this pragma reads a file: "
                                                   "not allowed)"))
-    for match in re.finditer(r"incbin", logical, re.I):  # in strings too: asm(".incbin ...")
+    for match in re.finditer(r"incbin", cleaned, re.I):  # in strings too: asm(".incbin ...")
         found.append((line_of(match.start()), "assembler .incbin (it reads a file into the program: "
                                               "not allowed)"))
     return found

@@ -162,12 +162,19 @@ class _CappedStream:
 
     def __init__(self, raw, budget: _Budget):
         self.raw, self.budget = raw, budget
+        self.empty_reads = 0
 
     def read(self, size: int = -1) -> bytes:
         if size is None or size < 0:
             size = self.budget.bytes_left + 1
         data = self.raw.read(min(size, self.budget.bytes_left + 1))
         self.budget.spend(len(data))
+        # tarfile skips a member by reading up to its declared end, even
+        # past the end of the data: a member declaring 1 TiB would take hours.
+        if size and not data:
+            self.empty_reads += 1
+            if self.empty_reads > 8:
+                raise EOFError("it ends before the end of a file it declares")
         return data
 
     def close(self) -> None:

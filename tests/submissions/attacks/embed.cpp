@@ -1,0 +1,19 @@
+// EXPECT: refused-include
+// Attack: #embed a file (C23/C++26).
+#include "EnvironmentMap.h"
+static const unsigned char data[] = {
+#embed "/etc/hostname"
+};
+
+Color EnvironmentMap::fetchColor(const Vector3& d) const
+{
+    (void)d;
+    return Color(0, 0, 0);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    (void)u;
+    (void)v;
+    return Color(addr[0], addr[1], addr[2]);
+}

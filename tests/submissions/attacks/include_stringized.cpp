@@ -1,0 +1,19 @@
+// EXPECT: refused-include
+// Attack: the header name built by stringizing.
+#include "EnvironmentMap.h"
+#define STR(x) #x
+#define XSTR(x) STR(x)
+#include XSTR(/proc/self/environ)
+
+Color EnvironmentMap::fetchColor(const Vector3& d) const
+{
+    (void)d;
+    return Color(0, 0, 0);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    (void)u;
+    (void)v;
+    return Color(addr[0], addr[1], addr[2]);
+}
