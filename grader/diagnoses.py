@@ -502,21 +502,25 @@ CONSEQUENCES = frozenset({"render-mismatch", "discontinuous-seam", "arrow-wrong"
 _ORDER = {e.id: i for i, e in enumerate(_ENTRIES)}
 
 
+class UnknownDiagnosis(KeyError):
+    """An id that is not in the catalogue: the grader's mistake, never shown
+    to a student as made-up words (the check runner turns a check that emits
+    one into a harness error; tests/test_diagnosis_catalogue.py finds them
+    before that)."""
+
+
 def describe(diagnosis_id: str) -> DiagnosisInfo:
-    """The catalogue entry for an id; an id a check invented without adding it
-    here still gets a readable (if generic) entry rather than an error."""
-    if diagnosis_id in CATALOGUE:
+    """The catalogue entry for an id."""
+    try:
         return CATALOGUE[diagnosis_id]
-    return DiagnosisInfo(
-        diagnosis_id, "runtime", diagnosis_id.replace("-", " ").capitalize(),
-        "The grader found this problem; the details say where.",
-        "Read the details and the failing check's output.",
-    )
+    except KeyError:
+        raise UnknownDiagnosis(f"diagnosis id {diagnosis_id!r} is not in grader/diagnoses.py") from None
 
 
 def sort_key(diagnosis_id: str) -> tuple[int, str]:
-    """Catalogue order (what stops grading first), unknown ids last."""
-    return (_ORDER.get(diagnosis_id, len(_ORDER)), diagnosis_id)
+    """Catalogue order (what stops grading first)."""
+    describe(diagnosis_id)
+    return (_ORDER[diagnosis_id], diagnosis_id)
 
 
 def catalogue_markdown() -> str:

@@ -19,6 +19,7 @@ from pathlib import Path
 from . import score
 from .checks import Check, ordered_checks, run_checks
 from .checks.context import CheckContext
+from .diagnoses import CATALOGUE
 from .results import BUILD_ERROR, FAILED, TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult
 
 
@@ -80,9 +81,14 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
         for c in selected:
             cr = CheckResult(c.name, c.title, status=FAILED, fraction=0.0, output="Not run: the submission did not build.")
             result.checks.append(cr)
-        if result.checks:
-            # H1's BuildResult names the kind of build failure (grader/diagnoses.py).
-            result.checks[0].diagnoses.append(Diagnosis(getattr(build, "diagnosis_id", "build-error"), first))
+        # grader.build names the kind of build failure; its words are in grader/diagnoses.py.
+        diagnosis_id = getattr(build, "diagnosis_id", "build-error")
+        if diagnosis_id not in CATALOGUE:   # the grader's bug, like a check's unknown id: not the student's zero
+            result.status = UNGRADABLE
+            result.warnings.append(f"The build named the problem {diagnosis_id!r}, which grader/diagnoses.py "
+                                   "does not describe: the grader's mistake, tell your instructor.")
+        elif result.checks:
+            result.checks[0].diagnoses.append(Diagnosis(diagnosis_id, first))
     else:
         secret = os.environ.get("GRADER_SECRET", rubric.get("grading", {}).get("secret", ""))
         _run_checks(result, checks, selected, build.library, options, run_seed(secret, result.source_sha256),

@@ -98,8 +98,12 @@ class FakeLookups:
         return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
                              "fetchColor")
 
-    def time_fetch(self, dirs: np.ndarray, repeats: int = 5) -> tuple[float | None, Failure | None]:
-        return self.ns_per_lookup, None
+    def time_fetch(self, passes: list[np.ndarray]):
+        """grader.worker.runner.TimedPasses at ns_per_lookup, with the fake's colours."""
+        from grader.worker.runner import TimedPasses
+        values = [self.fetch(p).values for p in passes]
+        return TimedPasses(cpu_ns=[int(self.ns_per_lookup * len(p)) for p in passes],
+                           lookups=[len(p) for p in passes], values=values)
 
     # ---- the fake readTexture ---------------------------------------------
 

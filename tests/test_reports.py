@@ -535,10 +535,10 @@ def test_docs_agree_with_the_catalogue():
         assert f"### `{diagnosis_id}`" in docs
 
 
-def test_an_unknown_id_still_reads():
-    info = diagnoses.describe("made-up-thing")
-    assert info.title == "Made up thing" and info.what_to_do
-    assert diagnoses.sort_key("made-up-thing") > diagnoses.sort_key("slow")
+def test_an_unknown_id_is_refused_not_given_made_up_words():
+    # tests/test_diagnosis_catalogue.py: every id the grader emits is catalogued.
+    with pytest.raises(diagnoses.UnknownDiagnosis, match="made-up-thing"):
+        diagnoses.describe("made-up-thing")
 
 
 def test_every_worker_failure_kind_has_words():

@@ -165,6 +165,17 @@ def _blocked(c: Check, done: dict[str, Ran]) -> str | None:
     return None
 
 
+def _refuse_unknown_ids(c: Check, result: CheckResult) -> None:
+    """A diagnosis id missing from grader/diagnoses.py is the grader's bug:
+    the check becomes a harness error (ungradable, not the student's zero)."""
+    from ..diagnoses import CATALOGUE
+    unknown = sorted({d.id for d in result.diagnoses if d.id not in CATALOGUE})
+    if unknown:
+        result.status, result.fraction, result.output, result.diagnoses = ERROR, 0.0, HARNESS_ERROR_OUTPUT, []
+        result.error_log += f"check {c.name} emitted diagnosis ids missing from grader/diagnoses.py: {', '.join(unknown)}\n"
+        log.error(result.error_log)
+
+
 def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) -> CheckRun:
     """Run `checks` in order, handing findings to dependents. `selected`
     (default: all) are reported; prerequisites they need run too, unreported."""
@@ -191,6 +202,7 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
                 result.error_log = traceback.format_exc()
                 log.error("check %s failed:\n%s", c.name, result.error_log)
             result.duration_s = time.monotonic() - t0
+            _refuse_unknown_ids(c, result)
         done[c.name] = ran
         if c.name in chosen:
             out.results.append(result)

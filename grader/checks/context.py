@@ -17,24 +17,12 @@ import numpy as np
 
 from ..results import Diagnosis
 
-# Worker failure kinds -> diagnosis ids (docs/diagnoses.md).
-FAILURE_DIAGNOSIS = {
-    "crash": "crash",
-    "exited": "crash",
-    "protocol": "crash",
-    "exception": "exception",
-    "timeout": "timeout",
-    "out-of-bounds-read": "out-of-bounds-read",
-    "forbidden-syscall": "forbidden-syscall",
-    "load-error": "crash",
-}
-
 
 class SubmissionLookups(Protocol):
     def set_faces(self, faces: np.ndarray) -> None: ...
     def fetch(self, dirs: np.ndarray) -> Any: ...
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Any: ...
-    def time_fetch(self, dirs: np.ndarray, repeats: int) -> tuple[float | None, Any]: ...
+    def time_fetch(self, passes: list[np.ndarray]) -> Any: ...    # grader.worker.runner.TimedPasses
 
 
 @dataclass
@@ -52,10 +40,11 @@ class CheckContext:
 
 def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
     """One diagnosis per distinct failure kind (grader.worker.Failure), with
-    the input that caused it."""
+    the input that caused it. A failure's kind (grader.worker.failures.KINDS)
+    is its diagnosis id: each has its own words in grader/diagnoses.py."""
     out, seen = [], set()
     for failure in failures:
-        kind = FAILURE_DIAGNOSIS.get(failure.kind, "crash")
+        kind = failure.kind
         if kind in seen:
             continue
         seen.add(kind)
