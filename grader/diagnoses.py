@@ -44,6 +44,75 @@ _ENTRIES = [
         "the visible checks too) before you submit.",
     ),
     DiagnosisInfo(
+        "no-source", "build",
+        "No EnvironmentMap.cpp in your submission",
+        "The grader grades one file, EnvironmentMap.cpp, and could not find it "
+        "in what you submitted. The message lists what your submission holds.",
+        "Submit EnvironmentMap.cpp itself, or a folder, .zip, .tar or .tar.gz "
+        "that holds it (under that name).",
+    ),
+    DiagnosisInfo(
+        "empty-submission", "build",
+        "Your submission is empty",
+        "The file, folder or archive you submitted holds nothing to grade (or "
+        "EnvironmentMap.cpp in it is empty).",
+        "Check that you uploaded the right file, and that it was saved before "
+        "you uploaded it.",
+    ),
+    DiagnosisInfo(
+        "unknown-format", "build",
+        "The grader cannot read what you submitted",
+        "What you submitted is neither a C++ source file nor an archive the "
+        "grader reads (.zip, .tar, .tar.gz), for example a .rar or .7z "
+        "archive, a compiled program, or a source saved as UTF-16. The grader "
+        "tells formats apart by their contents, not their names.",
+        "Submit EnvironmentMap.cpp saved as plain (UTF-8) text, or a .zip, "
+        ".tar or .tar.gz made with your system's ordinary tools.",
+    ),
+    DiagnosisInfo(
+        "unreadable-archive", "build",
+        "Your archive could not be read",
+        "The archive is damaged, incomplete, password-protected, uses a "
+        "compression method the grader does not read (such as Deflate64), or "
+        "is far larger than a submission needs once unpacked.",
+        "Make the archive again with your system's ordinary zip or tar, without "
+        "a password, check that it opens, and submit it again. Submitting "
+        "EnvironmentMap.cpp alone always works.",
+    ),
+    DiagnosisInfo(
+        "refused-include", "build",
+        "Your code includes a file it may not",
+        "A submission may include only the C++ standard library and the "
+        "template's headers (EnvironmentMap.h, Vector3.h, Color.h), by name. "
+        "Including by path (from /, with '..', from /dev or /proc), through a "
+        "macro, or reading files with #embed, .incbin or file pragmas is "
+        "refused before anything is compiled. The message names the line.",
+        "Include headers plainly, as in #include <cmath> or #include "
+        "\"EnvironmentMap.h\", and put everything else you need in "
+        "EnvironmentMap.cpp itself.",
+    ),
+    DiagnosisInfo(
+        "calls-reference", "build",
+        "Your code calls the grader's reference solution",
+        "Your code calls functions of the grader's reference solution (em_*). "
+        "They are not part of your program: the grader builds your file with "
+        "the template's headers and its own loader only, so the answer cannot "
+        "come from there. The message names the functions.",
+        "Compute fetchColor and readTexture with your own code; remove the "
+        "declarations and calls of em_* functions.",
+    ),
+    DiagnosisInfo(
+        "forbidden-object", "build",
+        "Your compiled code holds something a submission may not",
+        "The object file compiled from your code uses a function that is "
+        "neither in the C/C++ standard library nor in EnvironmentMap.h, or "
+        "holds sections or assembler directives an ordinary C++ file does not "
+        "make (link-time-optimisation data, file-reading .incbin, assembler "
+        "macros). The message says which.",
+        "Write plain C++ using the standard library. Define every helper in "
+        "your own file, and remove inline assembly and section attributes.",
+    ),
+    DiagnosisInfo(
         "load-error", "build",
         "Your compiled code could not be loaded",
         "The code compiled, but the library built from it could not be "
