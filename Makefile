@@ -13,7 +13,7 @@ CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
 REF_SRC := $(sort $(wildcard reference/src/*.c))
 REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
-.PHONY: all reference venv test test-fast sanitize fuzz selfcheck grade grade-all fixtures bundle gradescope bench study clean system-deps core-deps
+.PHONY: all reference venv test test-fast sanitize fuzz selfcheck grade grade-all fixtures student-kit bundle gradescope bench study clean system-deps core-deps
 
 all: reference
 
@@ -63,8 +63,13 @@ test-fast: system-deps venv reference
 fixtures: venv reference
 	$(PY) -m grader fixtures
 
-bundle: core-deps venv
-	$(PY) -m grader bundle
+# The student release: build/student-kit/ and build/student-kit.zip (the
+# template, the renderer without the lookup, the self-check and its data).
+student-kit: core-deps venv reference
+	@bash scripts/install-system-deps.sh kit
+	$(PY) -m grader kit --out build/student-kit
+
+bundle: student-kit
 
 # `make grade` grades the examples in examples/; `make grade SUBMISSION=path
 # [OUT=dir]` grades one submission (reports in out/<submission name>/).
@@ -81,8 +86,8 @@ gradescope: core-deps venv reference
 	$(PY) -m grader gradescope
 
 # What a student's `make selfcheck` shows, for the template's EnvironmentMap.cpp.
-selfcheck: core-deps venv reference
-	$(MAKE) -C student_template selfcheck GRADER_HOME="$(CURDIR)"
+selfcheck: student-kit
+	$(MAKE) -C build/student-kit selfcheck
 
 # Grading speed: one submission cold and warm, and a class of 100 (JOBS=2).
 bench: core-deps venv reference

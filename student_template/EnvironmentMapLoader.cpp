@@ -1,6 +1,6 @@
 // EnvironmentMapLoader.cpp - the provided parts of EnvironmentMap: reading a
 // vertical-cross .hdr into faces. You do not need to change this file; the
-// reading itself is the reference library's (reference/src), so the grader
+// reading itself is the provided renderer's (renderer/src), so the grader
 // and this program read maps the same way.
 #include "EnvironmentMap.h"
 
