@@ -89,6 +89,9 @@ API_HEADERS = ("EnvironmentMap.h", "Vector3.h", "Color.h")
 # cross); the lookup, renderer and scene parser are never linked.
 LOADER_REFERENCE_SOURCES = ("cross.c", "error.c", "rgbe.c")
 NOBODY_UID = NOBODY_GID = 65534
+# Every BuildResult.diagnosis_id a build can give (grader/diagnoses.py has each).
+DIAGNOSIS_IDS = ("build-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive",
+                 "refused-include", "calls-reference", "forbidden-object")
 
 # Re-exported for older callers.
 select_source = functools.partial(_select_source, template=TEMPLATE)

@@ -410,3 +410,15 @@ def test_refusals_are_plain_text_naming_the_upload(cache, tmp_path):
     path.write_bytes(b"Rar!\x1a\x07\x00" + b"x" * 100)
     result = build_submission(path, cache_dir=cache)
     assert result.diagnosis_id == "unknown-format" and name in result.log
+
+
+def test_every_build_diagnosis_is_declared_and_catalogued():
+    import re
+    from grader.diagnoses import CATALOGUE
+    used = set()
+    for module in ("build.py", "submissions.py"):
+        text = (PROJECT_ROOT / "grader" / module).read_text()
+        used |= set(re.findall(r'(?:SubmissionError|_refusal)\(\s*"([a-z-]+)"', text))
+        used |= set(re.findall(r'return "([a-z-]+)", ', text))
+    assert used and used <= set(build.DIAGNOSIS_IDS)
+    assert all(i in CATALOGUE and CATALOGUE[i].kind == "build" for i in build.DIAGNOSIS_IDS)
