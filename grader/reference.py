@@ -22,8 +22,6 @@ from . import PROJECT_ROOT
 HEADER = PROJECT_ROOT / "reference" / "include" / "envmap.h"
 LIBRARY = Path(os.environ.get("ENVMAP_LIBRARY", PROJECT_ROOT / "build" / "libenvmap.so"))
 
-FACE_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
-FILTERS = {"nearest": 0, "bilinear": 1, "seamless": 2}
 
 
 class EnvmapError(Exception):
@@ -42,6 +40,27 @@ def _cdef_source(header: Path) -> str:
     text = re.sub(r"//[^\n]*", "", text)
     return "\n".join(line for line in text.splitlines() if not line.lstrip().startswith("#"))
 
+
+def _declarations() -> FFI:
+    """envmap.h parsed by cffi (no library needed): the enums below come from it."""
+    ffi = FFI()
+    ffi.cdef(_cdef_source(HEADER))
+    return ffi
+
+
+def _enum(ffi: FFI, ctype: str, prefix: str) -> dict[str, int]:
+    """An enum's non-negative members by their C name without `prefix`, in value order."""
+    members = ffi.typeof(ctype).relements
+    return {name[len(prefix):]: value for name, value in sorted(members.items(), key=lambda kv: kv[1])
+            if name.startswith(prefix) and value >= 0}
+
+
+_ffi_decl = _declarations()
+# "nearest" -> EM_FILTER_NEAREST, ...: the header's enum, not a copy of it.
+FILTERS = {name.lower(): value for name, value in _enum(_ffi_decl, "em_filter", "EM_FILTER_").items()}
+# +X -X +Y -Y +Z -Z, in em_face order (EM_FACE_POS_X = 0, ...).
+FACE_NAMES = tuple(("+" if name.startswith("POS") else "-") + name[-1]
+                   for name in _enum(_ffi_decl, "em_face", "EM_FACE_"))
 
 _lock = threading.Lock()
 _ffi: FFI | None = None
@@ -63,10 +82,8 @@ def library():
     global _ffi, _lib
     with _lock:
         if _lib is None:
-            ffi = FFI()
-            ffi.cdef(_cdef_source(HEADER))
-            _lib = ffi.dlopen(str(ensure_built()))
-            _ffi = ffi
+            _lib = _ffi_decl.dlopen(str(ensure_built()))
+            _ffi = _ffi_decl
     return _ffi, _lib
 
 

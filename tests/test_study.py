@@ -9,7 +9,7 @@ import pytest
 from grader.reference import CubeMap, direction_to_face
 from grader.study import chart, failure_map
 from grader.study.bake import bake, bake_error
-from grader.study.geometry import texel_centres
+from grader.geometry import face_uv_to_direction, texel_centre_uv
 from grader.study.ground_truth import DEFAULT_ENVIRONMENT, SMOOTH_ENVIRONMENT
 from grader.study.methods import numpy_bilinear
 
@@ -17,6 +17,12 @@ from grader.study.methods import numpy_bilinear
 @pytest.fixture(scope="module")
 def cache(tmp_path_factory):
     return tmp_path_factory.mktemp("study-cache")
+
+
+def texel_centres(size: int) -> np.ndarray:
+    """Unit directions (6, N, N, 3) float64 through texel centres, [face, y, x]."""
+    u, v = texel_centre_uv(size, size)
+    return np.stack([face_uv_to_direction(f, u, v) for f in range(6)])
 
 
 def test_bake_converges_to_the_smooth_environment_at_second_order(cache):

@@ -1,16 +1,13 @@
-"""Directions through cube-map texels, and texel averages weighted by solid angle.
+"""Texel averages weighted by solid angle, for the map generators.
 
-The face parameterisation is ASSIGNMENT.md's (u, v) table ("Conventions"),
-inverted: with a = 2u - 1 and b = 2v - 1 the point (u, v) of a face is the
-direction below (not normalised; the major component is +-1).
+Directions, (u, v) and solid angles are grader/geometry.py's (the face table
+of ASSIGNMENT.md, read off the reference library): with a = 2u - 1 and
+b = 2v - 1 the point (u, v) of a face is the direction below (major
+component +-1), as tests/test_cubemap.py checks against the handout.
 
     +X: ( 1,  b,  a)    -X: (-1,  b, -a)
     +Y: ( a,  1,  b)    -Y: ( a, -1, -b)
     +Z: ( a, -b,  1)    -Z: ( a,  b, -1)
-
-Texel (x, y) of a W x H face has its centre at u = (x + 0.5) / W,
-v = (y + 0.5) / H, y = 0 the bottom row; cube maps are (6, H, W, 3) float32
-indexed [face, y, x, channel], faces +X -X +Y -Y +Z -Z (ARCHITECTURE.md).
 """
 from __future__ import annotations
 
@@ -18,65 +15,10 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-FACE_NAMES = ("+X", "-X", "+Y", "-Y", "+Z", "-Z")
-
-# Per face: (axis index, sign) of the direction's x, y, z components as
-# functions of (a, b, 1): component c = sign * [a, b, 1][axis].
-_FACE_COMPONENTS = (
-    ((2, +1), (1, +1), (0, +1)),   # +X: ( 1,  b,  a)
-    ((2, -1), (1, +1), (0, -1)),   # -X: (-1,  b, -a)
-    ((0, +1), (2, +1), (1, +1)),   # +Y: ( a,  1,  b)
-    ((0, +1), (2, -1), (1, -1)),   # -Y: ( a, -1, -b)
-    ((0, +1), (1, -1), (2, +1)),   # +Z: ( a, -b,  1)
-    ((0, +1), (1, +1), (2, -1)),   # -Z: ( a,  b, -1)
-)
-
-
-def face_uv_to_direction(face: int, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Unit directions (..., 3) float64 of points (u, v) on one face."""
-    a = 2.0 * np.asarray(u, np.float64) - 1.0
-    b = 2.0 * np.asarray(v, np.float64) - 1.0
-    abc = (a, b, np.ones_like(a))
-    d = np.stack([sign * abc[axis] for axis, sign in _FACE_COMPONENTS[face]], axis=-1)
-    return d / np.linalg.norm(d, axis=-1, keepdims=True)
-
-
-def texel_centre_uv(width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
-    """(u, v) of every texel centre, each (H, W), row 0 the bottom row."""
-    u = (np.arange(width) + 0.5) / width
-    v = (np.arange(height) + 0.5) / height
-    return np.meshgrid(u, v)
-
-
-def texel_directions(width: int, height: int | None = None) -> np.ndarray:
-    """Unit direction through every texel centre: (6, H, W, 3) float32."""
-    height = width if height is None else height
-    u, v = texel_centre_uv(width, height)
-    return np.stack([face_uv_to_direction(f, u, v) for f in range(6)]).astype(np.float32)
-
-
-def solid_angle_density(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """d(omega) / (du dv) on a face: 4 / (1 + a^2 + b^2)^(3/2), a = 2u-1, b = 2v-1.
-
-    The face is the square [-1, 1]^2 at distance 1 from the centre, and
-    (a, b) = (2u - 1, 2v - 1) scales areas by 4.
-    """
-    a = 2.0 * u - 1.0
-    b = 2.0 * v - 1.0
-    return 4.0 / (1.0 + a * a + b * b) ** 1.5
-
-
-def texel_solid_angles(width: int, height: int | None = None) -> np.ndarray:
-    """Exact solid angle of every texel of one face, (H, W) float64 (the same on all faces).
-
-    The solid angle of the face rectangle from (0, 0) to (a, b) is
-    atan(a b / sqrt(1 + a^2 + b^2)); texels are differences of corners.
-    """
-    height = width if height is None else height
-    a = np.linspace(-1.0, 1.0, width + 1)[None, :]
-    b = np.linspace(-1.0, 1.0, height + 1)[:, None]
-    corner = np.arctan2(a * b, np.sqrt(1.0 + a * a + b * b))
-    return corner[1:, 1:] - corner[1:, :-1] - corner[:-1, 1:] + corner[:-1, :-1]
+# The geometry lives in grader/geometry.py (on the reference library); these
+# names are re-exported for the map generators and figures.
+from ..geometry import (FACE_NAMES, face_uv_to_direction, solid_angle_density, texel_centre_uv,  # noqa: F401
+                        texel_directions, texel_solid_angles)
 
 
 DirectionFunction = Callable[[np.ndarray], np.ndarray]

@@ -9,8 +9,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-WALL_NAMES = ("+x wall", "-x wall", "ceiling", "floor", "+z wall", "-z wall")
-
 
 @dataclass(frozen=True)
 class Room:

@@ -1,7 +1,6 @@
 """The study: what each cube-map lookup method costs in time and gets wrong.
 
     ground_truth   an analytic environment with exact radiance per direction
-    geometry       directions <-> (face, u, v), in numpy, per ASSIGNMENT.md
     bake           the environment averaged over each texel's solid angle
     methods        the lookups compared (reference C, numpy, OpenImageIO, a submission)
     accuracy       direction sets and error statistics against the ground truth
@@ -10,6 +9,8 @@
     chart          error against time per lookup, the Pareto front, extra points
     run            the whole study: rows for the CSV and the chart
 
+Directions <-> (face, u, v) and solid angles come from grader/geometry.py
+(on the reference library), like everywhere else.
 `python -m grader study` (grader/commands/study.py) runs it; docs/study.md
 reads the result.
 """

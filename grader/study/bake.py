@@ -2,7 +2,8 @@
 averaged over the texel's solid angle (not a point sample at its centre).
 
 On a face plane at distance 1 the solid angle is dOmega = J(a, b) da db with
-J = 1 / (1 + a^2 + b^2)^(3/2) (geometry.solid_angle_jacobian), so a texel's
+J = 1 / (1 + a^2 + b^2)^(3/2) (grader.geometry.solid_angle_density, which is
+dOmega / (du dv) = 4 J), so a texel's
 value is  sum w_i J_i L_i / sum w_i J_i  over quadrature points in the texel.
 
 Texels where the radiance is smooth use Gauss-Legendre quadrature (4 x 4 by
@@ -22,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import PROJECT_ROOT
-from .geometry import face_plane_to_direction, normalize, solid_angle_jacobian
+from ..geometry import face_plane_to_direction, normalize, solid_angle_density
 from .ground_truth import AnalyticEnvironment
 
 CACHE_DIR = PROJECT_ROOT / "build" / "study"
@@ -44,7 +45,7 @@ def _texel_average(env: AnalyticEnvironment, face: int, x: np.ndarray, y: np.nda
         xs, ys = x[s:s + step, None], y[s:s + step, None]
         a = (xs + na.ravel()) / size * 2 - 1
         b = (ys + nb.ravel()) / size * 2 - 1
-        w = wab * solid_angle_jacobian(a, b)
+        w = wab * solid_angle_density((a + 1) / 2, (b + 1) / 2)     # the factor 4 cancels below
         radiance = env.radiance(face_plane_to_direction(np.full(a.shape, face), a, b))
         out[s:s + step] = np.einsum("tk,tkc->tc", w, radiance) / w.sum(axis=1)[:, None]
     return out

@@ -18,7 +18,7 @@ from typing import Callable
 
 import numpy as np
 
-from .geometry import FACE_NAMES
+from ..geometry import FACE_NAMES
 
 SIDE_OFFSET = 1e-9          # relative distance of the two sides from the edge
 SAMPLES_PER_TEXEL = 8       # points along each edge, per texel of its length
@@ -100,11 +100,6 @@ def corner_jump(cube, method="bilinear", offset: float = SIDE_OFFSET) -> dict[st
         rgb = lookup(dirs)
         out[name] = float(max(np.max(np.abs(rgb[a] - rgb[b])) for a, b in ((0, 1), (0, 2), (1, 2))))
     return out
-
-
-def seam_bound(cube, method="bilinear") -> float:
-    """The largest edge or corner jump of a method on this map."""
-    return max(max(seam_jump(cube, method).values()), max(corner_jump(cube, method).values()))
 
 
 def tie_behaviour(cube, method="bilinear") -> dict:

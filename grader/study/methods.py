@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from .geometry import direction_to_face_uv, face_plane_to_direction
+from ..geometry import direction_to_face_uv, face_plane_to_direction
 
 Lookup = Callable[[np.ndarray], np.ndarray]
 # Optional timer: (lookup, dirs, repeats) -> list of seconds per call of lookup(dirs).

@@ -9,7 +9,6 @@ order and shuffled.
 from __future__ import annotations
 
 import csv
-import platform
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -97,21 +96,6 @@ def run_study(config: StudyConfig, methods: list[Method], progress=None) -> list
     return rows
 
 
-def python_call_overhead_ns(count: int = 20000, repeats: int = 5) -> float:
-    """ns per iteration of a Python loop calling a trivial function with the
-    arguments oiio-latlong passes: the part of its time that is the binding,
-    not OpenImageIO."""
-    dirs = accuracy.uniform_directions(count).tolist()
-    zero = (0.0, 0.0, 0.0)
-
-    def noop(*args):
-        return (0.0, 0.0, 0.0)
-
-    def loop(_):
-        return np.array([noop("path", None, d, zero, zero, 3) for d in dirs])
-    return ns_per_lookup(time_batch_calls(loop, np.zeros((count, 3)), repeats), count)
-
-
 def write_csv(rows: list[dict], path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as f:
@@ -132,6 +116,3 @@ def read_csv(path: Path) -> list[dict]:
             row[key] = int(row[key]) if key in ("face_size", "timing_count") else float(row[key])
     return rows
 
-
-def machine_description() -> str:
-    return f"{platform.processor() or platform.machine()}, Python {platform.python_version()}, numpy {np.__version__}"
