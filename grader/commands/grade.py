@@ -43,7 +43,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
     p.add_argument("--sanitize", action="store_true", help="build with AddressSanitizer for exact memory-error reports")
     p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
-                   help="run student code with resource limits only (no bubblewrap)")
+                   help="do not use bubblewrap (privilege-drop mode as root; otherwise needs --unsafe-no-sandbox)")
+    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
+                   help="grade even where student code cannot be isolated (no bubblewrap, not root): the "
+                        "submission could then read the grader's environment and write its files")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--strict", action="store_true",
                    help="refuse (exit 3) when library or compiler versions differ from those that made fixtures/")
@@ -74,6 +77,7 @@ def visible_checks(rubric_path: Path) -> tuple[str, ...]:
 
 def run(args) -> int:
     from ..grade import GradeOptions, grade
+    from ..worker.sandbox import SandboxUnavailable
     from ..reports.terminal import print_summary
     from ..results import UNGRADABLE
     submissions = args.submissions or example_submissions()
@@ -87,9 +91,16 @@ def run(args) -> int:
         return 2
     student_view = args.student_view or args.visible_only
     options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale,
-                           quick=args.quick, include_hidden=not student_view)
+                           quick=args.quick, include_hidden=not student_view, allow_unsafe=args.allow_unsafe)
     if args.visible_only:
         options.only = visible_checks(options.rubric)
+    from ..worker.lookups import MODES
+    from ..worker.sandbox import resolve_mode
+    try:   # before anything is built: no isolation here is the instructor's to fix
+        resolve_mode(MODES[args.sandbox], args.allow_unsafe)
+    except SandboxUnavailable as e:
+        print(f"grade: {e}", file=sys.stderr)
+        return 3
     status, written = 0, []
     from ..fixtures import StaleFixtures
     from ..score import RubricError
@@ -99,7 +110,7 @@ def run(args) -> int:
                 from ..fixtures import check_environment
                 check_environment()
             result = grade(submission, out, options)
-        except (StaleFixtures, RubricError) as e:   # the instructor's to fix, before anything is graded
+        except (StaleFixtures, RubricError, SandboxUnavailable) as e:   # the instructor's to fix, before anything is graded
             print(f"grade: {e}", file=sys.stderr)
             return 3
         print_summary(result, report_paths={name: out / name for name in ("report.html", "report.md")},

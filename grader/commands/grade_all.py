@@ -29,7 +29,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--force", action="store_true", help="regrade everything, even what is unchanged")
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
     p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
-                   help="run student code with resource limits only (no bubblewrap)")
+                   help="do not use bubblewrap (privilege-drop mode as root; otherwise needs --unsafe-no-sandbox)")
+    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
+                   help="grade even where student code cannot be isolated (no bubblewrap, not root): a "
+                        "submission could then read the grader's environment and write its files")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
 
@@ -49,7 +52,15 @@ def run(args) -> int:
               "or .cpp per student)", file=sys.stderr)
         return 2
     out = args.out or PROJECT_ROOT / "out" / args.submissions.resolve().name
-    options = {"sandbox": args.sandbox, "quick": args.quick, "allow_stale": args.allow_stale}
+    from ..worker.lookups import MODES
+    from ..worker.sandbox import SandboxUnavailable, resolve_mode
+    try:   # before anything is graded: no isolation here is the instructor's to fix
+        resolve_mode(MODES[args.sandbox], args.allow_unsafe)
+    except SandboxUnavailable as e:
+        print(f"grade-all: {e}", file=sys.stderr)
+        return 3
+    options = {"sandbox": args.sandbox, "quick": args.quick, "allow_stale": args.allow_stale,
+               "allow_unsafe": args.allow_unsafe}
     try:
         rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force)
     except StaleFixtures as e:
