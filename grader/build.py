@@ -89,6 +89,8 @@ API_HEADERS = ("EnvironmentMap.h", "Vector3.h", "Color.h")
 # cross); the lookup, renderer and scene parser are never linked.
 LOADER_REFERENCE_SOURCES = ("cross.c", "error.c", "rgbe.c")
 NOBODY_UID = NOBODY_GID = 65534
+MAX_ASSEMBLY_BYTES = 64 << 20
+MAX_OUTPUT_FILE_BYTES = 256 << 20   # any file a compiler step writes (ulimit -f)
 # Every BuildResult.diagnosis_id a build can give (grader/diagnoses.py has each).
 DIAGNOSIS_IDS = ("build-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive",
                  "refused-include", "calls-reference", "forbidden-object")
@@ -351,7 +353,9 @@ def _limited(cmd: list[str], cpu_seconds: int) -> list[str]:
     """cmd under an address-space and a CPU-time limit. The limits are set by
     the shell's ulimit rather than setrlimit in a preexec_fn, which is unsafe
     when threads run (the common objects are compiled in parallel)."""
-    script = f'ulimit -v {MEMORY_LIMIT_BYTES >> 10} && ulimit -t {cpu_seconds} && exec "$@"'
+    # ulimit -f counts 512-byte blocks in dash (Debian's sh), 1 KiB in bash: at most 2x the cap.
+    script = (f'ulimit -v {MEMORY_LIMIT_BYTES >> 10} && ulimit -t {cpu_seconds} && '
+              f'ulimit -f {MAX_OUTPUT_FILE_BYTES >> 9} && exec "$@"')
     return ["/bin/sh", "-c", script, "sh", *cmd]
 
 
@@ -697,13 +701,13 @@ def _compile_and_link(source: bytes, common: Path, out_dir: Path, sanitize: bool
     cxxflags, _ = _flags(sanitize)
     scratch = _scratch(common, source, isolation)
     try:
-        return _build_in(scratch, out_dir, cxxflags, tuple(extra_flags), deadline, isolation)
+        return _build_in(scratch, common, out_dir, cxxflags, tuple(extra_flags), deadline, isolation)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
 
 
-def _build_in(scratch: Path, out_dir: Path, cxxflags: list[str], extra_flags: tuple[str, ...],
-              deadline: float, isolation: str) -> dict:
+def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str],
+              extra_flags: tuple[str, ...], deadline: float, isolation: str) -> dict:
     include = [f"-I{scratch / 'include'}"]
     outputs: list[str] = []
 
@@ -727,6 +731,7 @@ def _build_in(scratch: Path, out_dir: Path, cxxflags: list[str], extra_flags: tu
     if deps.timed_out:
         return failed(deps)
     listed = _take(scratch, "deps.txt", 1 << 20)
+    (scratch / "deps.txt").unlink(missing_ok=True)  # not there for the compile to #include
     if listed is not None:
         outside = _outside_files(_dependencies(listed.decode("utf-8", "surrogateescape")), scratch)
         if outside:
@@ -738,7 +743,11 @@ def _build_in(scratch: Path, out_dir: Path, cxxflags: list[str], extra_flags: tu
     done = step([CXX, *cxxflags, *extra_flags, *include, "-S", SOURCE_NAME, "-o", STUDENT_ASSEMBLY])
     if done.timed_out or done.returncode != 0:
         return failed(done)
-    assembly = _take(scratch, STUDENT_ASSEMBLY) or b""
+    assembly = _take(scratch, STUDENT_ASSEMBLY, MAX_ASSEMBLY_BYTES + 1) or b""
+    if len(assembly) > MAX_ASSEMBLY_BYTES:
+        return _refusal("forbidden-object", f"{SOURCE_NAME} compiles to more than "
+                                            f"{MAX_ASSEMBLY_BYTES >> 20} MiB of assembly: far more than "
+                                            "a lookup needs (a huge table?).")
     text = _ASSEMBLER_STRING.sub('""', assembly.decode("utf-8", "surrogateescape"))
     directive = _ASSEMBLER_FORBIDDEN.search(text)
     if directive:
@@ -754,7 +763,11 @@ def _build_in(scratch: Path, out_dir: Path, cxxflags: list[str], extra_flags: tu
     problem = inspect_object(_take(scratch, STUDENT_OBJECT) or b"", allowed)
     if problem:
         return _refusal(*problem)
-    # 4. Link with our objects only.
+    # 4. Link with our objects only, as we made them.
+    for name in COMMON_FILES:
+        if _take(scratch, name) != (common_dir / name).read_bytes():
+            return _refusal("forbidden-object", f"The build of {SOURCE_NAME} changed the grader's own "
+                                                f"files ({name}).")
     done = step([CXX, *cxxflags, "-shared", "-o", LIBRARY_NAME, STUDENT_OBJECT, "shim.o", "loader.o",
                  "libreference.a", *LINK_FLAGS, "-Wl,--version-script=exports.map", "-lm"])
     if done.timed_out or done.returncode != 0:
