@@ -1,0 +1,140 @@
+"""The speed check believes nothing inside the worker (issue 11): time is the
+worker process's CPU time read by the kernel from outside, every timed pass
+has fresh directions, and timed colours are compared with the reference.
+Slow lookups that skip work while timed, or replay earlier answers, fail;
+a correct lookup keeps its verdict on a loaded machine.
+
+The submissions here are the reference lookups (grader/shim/
+reference_submission.c, with its sub_* functions renamed ref_*) behind a
+wrapper that cheats or is slow; they need no C++ build.
+"""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from grader import PROJECT_ROOT
+from grader.checks.context import CheckContext
+from grader.checks.speed import WITHIN, speed
+from grader.checks.sweeps import SweepFinding
+from grader.results import FAILED, PASSED, CheckResult
+from grader.worker.lookups import open_lookups
+
+WRAPPER = r"""
+#include "submission_abi.h"
+#include <stdlib.h>
+#include <string.h>
+
+int ref_abi_version(void);
+void *ref_create(char *, size_t);
+int ref_set_faces(void *, const float *, int, int, char *, size_t);
+int ref_fetch_batch(void *, const double *, size_t, double *, char *, size_t);
+int ref_read_texture_batch(void *, const float *, const double *, size_t, double *, char *, size_t);
+
+static int face_width;
+static double *kept;
+static size_t kept_n;
+
+int sub_abi_version(void) { return ref_abi_version(); }
+void *sub_create(char *m, size_t s) { return ref_create(m, s); }
+void sub_destroy(void *map) { free(map); }
+int sub_set_faces(void *map, const float *t, int w, int h, char *m, size_t s)
+{ face_width = w; return ref_set_faces(map, t, w, h, m, s); }
+int sub_read_texture_batch(void *map, const float *a, const double *uv, size_t n, double *rgb, char *m, size_t s)
+{ return ref_read_texture_batch(map, a, uv, n, rgb, m, s); }
+int sub_load_cross(void *map, const char *p, char *m, size_t s) { (void)map; (void)p; (void)m; (void)s; return 0; }
+
+int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
+{
+#if MODE == 1   /* slow: ten times the work, honestly */
+    for (int i = 0; i < 10; i++) ref_fetch_batch(map, d, n, rgb, m, s);
+    return SUB_OK;
+#elif MODE == 2 /* black on the large faces only the speed check uses */
+    if (face_width >= 256) { memset(rgb, 0, n * 3 * sizeof *rgb); return SUB_OK; }
+#elif MODE == 3 /* replay: large batches answer with the first large batch's colours */
+    if (n >= 10000) {
+        if (kept && kept_n == n) { memcpy(rgb, kept, n * 3 * sizeof *rgb); return SUB_OK; }
+        kept = malloc(n * 3 * sizeof *rgb);
+        kept_n = n;
+        int status = ref_fetch_batch(map, d, n, rgb, m, s);
+        memcpy(kept, rgb, n * 3 * sizeof *rgb);
+        return status;
+    }
+#endif
+    return ref_fetch_batch(map, d, n, rgb, m, s);
+}
+"""
+RENAMES = [f"-Dsub_{name}=ref_{name}" for name in
+           ("abi_version", "create", "destroy", "set_faces", "fetch_batch", "read_texture_batch", "load_cross")]
+MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3}
+
+
+@pytest.fixture(scope="module")
+def libraries(tmp_path_factory) -> dict:
+    from grader import reference
+    reference.ensure_built()
+    folder = tmp_path_factory.mktemp("speed_wrappers")
+    (folder / "wrapper.c").write_text(WRAPPER)
+    ref_sources = [str(PROJECT_ROOT / "reference" / "src" / f) for f in
+                   ("cross.c", "error.c", "lookup.c", "render.c", "rgbe.c", "scene.c")]
+    flags = ["-std=c11", "-O2", "-fPIC", "-D_POSIX_C_SOURCE=200809L", f"-I{PROJECT_ROOT / 'reference' / 'include'}",
+             f"-I{PROJECT_ROOT / 'grader' / 'shim'}"]
+    ref_object = folder / "reference_submission.o"
+    subprocess.run(["cc", *flags, *RENAMES, "-c", "-o", str(ref_object),
+                    str(PROJECT_ROOT / "grader" / "shim" / "reference_submission.c")], check=True)
+    out = {}
+    for name, mode in MODES.items():
+        library = folder / f"{name}.so"
+        subprocess.run(["cc", *flags, f"-DMODE={mode}", "-shared", "-o", str(library), str(folder / "wrapper.c"),
+                        str(ref_object), *ref_sources, "-lm"], check=True)
+        out[name] = library
+    return out
+
+
+def speed_verdict(library, tmp_path) -> CheckResult:
+    result = CheckResult("speed", "speed")
+    with open_lookups(library) as lookups:
+        ctx = CheckContext(lookups=lookups, seed=4242, artifacts=tmp_path / "images", quick=True)
+        speed(ctx, result, SweepFinding(fraction=1.0))
+    return result
+
+
+def test_an_honest_copy_of_the_reference_is_as_fast_as_the_reference(libraries, tmp_path):
+    result = speed_verdict(libraries["honest"], tmp_path)
+    assert result.status == PASSED and not result.diagnoses, result.output
+    assert result.metrics["timed_match"] == 1.0
+    assert "measured by the kernel from outside the worker" in result.output
+
+
+def test_ten_times_the_work_is_slow(libraries, tmp_path):
+    result = speed_verdict(libraries["slow"], tmp_path)
+    assert result.status == FAILED and [d.id for d in result.diagnoses] == ["slow"], result.output
+    assert result.metrics["speed_ratio"] > WITHIN
+
+
+@pytest.mark.parametrize("name", ["black_when_timed", "replay"])
+def test_skipping_work_while_timed_fails(libraries, tmp_path, name):
+    result = speed_verdict(libraries[name], tmp_path)
+    assert result.status == FAILED and result.fraction == 0.0
+    assert [d.id for d in result.diagnoses] == ["timed-output-wrong"], result.output
+    assert result.metrics["timed_match"] < 0.5
+
+
+BUSY = [sys.executable, "-c", "import time\nend = time.monotonic() + 120\nwhile time.monotonic() < end: pass"]
+
+
+def test_the_speed_verdict_of_a_correct_lookup_does_not_change_under_load(libraries, tmp_path):
+    quiet = speed_verdict(libraries["honest"], tmp_path / "quiet")
+    busy = [subprocess.Popen(BUSY) for _ in range(3)]    # more runnable processes than cores
+    try:
+        loaded = speed_verdict(libraries["honest"], tmp_path / "loaded")
+        assert all(p.poll() is None for p in busy)       # the load lasted the whole measurement
+    finally:
+        for p in busy:
+            p.kill()
+            p.wait()
+    assert (quiet.status, loaded.status) == (PASSED, PASSED), (quiet.output, loaded.output)
+    assert quiet.diagnoses == loaded.diagnoses == []
+    assert quiet.metrics["timed_match"] == loaded.metrics["timed_match"] == 1.0
