@@ -23,7 +23,8 @@ import OpenImageIO as oiio
 import pytest
 
 from grader.reports import write_all
-from test_reports import HOSTILE, make_build_error, make_diagnosed
+from test_report_injection import class_rows, make_hostile
+from test_reports import HOSTILE, make_build_error, make_diagnosed, make_speed_only
 
 CHROMIUM = shutil.which("chromium") or (
     "/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
@@ -45,7 +46,23 @@ window.addEventListener("load", () => {
       x: r.left + window.scrollX, y: r.top + window.scrollY, w: r.width, h: r.height}));
   }
   document.body.setAttribute("data-page-height", document.documentElement.scrollHeight);
+  document.body.setAttribute("data-page-width", document.documentElement.scrollWidth);
   document.body.setAttribute("data-scripts", document.querySelectorAll("script").length);
+  let right = 0;
+  for (const cell of document.querySelectorAll("table.checks .pts")) {
+    right = Math.max(right, cell.getBoundingClientRect().right);
+  }
+  document.body.setAttribute("data-points-right", right);
+  let handlers = 0;
+  for (const el of document.querySelectorAll("*")) {
+    for (const a of el.attributes) { if (a.name.startsWith("on")) handlers++; }
+  }
+  document.body.setAttribute("data-handlers", handlers);
+  if (window.parent !== window) {   // framed (narrow windows): report to the frame's page
+    const data = {};
+    for (const a of document.body.attributes) { if (a.name.startsWith("data-")) data[a.name] = a.value; }
+    window.parent.postMessage(data, "*");
+  }
 });
 </script>"""
 
@@ -72,23 +89,42 @@ class _Dom(HTMLParser):
             self.body = attrs
 
 
-def probe(report: Path, tmp_path: Path) -> _Dom:
-    """Load a copy of the report with the probe added; return its DOM."""
+def probe(report: Path, tmp_path: Path, width: int = WIDTH) -> _Dom:
+    """Load a copy of the report with the probe added (and its CSP removed:
+    what must hold here holds by escaping alone); return its DOM."""
     page = report.read_text()
     page = re.sub(r'<meta http-equiv="Content-Security-Policy"[^>]*>', "", page)
     copy = tmp_path / f"probe-{report.parent.name}.html"
     copy.write_text(page.replace("</body>", PROBE + "</body>"))
     dom = _Dom()
-    dom.feed(chromium(tmp_path, "--virtual-time-budget=10000", f"--window-size={WIDTH},2000",
-                      "--dump-dom", copy.as_uri()))
+    dom.feed(chromium(tmp_path, "--virtual-time-budget=10000", f"--window-size={max(width, MIN_WINDOW)},2000",
+                      "--dump-dom", (framed(copy, width, 2000) if width < MIN_WINDOW else copy).as_uri()))
     assert "data-page-height" in dom.body, "the probe did not run"
     return dom
 
 
-def screenshot(report: Path, tmp_path: Path, height: int, *extra: str) -> np.ndarray:
-    png = tmp_path / f"{report.parent.name}{'-'.join(('',) + extra).replace('=', '_')}.png"
-    chromium(tmp_path, f"--window-size={WIDTH},{height}", f"--screenshot={png}", *extra,
-             report.as_uri())
+# Headless Chromium's window is at least 500 px wide: narrower pages are
+# loaded in a frame of that width inside a page that receives the probe's
+# findings by postMessage.
+MIN_WINDOW = 500
+FRAME = """<!DOCTYPE html><html><body style="margin:0">
+<iframe src="{src}" width="{width}" height="{height}" style="border:0;display:block"></iframe>
+<script>addEventListener("message", e => {{
+  for (const [k, v] of Object.entries(e.data)) document.body.setAttribute(k, v); }});</script>
+</body></html>"""
+
+
+def framed(page: Path, width: int, height: int) -> Path:
+    outer = page.with_name(f"frame-{width}-{page.name}")
+    outer.write_text(FRAME.format(src=page.name, width=width, height=height))
+    return outer
+
+
+def screenshot(report: Path, tmp_path: Path, height: int, *extra: str, width: int = WIDTH) -> np.ndarray:
+    png = tmp_path / f"{report.parent.name}-{width}{'-'.join(('',) + extra).replace('=', '_')}.png"
+    page = framed(report, width, height) if width < MIN_WINDOW else report
+    chromium(tmp_path, f"--window-size={max(width, MIN_WINDOW)},{height}", f"--screenshot={png}", *extra,
+             page.as_uri())
     return read_png(png)
 
 
@@ -115,8 +151,9 @@ def diagnosed_report(tmp_path_factory):
 
 def test_every_image_loads_and_shows_where_it_is_placed(diagnosed_report):
     report, artifacts, dom, shot, tmp = diagnosed_report
-    by_bytes = {p.read_bytes(): name for name, p in artifacts.items()}
-    assert len(dom.images) == len(artifacts) == 6
+    # Every image but the speed chart, which waits until the lookup works.
+    by_bytes = {p.read_bytes(): name for name, p in artifacts.items() if name != "speed_accuracy_chart"}
+    assert len(dom.images) == len(artifacts) - 1 == 5
 
     for img in dom.images:
         src = img["src"]
@@ -152,3 +189,49 @@ def test_hostile_build_output_stays_text(tmp_path):
     assert dom.images == []                         # <img src=x onerror=...> is text
     page = chromium(tmp_path, "--virtual-time-budget=5000", "--dump-dom", report.as_uri())
     assert HOSTILE.replace("<", "&lt;").replace(">", "&gt;") in page
+
+
+def test_the_speed_chart_shows_when_the_lookup_works(tmp_path):
+    report = write_all(make_speed_only(tmp_path), tmp_path / "slow")["report.html"]
+    dom = probe(report, tmp_path)
+    (img,) = dom.images
+    info = json.loads(img["data-probe"])
+    assert info["complete"] and info["naturalWidth"] == 64 and info["w"] >= 150
+
+
+def test_no_student_text_runs_as_script(tmp_path):
+    """The payloads set data-pwned on <body> if they ever run."""
+    report = write_all(make_hostile(), tmp_path / "hostile")["report.html"]
+    for page in (report, _class_summary(tmp_path)):
+        dom = probe(page, tmp_path)
+        assert "data-pwned" not in dom.body, page
+        assert dom.body["data-scripts"] == "1" and dom.body["data-handlers"] == "0", page
+    assert [i for i in probe(report, tmp_path).images] == []
+
+
+def _class_summary(tmp_path: Path) -> Path:
+    from grader.reports.class_summary import write_summary
+    out = tmp_path / "class"
+    rows = class_rows()
+    for r in rows:
+        (out / r.student).mkdir(parents=True)
+        (out / r.student / "report.html").write_text("")
+    write_summary(rows, out)
+    return out / "summary.html"
+
+
+@pytest.mark.parametrize("width", [360, 1280])
+def test_the_report_fits_a_phone_and_a_desktop(width, tmp_path):
+    """Nothing wider than the window (no sideways scrolling of the page),
+    and the points column inside it. The screenshots stay in tmp_path for a
+    person to look at (pytest -s prints where)."""
+    reports = [write_all(make_diagnosed(tmp_path), tmp_path / "diagnosed")["report.html"],
+               write_all(make_hostile(), tmp_path / "hostile")["report.html"],
+               _class_summary(tmp_path)]
+    for report in reports:
+        dom = probe(report, tmp_path, width)
+        assert int(float(dom.body["data-page-width"])) <= width, (report, dom.body["data-page-width"])
+        assert float(dom.body["data-points-right"]) <= width, report
+        height = min(int(float(dom.body["data-page-height"])), 16000)
+        screenshot(report, tmp_path, height, width=width)
+    print(f"screenshots in {tmp_path}")

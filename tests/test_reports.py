@@ -198,6 +198,20 @@ def make_hidden(directory: Path) -> GradeResult:
     return result
 
 
+def make_speed_only(directory: Path) -> GradeResult:
+    """Correct but slow: the one case where the speed chart is worth reading."""
+    result = make_perfect()
+    images = make_images(directory)
+    speed = result.checks[-1]
+    speed.status, speed.fraction, speed.score = FAILED, 0.0, 0.0
+    speed.artifacts = {"speed_accuracy_chart": images["speed_accuracy_chart"]}
+    speed.metrics = {"ns_per_lookup": 141.5, "speed_ratio": 4.31}
+    speed.diagnoses = [Diagnosis("slow", "fetchColor takes 4.3x the reference's time per lookup (limit 3x).")]
+    result.score = 95.0
+    result.isolation = "privilege-drop"
+    return result
+
+
 @pytest.fixture
 def results(tmp_path) -> dict[str, GradeResult]:
     return {
@@ -345,7 +359,8 @@ def test_html_is_self_contained(results):
     page = render_all(results["diagnosed"])["report.html"]
     tags = _tags(page)
     srcs = [attrs["src"] for t, attrs in tags if "src" in attrs]
-    assert len(srcs) == 6  # four renders, the arrows, the chart
+    # Four renders and the arrows; not the speed chart: this lookup has mistakes.
+    assert len(srcs) == 5
     assert all(s.startswith("data:image/png;base64,") for s in srcs)
     assert "url(" not in page and "@import" not in page
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:|//)""", page)
@@ -546,3 +561,117 @@ def test_every_worker_failure_kind_has_words():
     failures = pytest.importorskip("grader.worker.failures")
     missing = [kind for kind in failures.KINDS if kind not in diagnoses.CATALOGUE]
     assert missing == []
+
+
+# ---- a report a student reads once and understands (issue 13) --------------------
+
+def _with_info_check(result: GradeResult) -> GradeResult:
+    result.checks.append(CheckResult(
+        name="diagnosis", title="What fetchColor does", status=FAILED, fraction=0.0, score=0.0,
+        max_score=0.0, number="8", output="| toward | face sampled |\n|---|---|\n| +Y | -Y |"))
+    return result
+
+
+def test_a_check_worth_no_points_is_information_not_a_failure():
+    result = _with_info_check(make_perfect())
+    texts = render_all(result)
+    md = texts["report.md"]
+    assert "7 of 7 checks passed" in md                 # the 0-point check is not counted
+    assert "| ℹ️ | 8 | What fetchColor does | no points |" in md
+    assert "0 / 0" not in md
+    page = texts["report.html"]
+    assert "7 of 7 checks passed" in page and '<span class="pill info">' in page and "0 / 0" not in page
+    root = ET.fromstring(texts["junit.xml"].encode())
+    assert root.get("failures") == "0"
+    test = [t for t in json.loads(texts["results.json"])["tests"] if t["extra_data"]["check"] == "diagnosis"][0]
+    assert test["status"] == "passed" and test["max_score"] == 0
+    assert "✗" not in terminal.summary_text(result).split("What fetchColor does")[0].splitlines()[-1]
+
+
+def test_numbers_are_written_as_people_write_them():
+    result = make_perfect()
+    result.checks[4].status, result.checks[4].score = FAILED, 5.0
+    result.checks[4].output = ("- fetchColor(Vector3(0, 1e+308, 0)): expected [16. 16.  1.], got [16.  1.  1.]\n"
+                               "- expected [11.66666667 14.33333333  5.        ]")
+    texts = render_all(result)
+    for name in ("report.md", "report.html", "junit.xml", "results.json"):
+        assert "(16, 16, 1)" in texts[name] and "(16, 1, 1)" in texts[name], name
+        assert "(11.67, 14.33, 5)" in texts[name], name
+        assert "[16." not in texts[name] and "14.33333333" not in texts[name], name
+
+
+def test_worst_cases_on_a_position_texture_are_told_as_face_texel_and_uv():
+    from grader.results import Mismatch, TexelHit
+    result = make_perfect()
+    sweeps = result.checks[2]
+    sweeps.status, sweeps.score = FAILED, 15.0
+    sweeps.mismatches = [Mismatch(
+        "fetchColor(Vector3(0.65, 0.65, -0.38))", (7.57, 32.0, 3.0), (7.57, 1.0, 4.0),
+        expected_at=TexelHit("+Y", (6.57, 31.0), (0.2053, 0.96875)),
+        got_at=TexelHit("-Y", (6.57, 0.0), (0.2053, 0.0)), group="Fibonacci sphere")]
+    sweeps.mismatch_counts = {"Fibonacci sphere": 50000}
+    texts = render_all(result)
+    should = "face +Y, texel (6.57, 31), (u, v) = (0.2053, 0.9688)"
+    got = "face -Y, texel (6.57, 0), (u, v) = (0.2053, 0)"
+    md = texts["report.md"]
+    assert f"fetchColor(Vector3(0.65, 0.65, -0.38)): should give {should}; your code gave {got}" in md
+    assert "... and 49999 more" in md and "Worst cases, Fibonacci sphere" in md
+    assert "(7.57, 32, 3)" not in md                     # not the raw colours
+    page = texts["report.html"]
+    assert f"<td>{should}</td><td>{got}</td>" in page
+    assert should in texts["junit.xml"] and should in texts["results.json"]
+
+
+def test_render_metrics_are_shown_once():
+    result = make_diagnosed_plain()
+    renders = [c for c in result.checks if c.name == "renders"][0]
+    renders.metrics.update({"ssim_envmap_test--sky_cross": 0.91, "flip_mean_envmap_test--sky_cross": 0.05,
+                            "cases": 7})
+    page = render_all(result)["report.html"]
+    assert "ssim_envmap" not in page and "flip_mean_envmap" not in page
+    assert "<td>cases</td><td>7</td>" in page
+
+
+def make_diagnosed_plain() -> GradeResult:
+    import tempfile
+    return make_diagnosed(Path(tempfile.mkdtemp()))
+
+
+def test_report_md_reads_cleanly_as_a_github_job_summary():
+    cmarkgfm = pytest.importorskip("cmarkgfm", reason="pip install cmarkgfm (GitHub's renderer)")
+    from cmarkgfm.cmark import Options
+    result = make_perfect()
+    result.checks[3].title = "On test_environment_map.hdr the *arrows* point along +x"
+    html_text = cmarkgfm.github_flavored_markdown_to_html(render_all(result)["report.md"],
+                                                          options=Options.CMARK_OPT_UNSAFE)
+    summaries = re.findall(r"<summary>(.*?)</summary>", html_text, re.S)
+    assert len(summaries) == len(result.checks)
+    for summary in summaries:
+        assert "\\" not in summary, summary               # no Markdown escapes shown literally
+    assert any("test_environment_map.hdr the *arrows*" in s for s in summaries)
+    # The details' bodies are Markdown again (a blank line after <summary>).
+    assert "<p>All cases passed.</p>" in html_text
+
+
+def test_every_report_says_how_the_code_was_isolated(tmp_path):
+    result = make_speed_only(tmp_path)
+    texts = render_all(result)
+    words = "separate unprivileged user with a system-call filter"
+    assert f"_Your code ran under: {words}._" in texts["report.md"]
+    assert words in texts["report.html"] and words in terminal.summary_text(result)
+    data = json.loads(texts["results.json"])
+    assert data["extra_data"]["isolation"] == "privilege-drop" and words in data["output"]
+    assert 'name="isolation" value="privilege-drop"' in texts["junit.xml"]
+    # No code ran (a build error), and a mode this version does not know.
+    assert "Your code ran under: none needed" in render_all(make_build_error())["report.md"]
+    result.isolation = "new-mode"
+    assert "_Your code ran under: new-mode._" in render_all(result)["report.md"]
+
+
+def test_the_speed_chart_only_when_the_lookup_works(tmp_path):
+    page = render_all(make_speed_only(tmp_path))["report.html"]
+    assert sum(1 for t, a in _tags(page) if t == "img") == 1
+    assert "Further left is faster, lower is more accurate." in page and "141.5 ns per lookup" in page
+    page = render_all(make_diagnosed(tmp_path))["report.html"]
+    assert "Further left is faster" not in page
+    assert "shown once your lookup gives the reference's colours" in page

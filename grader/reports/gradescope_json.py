@@ -11,6 +11,12 @@
   {"id", "face" (where it applies), "detail"}.
 - stdout is hidden from students: a submission's own printing must not
   reach them through the harness's log.
+- output_format is "md" on purpose: Gradescope renders it as Markdown, so
+  every output is the same inert Markdown as report.md (student text
+  escaped, a check's output shown literally when it would form more than
+  paragraphs, lists, tables, emphasis and code). "text" would be safe too,
+  but would show the tables and diagnoses as raw pipes and stars.
+- A check worth no points reports "passed": it informs, it does not fail.
 
 Deterministic: keys sorted, no timestamps; only execution_time varies
 between runs.
@@ -23,8 +29,9 @@ from pathlib import Path
 
 from ..results import PASSED, CheckResult, GradeResult
 from . import markdown
-from .text import clean, truncate_middle
-from .view import build_view, check_output, group_diagnoses, is_visible
+from .text import clean, inert_markdown, truncate_middle
+from .view import (build_view, check_output, group_diagnoses, is_informational,
+                   is_visible)
 
 SCHEMA_PATH = Path(__file__).with_name("schema") / "results.schema.json"
 
@@ -38,7 +45,8 @@ def _number(value: float) -> float:
 
 
 def _test(check: CheckResult) -> dict:
-    output = check_output(check)
+    output = "\n".join([inert_markdown(truncate_middle(check_output(check))), "",
+                        *markdown.worst_cases(check)]).strip()
     if not is_visible(check) and check.diagnoses:
         # The top-level output lists visible checks' diagnoses only; a hidden
         # check carries its own, shown when Gradescope shows the check.
@@ -49,8 +57,8 @@ def _test(check: CheckResult) -> dict:
         "name": clean(check.title) or check.name,
         "score": _number(check.score),
         "max_score": _number(check.max_score),
-        "status": GS_PASSED if check.status == PASSED else GS_FAILED,
-        "output": truncate_middle(output),
+        "status": GS_PASSED if check.status == PASSED or is_informational(check) else GS_FAILED,
+        "output": output,
         "output_format": "md",
         "visibility": check.visibility,
         "tags": sorted(set(check.tags)),
@@ -77,6 +85,7 @@ def results_json(result: GradeResult) -> dict:
             "warnings": [clean(w) for w in result.warnings],
             "diagnoses": [{k: clean(v) for k, v in d.as_json().items()} for d in found],
             "source_sha256": result.source_sha256,
+            "isolation": clean(str(getattr(result, "isolation", "unknown"))),
         },
     }
 

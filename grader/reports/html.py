@@ -4,8 +4,8 @@ Images are embedded as data URIs and the CSS is inline; there is no
 JavaScript and nothing is fetched (a Content-Security-Policy says so, which
 also neutralises anything that slipped through escaping). Everything the
 student controls (compiler messages, printed output, exception messages,
-the submission's name) is escaped; check outputs are Markdown rendered with
-raw HTML turned off and images disabled.
+the submission's name) is escaped; check outputs are Markdown made inert
+(text.inert_markdown) and rendered with raw HTML, links and images off.
 """
 from __future__ import annotations
 
@@ -18,11 +18,11 @@ from pathlib import Path
 from markdown_it import MarkdownIt
 
 from ..results import BUILD_ERROR, UNGRADABLE, CheckResult
-from .markdown import all_correct
-from .text import clean, figure, points, seconds, truncate_middle
-from .view import (STATE_ERROR, STATE_FAILED, STATE_PARTIAL, STATE_PASSED,
-                   STATE_SKIPPED, DiagnosisGroup, ReportView, check_output,
-                   check_state)
+from .markdown import all_correct, check_points
+from .text import clean, figure, inert_markdown, points, seconds, truncate_middle
+from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
+                   STATE_PASSED, STATE_SKIPPED, DiagnosisGroup, ReportView,
+                   check_output, check_state, mismatch_groups)
 
 # Artifacts the page places in their own sections; others go with their check.
 RENDER_ARTIFACT = re.compile(r"^render_(reference|submission|difference|flip)(?:[_:./-](.+))?$")
@@ -42,17 +42,23 @@ METRIC_LABELS = {
     "ns_per_lookup": ("time per lookup", "nanoseconds"),
     "speed_ratio": ("time relative to the reference", "1 means as fast"),
 }
+# Metrics the page shows in their own sections (the renders' figures, the
+# speed card): the details leave them out rather than repeat them.
+PLACED_METRIC = re.compile(r"^(?:(?:ssim|flip_mean)(?:[_:].*)?|ns_per_lookup|speed_ratio)$")
 
 STATE_CLASS = {
     STATE_PASSED: "passed", STATE_PARTIAL: "partial", STATE_FAILED: "failed",
-    STATE_ERROR: "error", STATE_SKIPPED: "skipped",
+    STATE_ERROR: "error", STATE_SKIPPED: "skipped", STATE_INFO: "info",
 }
 STATE_MARK = {
     STATE_PASSED: "✓", STATE_PARTIAL: "◐", STATE_FAILED: "✗",
-    STATE_ERROR: "!", STATE_SKIPPED: "–",
+    STATE_ERROR: "!", STATE_SKIPPED: "–", STATE_INFO: "i",
 }
 
-_markdown = MarkdownIt("commonmark", {"html": False}).enable("table").disable("image")
+# Raw HTML, links and images off: inert_markdown already shows any output
+# that would form them as literal text; this is the second lock.
+_markdown = (MarkdownIt("commonmark", {"html": False}).enable(["table", "strikethrough"])
+             .disable(["image", "link", "autolink", "reference"]))
 
 
 def e(text: object) -> str:
@@ -61,7 +67,7 @@ def e(text: object) -> str:
 
 
 def markdown_html(text: str) -> str:
-    return _markdown.render(clean(truncate_middle(text)))
+    return _markdown.render(inert_markdown(truncate_middle(text)))
 
 
 def catalogue_html(text: str) -> str:
@@ -121,10 +127,8 @@ def _score_class(score: float, max_score: float, status: str) -> str:
 
 def _header(view: ReportView) -> str:
     pct = 0.0 if view.max_score <= 0 else max(0.0, min(100.0, 100 * view.score / view.max_score))
-    counts = view.counts()
-    passed = counts.get(STATE_PASSED, 0)
     status_cls = "passed" if view.status == "graded" else "failed"
-    checks_line = f"{passed} of {len(view.checks)} checks passed" if view.checks else ""
+    checks_line = e(view.passed_line)
     return f"""
 <header class="hero">
   <div class="who">
@@ -151,7 +155,8 @@ def _notices(view: ReportView) -> str:
 
 
 def _pill(state: str) -> str:
-    return f'<span class="pill {STATE_CLASS[state]}">{STATE_MARK[state]} {e(state)}</span>'
+    return (f'<span class="pill {STATE_CLASS[state]}">{STATE_MARK[state]} '
+            f'<span class="word">{e(state)}</span></span>')
 
 
 def _score_table(view: ReportView) -> str:
@@ -161,11 +166,12 @@ def _score_table(view: ReportView) -> str:
     for c in view.checks:
         state = check_state(c)
         pct = 0.0 if c.max_score <= 0 else max(0.0, min(100.0, 100 * c.score / c.max_score))
+        bar = ("" if state == STATE_INFO else
+               f'<span class="bar {STATE_CLASS[state]}"><span style="width:{pct:.1f}%"></span></span>')
         rows.append(
             f"<tr><td>{_pill(state)}</td><td class=\"num\">{e(c.number)}</td>"
             f"<td>{e(c.title)}</td>"
-            f'<td class="pts"><span class="bar {STATE_CLASS[state]}"><span style="width:{pct:.1f}%"></span></span>'
-            f"{e(points(c.score))} / {e(points(c.max_score))}</td></tr>")
+            f'<td class="pts">{bar}{e(check_points(c))}</td></tr>')
     for h in view.hidden:
         many = h.count != 1
         rows.append(f'<tr class="hidden-row"><td><span class="pill skipped">hidden</span></td><td></td>'
@@ -177,7 +183,7 @@ def _score_table(view: ReportView) -> str:
 <section>
   <h2>Checks</h2>
   <table class="checks">
-    <thead><tr><th>Result</th><th>#</th><th>Check</th><th class="pts">Points</th></tr></thead>
+    <thead><tr><th>Result</th><th class="num">#</th><th>Check</th><th class="pts">Points</th></tr></thead>
     <tbody>
       {"".join(rows)}
     </tbody>
@@ -267,10 +273,37 @@ def _arrows_and_speed(view: ReportView) -> str:
     chart = view.artifact(CHART_ARTIFACT)
     ns, ratio = view.metric("ns_per_lookup"), view.metric("speed_ratio")
     if chart is not None or ns is not None or ratio is not None:
-        body = _figure(chart, "Speed against accuracy", "your lookup is the marked point") if chart else ""
+        if chart is None:
+            body = ""
+        elif lookup_works(view):
+            body = (_figure(chart, "Speed against accuracy", "your lookup is the marked point")
+                    + f'<p class="reading">{e(chart_reading(view))}</p>')
+        else:
+            # Where a wrong lookup sits on the chart says nothing about speed.
+            body = ('<p class="reading">The chart of speed against accuracy is shown once your '
+                    "lookup gives the reference's colours: fix what is listed above first.</p>")
         cards.append(f'<div class="card"><h2>Speed</h2>{body}'
                      f'{_figures_line([("ns_per_lookup", ns), ("speed_ratio", ratio)])}</div>')
     return f'<section class="pair">{"".join(cards)}</section>' if cards else ""
+
+
+def lookup_works(view: ReportView) -> bool:
+    """No mistake found but (possibly) speed: only then is the student's
+    point on the speed-against-accuracy chart worth reading."""
+    return all(g.info.kind == "speed" for g in view.diagnoses)
+
+
+def chart_reading(view: ReportView) -> str:
+    """The chart in one line."""
+    ns, ratio = view.metric("ns_per_lookup"), view.metric("speed_ratio")
+    speed = []
+    if ns is not None:
+        speed.append(f"{figure(ns)} ns per lookup")
+    if ratio is not None:
+        speed.append(f"{figure(ratio)} times the reference's time")
+    yours = f"Your lookup ({', '.join(speed)}) is the marked point" if speed else "Your lookup is the marked point"
+    return (f"{yours}; the lines are the handout's methods at several face sizes. "
+            "Further left is faster, lower is more accurate.")
 
 
 def _is_placed(name: str) -> bool:
@@ -283,10 +316,12 @@ def _details(view: ReportView) -> str:
         state = check_state(c)
         output = check_output(c)
         body = markdown_html(output) if output else ""
-        if c.metrics:
-            rows = "".join(f"<tr><td><code>{e(k)}</code></td><td>{e(figure(v))}</td></tr>"
-                           for k, v in sorted(c.metrics.items()))
-            body += f'<table class="metrics"><tbody>{rows}</tbody></table>'
+        body += _worst_cases(c)
+        shown = {k: v for k, v in sorted(c.metrics.items()) if not PLACED_METRIC.match(k)}
+        if shown:
+            rows = "".join(f"<tr><td>{e(METRIC_LABELS.get(k, (k.replace('_', ' '),))[0])}</td>"
+                           f"<td>{e(figure(v))}</td></tr>" for k, v in shown.items())
+            body += f'<div class="wide"><table class="metrics"><tbody>{rows}</tbody></table></div>'
         extra = [(n, p) for n, p in sorted(c.artifacts.items()) if not _is_placed(n)]
         if extra:
             body += '<div class="gallery">' + "".join(
@@ -296,9 +331,25 @@ def _details(view: ReportView) -> str:
         open_attr = " open" if state not in (STATE_PASSED, STATE_SKIPPED) else ""
         items.append(
             f"<details{open_attr}><summary>{_pill(state)} <span class=\"num\">{e(c.number)}</span> "
-            f"{e(c.title)} <span class=\"pts\">{e(points(c.score))} / {e(points(c.max_score))}</span>"
+            f"<span class=\"title\">{e(c.title)}</span> <span class=\"pts\">{e(check_points(c))}</span>"
             f'</summary><div class="output">{body}</div></details>')
     return f"<section><h2>Details of each check</h2>{''.join(items)}</section>" if items else ""
+
+
+def _worst_cases(check: CheckResult) -> str:
+    """CheckResult.mismatches as a table: the lookup, what it should give,
+    what it gave (a face, texel and (u, v) where the texture says so)."""
+    out = []
+    for group, rows, more in mismatch_groups(check):
+        cells = "".join(f"<tr><td><code>{e(call)}</code></td><td>{e(should)}</td><td>{e(got)}</td></tr>"
+                        for call, should, got in rows)
+        if more:
+            cells += f'<tr><td colspan="3">... and {more} more</td></tr>'
+        title = f"Worst cases, {e(group)}" if group else "Worst cases"
+        out.append(f'<p><strong>{title}</strong></p><div class="wide"><table class="cases">'
+                   "<thead><tr><th>lookup</th><th>should give</th><th>your code gave</th></tr></thead>"
+                   f"<tbody>{cells}</tbody></table></div>")
+    return "".join(out)
 
 
 def _build_log(view: ReportView) -> str:
@@ -311,7 +362,8 @@ def _build_log(view: ReportView) -> str:
 
 
 def _footer(view: ReportView) -> str:
-    parts = [f"graded in {e(seconds(view.execution_time_s))}"]
+    parts = [f"graded in {e(seconds(view.execution_time_s))}",
+             f"your code ran under: {e(view.isolation_text)}"]
     if view.source_sha256:
         parts.append(f"source sha256 <code>{e(view.source_sha256[:16])}…</code>")
     if not view.complete and view.hidden:
@@ -368,7 +420,7 @@ CSS = """
 html { background: var(--bg); }
 body { margin: 0; color: var(--text); background: var(--bg);
   font: 16px/1.55 system-ui, -apple-system, "Segoe UI", Roboto, "Noto Sans", "Liberation Sans", sans-serif; }
-main { max-width: 1120px; margin: 0 auto; padding: 32px 24px 48px; }
+main { max-width: 1120px; margin: 0 auto; padding: 32px 24px 48px; overflow-wrap: anywhere; }
 h1, h2, h3 { line-height: 1.25; margin: 0 0 .6em; }
 h1 { font-size: 1.9rem; letter-spacing: -.01em; overflow-wrap: anywhere; }
 h2 { font-size: 1.3rem; }
@@ -419,6 +471,7 @@ table.checks { background: var(--card); border: 1px solid var(--border); border-
 .pill.partial { color: var(--partial); background: var(--partial-bg); }
 .pill.failed { color: var(--failed); background: var(--failed-bg); }
 .pill.error, .pill.skipped { color: var(--skipped); background: var(--skipped-bg); }
+.pill.info { color: var(--accent); background: var(--code-bg); }
 .diagnosis { background: var(--card); border: 1px solid var(--border); border-left: 5px solid var(--failed);
   border-radius: 12px; padding: 16px 20px; margin: 14px 0; }
 .diagnosis.partial { border-left-color: var(--partial); }
@@ -458,8 +511,26 @@ details[open] > summary { border-bottom: 1px solid var(--border); }
 .metrics { width: auto; margin-top: .8em; font-variant-numeric: tabular-nums; }
 .log pre { margin: 0; border: none; border-radius: 0 0 12px 12px; max-height: 520px; overflow: auto; }
 footer { color: var(--muted); font-size: .85rem; text-align: center; margin-top: 36px; }
+.wide { overflow-x: auto; }
+.output table, .cases { display: block; overflow-x: auto; max-width: 100%; }
+.cases td, .cases th { border: 1px solid var(--border); padding: 4px 10px; text-align: left; vertical-align: top; }
+.reading { color: var(--muted); font-size: .92rem; margin: .6em 0 0; }
+details > summary .title { flex: 1 1 auto; min-width: 0; overflow-wrap: anywhere; }
+.checks td:nth-child(3) { overflow-wrap: anywhere; }
 @media (max-width: 760px) {
   .renders { grid-template-columns: repeat(2, minmax(0, 1fr)); }
   .hero { flex-direction: column-reverse; align-items: flex-start; }
+}
+/* A phone (360 px): every column of the checks table stays on screen; the
+   bars and the state words go (the mark and colour say it), padding shrinks. */
+@media (max-width: 600px) {
+  main { padding: 12px 8px 32px; }
+  .hero { padding: 16px; }
+  .checks th, .checks td { padding: 8px 6px; }
+  .bar, .pill .word { display: none; }
+  .pair { grid-template-columns: minmax(0, 1fr); }
+  .card, .render-set, .diagnosis { padding: 14px 12px; }
+  details > summary { padding: 10px 10px; gap: 6px; }
+  .output { padding: 6px 10px 12px; }
 }
 """

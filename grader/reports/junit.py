@@ -5,7 +5,11 @@ The common JUnit dialect (as pytest and most CI reporters read it): a
 a check the harness could not run <error>, a skipped or hidden check
 <skipped>. Built from the students' ReportView, so a hidden check appears
 only as skipped, without its output. A build error or an ungradable
-submission with no checks still gets one testcase saying so.
+submission with no checks still gets one testcase saying so. A check worth
+no points passes (it informs; CI must not turn red on it).
+
+Text is plain here (ElementTree escapes it); clean() has removed what XML
+1.0 cannot hold (control characters, lone surrogates, U+FFFE/U+FFFF).
 """
 from __future__ import annotations
 
@@ -14,14 +18,18 @@ import xml.etree.ElementTree as ET
 from ..results import BUILD_ERROR
 from ..diagnoses import describe
 from .text import clean, points, truncate_middle
-from .view import (STATE_ERROR, STATE_PASSED, STATE_SKIPPED, ReportView,
-                   check_output, check_state)
+from .view import (STATE_ERROR, STATE_INFO, STATE_PASSED, STATE_SKIPPED,
+                   ReportView, check_output, check_state, mismatch_groups)
 
 SUITE_NAME = "envmap"
 
 
 def _check_text(check) -> str:
     parts = [check_output(check)]
+    for group, rows, more in mismatch_groups(check):
+        lines = [f"Worst cases{', ' + group if group else ''}:"]
+        lines += [f"  {call}: should give {should}; your code gave {got}" for call, should, got in rows]
+        parts.append("\n".join(lines + ([f"  ... and {more} more"] if more else [])))
     for d in check.diagnoses:
         info = describe(d.id)
         face = f" [{d.face}]" if d.face else ""
@@ -33,7 +41,8 @@ def render(view: ReportView) -> str:
     suite = ET.Element("testsuite", name=SUITE_NAME)
     props = ET.SubElement(suite, "properties")
     for key, value in (("submission", view.submission), ("status", view.status),
-                       ("score", points(view.score)), ("max_score", points(view.max_score))):
+                       ("score", points(view.score)), ("max_score", points(view.max_score)),
+                       ("isolation", view.isolation)):
         ET.SubElement(props, "property", name=key, value=value)
 
     counts = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
@@ -52,7 +61,7 @@ def render(view: ReportView) -> str:
         state = check_state(check)
         message = f"{points(check.score)} / {points(check.max_score)} points"
         text = _check_text(check)
-        if state == STATE_PASSED:
+        if state in (STATE_PASSED, STATE_INFO):
             if text:
                 ET.SubElement(tc, "system-out").text = text
         elif state == STATE_ERROR:

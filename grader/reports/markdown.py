@@ -2,14 +2,22 @@
 
 Also the top-level `output` of results.json (summary(), without the score
 table, which Gradescope draws itself from the tests).
+
+Text from the submission is inert here: plain strings go through md_escape
+(or md_fence for logs), a check's Markdown output through inert_markdown,
+and the only raw HTML is our own <details>/<summary>, whose text is HTML-
+escaped (GitHub does not apply Markdown inside an HTML block, so a
+backslash escape there would show as a backslash).
 """
 from __future__ import annotations
 
-from ..results import BUILD_ERROR
-from .text import md_escape, md_fence, points, truncate_middle
-from .view import (STATE_ERROR, STATE_FAILED, STATE_PARTIAL, STATE_PASSED,
-                   STATE_SKIPPED, DiagnosisGroup, ReportView, check_output,
-                   check_state)
+from html import escape
+
+from ..results import BUILD_ERROR, CheckResult
+from .text import clean, inert_markdown, md_code, md_escape, md_fence, points, truncate_middle
+from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
+                   STATE_PASSED, STATE_SKIPPED, DiagnosisGroup, ReportView,
+                   check_output, check_state, mismatch_groups)
 
 STATE_ICON = {
     STATE_PASSED: "✅",
@@ -17,7 +25,19 @@ STATE_ICON = {
     STATE_FAILED: "❌",
     STATE_ERROR: "⚠️",
     STATE_SKIPPED: "⏭️",
+    STATE_INFO: "ℹ️",
 }
+
+
+def check_points(check: CheckResult) -> str:
+    if check_state(check) == STATE_INFO:
+        return "no points"
+    return f"{points(check.score)} / {points(check.max_score)}"
+
+
+def html_text(text: str) -> str:
+    """Plain text inside our raw HTML (<summary>): HTML-escaped, one line."""
+    return escape(clean(text).replace("\n", " "), quote=True)
 
 
 def all_correct(view: ReportView) -> str:
@@ -27,10 +47,14 @@ def all_correct(view: ReportView) -> str:
 
 
 def _score_line(view: ReportView) -> str:
-    counts = view.counts()
-    passed = counts.get(STATE_PASSED, 0)
-    return (f"**Score: {points(view.score)} / {points(view.max_score)}** · "
-            f"{view.status_text} · {passed} of {len(view.checks)} checks passed")
+    parts = [f"**Score: {points(view.score)} / {points(view.max_score)}**", view.status_text]
+    if view.passed_line:
+        parts.append(view.passed_line)
+    return " · ".join(parts)
+
+
+def isolation_line(view: ReportView) -> str:
+    return f"_Your code ran under: {md_escape(view.isolation_text)}._"
 
 
 def _warnings(view: ReportView) -> list[str]:
@@ -54,18 +78,18 @@ def score_table(view: ReportView) -> list[str]:
     for c in view.checks:
         state = check_state(c)
         lines.append(f"| {STATE_ICON[state]} | {md_escape(c.number)} | "
-                     f"{md_escape(c.title)} | {points(c.score)} / {points(c.max_score)} |")
+                     f"{md_escape(c.title)} | {check_points(c)} |")
     lines.append(f"| | | **Total** | **{points(view.score)} / {points(view.max_score)}** |")
     return lines
 
 
 def diagnosis_section(group: DiagnosisGroup, level: str = "###") -> list[str]:
     info = group.info
-    lines = [f"{level} {md_escape(info.title)} (`{info.id}`)", ""]
+    lines = [f"{level} {md_escape(info.title)} ({md_code(info.id)})", ""]
     for d in group.findings:
         where = f"**{md_escape(d.face)}:** " if d.face else ""
         hint = f" _{md_escape(d.hint)}_" if d.hint else ""
-        lines.append(f"- {where}{md_escape(d.detail)}{hint}")
+        lines.append(f"- {where}{md_escape(d.detail, line_start=not where)}{hint}")
     lines += ["", info.explanation, "", f"**What to do:** {info.what_to_do}", ""]
     return lines
 
@@ -89,17 +113,34 @@ def _build_log(view: ReportView, level: str) -> list[str]:
             "</details>", ""]
 
 
+def worst_cases(check: CheckResult) -> list[str]:
+    """The check's worst cases (CheckResult.mismatches) as a Markdown list."""
+    lines = []
+    for group, rows, more in mismatch_groups(check):
+        if group:
+            lines += [f"**Worst cases, {md_escape(group)}:**", ""]
+        else:
+            lines += ["**Worst cases:**", ""]
+        lines += [f"- {md_escape(call, line_start=True)}: should give {md_escape(should)}; your code gave {md_escape(got)}"
+                  for call, should, got in rows]
+        if more:
+            lines.append(f"- ... and {more} more")
+        lines.append("")
+    return lines
+
+
 def _details(view: ReportView) -> list[str]:
     lines = []
     for c in view.checks:
         output = check_output(c)
-        if not output:
+        cases = worst_cases(c)
+        if not output and not cases:
             continue
         state = check_state(c)
-        summary = (f"{STATE_ICON[state]} {md_escape(c.number)} {md_escape(c.title)}: "
-                   f"{points(c.score)} / {points(c.max_score)}")
-        lines += [f"<details><summary>{summary}</summary>", "",
-                  truncate_middle(output), "", "</details>", ""]
+        summary = html_text(f"{STATE_ICON[state]} {c.number} {c.title}: {check_points(c)}")
+        body = [inert_markdown(truncate_middle(output)), ""] if output else []
+        lines += [f"<details><summary>{summary}</summary>", "", *body, *cases,
+                  "</details>", ""]
     return ["## Details of each check", ""] + lines if lines else []
 
 
@@ -115,7 +156,7 @@ def _head(view: ReportView) -> list[str]:
 def render(view: ReportView) -> str:
     """The whole report.md."""
     lines = [f"# Environment mapping: {md_escape(view.submission)}", "",
-             _score_line(view), ""]
+             _score_line(view), "", isolation_line(view), ""]
     lines += _head(view)
     if view.status == BUILD_ERROR:
         lines += _build_log(view, "##")
@@ -142,5 +183,6 @@ def summary(view: ReportView) -> str:
         lines += _hidden_note(view, about_score=False) + [""]
     if not lines:
         lines = ["All visible checks passed." if view.score >= view.max_score
-                 else "See each check below for details."]
+                 else "See each check below for details.", ""]
+    lines.append(isolation_line(view))
     return "\n".join(lines).rstrip("\n") + "\n"

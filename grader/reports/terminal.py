@@ -14,8 +14,10 @@ from rich.text import Text
 
 from ..results import BUILD_ERROR, GradeResult
 from .text import points, seconds
-from .view import (STATE_ERROR, STATE_FAILED, STATE_PARTIAL, STATE_PASSED,
-                   STATE_SKIPPED, ReportView, build_view, check_state)
+from .markdown import check_points
+from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
+                   STATE_PASSED, STATE_SKIPPED, ReportView, build_view,
+                   check_state)
 
 STATE_STYLE = {
     STATE_PASSED: ("✓", "green"),
@@ -23,6 +25,7 @@ STATE_STYLE = {
     STATE_FAILED: ("✗", "red"),
     STATE_ERROR: ("!", "magenta"),
     STATE_SKIPPED: ("-", "dim"),
+    STATE_INFO: ("i", "cyan"),
 }
 LOG_LINES = 15   # compiler messages shown in the terminal; the reports have all
 
@@ -42,6 +45,7 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
         "  ", (view.status_text, "dim" if view.status == "graded" else "bold red"),
         "  ", (f"({seconds(view.execution_time_s)})", "dim"))
     parts.append(head)
+    parts.append(Text(f"your code ran under: {view.isolation_text}", style="dim"))
     if view.status_explanation:
         parts.append(Text(view.status_explanation, style="red"))
     for w in view.warnings:
@@ -62,8 +66,9 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
         table.add_column("points", justify="right", no_wrap=True)
         for c in view.checks:
             mark, style = STATE_STYLE[check_state(c)]
-            table.add_row(Text(mark, style=style), c.number, c.title,
-                          Text(f"{points(c.score)} / {points(c.max_score)}", style=style))
+            # Text, not str: rich would read "[...]" in a string as markup.
+            table.add_row(Text(mark, style=style), Text(c.number), Text(c.title),
+                          Text(check_points(c), style=style))
         parts.append(table)
     for h in view.hidden:
         many = h.count != 1

@@ -15,8 +15,9 @@ from pathlib import Path
 
 from .. import diagnoses as catalogue
 from ..results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED,
-                       TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult)
-from .text import clean
+                       TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult,
+                       TexelHit)
+from .text import clean, figure, tidy_numbers
 
 VISIBLE = "visible"
 
@@ -47,8 +48,19 @@ HIDDEN_WHEN = {
 }
 
 # Per-check states for display (finer than Gradescope's passed/failed).
-STATE_PASSED, STATE_PARTIAL, STATE_FAILED, STATE_ERROR, STATE_SKIPPED = (
-    "passed", "partial", "failed", "not run", "skipped")
+# "info": a check worth no points (e.g. the diagnosis from position-encoding
+# textures) says what it found; it neither passes nor fails.
+STATE_PASSED, STATE_PARTIAL, STATE_FAILED, STATE_ERROR, STATE_SKIPPED, STATE_INFO = (
+    "passed", "partial", "failed", "not run", "skipped", "info")
+
+# How the submission's code was kept from the grader (GradeResult.isolation,
+# set from grader.worker's runner), in words for every report.
+ISOLATION_TEXT = {
+    "bubblewrap": "bubblewrap sandbox",
+    "privilege-drop": "separate unprivileged user with a system-call filter",
+    "unsafe-none": "no sandbox (the instructor chose --unsafe-no-sandbox)",
+    "": "none needed (no code of the submission ran)",
+}
 
 
 # What a check without output says, by its status.
@@ -59,8 +71,40 @@ DEFAULT_OUTPUT = {
 
 
 def check_output(check: CheckResult) -> str:
-    """The check's output (Markdown), or a sentence saying why there is none."""
-    return clean(check.output).strip() or DEFAULT_OUTPUT.get(check.status, "")
+    """The check's output (Markdown), or a sentence saying why there is none.
+    Numbers printed as numpy reprs are rewritten as people write them."""
+    return tidy_numbers(clean(check.output)).strip() or DEFAULT_OUTPUT.get(check.status, "")
+
+
+def _numbers(values) -> str:
+    return "(" + ", ".join(figure(float(v)) for v in values) + ")"
+
+
+def hit_text(hit: TexelHit) -> str:
+    """Where a lookup landed, in the handout's terms."""
+    if not hit.face:
+        return "a colour that is in no face of the texture"
+    return f"face {clean(hit.face)}, texel {_numbers(hit.texel)}, (u, v) = {_numbers(hit.uv)}"
+
+
+def mismatch_groups(check: CheckResult) -> list[tuple[str, list[tuple[str, str, str]], int]]:
+    """The check's worst cases as plain text, by group, in order:
+    (group, [(lookup, what it should give, what it gave)], how many more)."""
+    groups: dict[str, list[tuple[str, str, str]]] = {}
+    for m in check.mismatches:
+        should = hit_text(m.expected_at) if m.expected_at else f"colour {_numbers(m.expected)}"
+        got = hit_text(m.got_at) if m.got_at else f"colour {_numbers(m.got)}"
+        groups.setdefault(clean(m.group), []).append((clean(m.call), should, got))
+    out = []
+    for group, rows in groups.items():
+        total = check.mismatch_counts.get(group, len(rows))
+        out.append((group, rows, max(0, total - len(rows))))
+    return out
+
+
+def is_informational(check: CheckResult) -> bool:
+    """Worth no points: what it says is information, not a verdict."""
+    return check.max_score <= 0 and check.status in (PASSED, FAILED)
 
 
 def is_visible(check: CheckResult) -> bool:
@@ -69,6 +113,8 @@ def is_visible(check: CheckResult) -> bool:
 
 
 def check_state(check: CheckResult) -> str:
+    if is_informational(check):
+        return STATE_INFO
     if check.status == PASSED:
         return STATE_PASSED
     if check.status == ERROR:
@@ -112,6 +158,22 @@ class ReportView:
     execution_time_s: float
     source_sha256: str
     complete: bool         # True when hidden checks are included
+    isolation: str = "unknown"   # an ISOLATION_TEXT key, or what the runner said
+
+    @property
+    def isolation_text(self) -> str:
+        return ISOLATION_TEXT.get(self.isolation, self.isolation or "unknown")
+
+    @property
+    def scored_checks(self) -> list[CheckResult]:
+        """The checks "N of M checks passed" counts: informational ones are not."""
+        return [c for c in self.checks if not is_informational(c)]
+
+    @property
+    def passed_line(self) -> str:
+        scored = self.scored_checks
+        passed = sum(check_state(c) == STATE_PASSED for c in scored)
+        return f"{passed} of {len(scored)} checks passed" if scored else ""
 
     @property
     def status_text(self) -> str:
@@ -192,4 +254,6 @@ def build_view(result: GradeResult, include_hidden: bool = False) -> ReportView:
         execution_time_s=result.execution_time_s,
         source_sha256=result.source_sha256,
         complete=include_hidden,
+        # Older results (and tests) may not carry it.
+        isolation=clean(str(getattr(result, "isolation", "unknown"))),
     )
