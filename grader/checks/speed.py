@@ -139,7 +139,8 @@ def accuracy_point(ctx: CheckContext, ns: float) -> dict:
 def draw_chart(ctx: CheckContext, point: dict):
     from ..study import chart
     from ..study.run import read_csv
-    rows = read_csv(PROJECT_ROOT / "docs" / "study" / "study.csv")
+    from ..study import STUDY_CSV
+    rows = read_csv(STUDY_CSV)
     path = ctx.artifact("speed_accuracy_chart.png")
     chart.draw(rows, [point], path, panels=chart.PANELS[:1], title="Speed against accuracy", dpi=90)
     return path

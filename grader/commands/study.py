@@ -1,7 +1,7 @@
 """`python -m grader study`: speed against accuracy of the lookup methods.
 
-Writes to --out (default docs/study/): study.csv (one row per method and face
-size), study.png and study.svg (the chart), failure_map.csv, failure_map.md,
+Writes to --out (default docs/study/; the rows then go to fixtures/study.csv,
+a grading input): study.csv (one row per method and face size), study.png and study.svg (the chart), failure_map.csv, failure_map.md,
 failure_map.png (seams, ties, degenerate directions, at face size 32) and
 bake_error.csv (the bake's own error).
 """
@@ -17,12 +17,13 @@ HELP = "speed against accuracy of the lookup methods"
 FAILURE_MAP_SIZE = 32
 # OpenImageIO reads textures from files: the lat-long conversions live here.
 OIIO_WORK_DIR = PROJECT_ROOT / "build" / "study" / "oiio"
+DEFAULT_OUT = PROJECT_ROOT / "docs" / "study"
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--submission", type=Path,
                         help="a submission (folder, .cpp, .zip, .tar.gz) to add to the chart")
-    parser.add_argument("--out", type=Path, default=PROJECT_ROOT / "docs" / "study",
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
                         help="output folder (default docs/study/)")
     parser.add_argument("--sizes", type=int, nargs="+", help="face sizes (default 8 ... 512)")
     parser.add_argument("--quick", action="store_true",
@@ -101,6 +102,7 @@ def run(args) -> int:
     from ..study.bake import bake_error
     from ..study.ground_truth import DEFAULT_ENVIRONMENT
     from ..study.methods import default_methods
+    from ..study import STUDY_CSV
     from ..study.run import StudyConfig, run_study, write_csv
 
     out: Path = args.out
@@ -118,7 +120,8 @@ def run(args) -> int:
         print(f"study: {message}", file=sys.stderr, flush=True)
 
     rows = run_study(config, methods, progress=progress)
-    write_csv(rows, out / "study.csv")
+    # The rows are a grading input: fixtures/study.csv unless --out says otherwise.
+    write_csv(rows, STUDY_CSV if out == DEFAULT_OUT else out / "study.csv")
     extra = _read_points(args.extra_points) if args.extra_points else []
     if submission:
         # The submission's series stays on the chart; its point at the

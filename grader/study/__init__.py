@@ -14,3 +14,9 @@ Directions <-> (face, u, v) and solid angles come from grader/geometry.py
 `python -m grader study` (grader/commands/study.py) runs it; docs/study.md
 reads the result.
 """
+from .. import PROJECT_ROOT
+
+# The study's rows (one per method and face size). A grading input (the speed
+# check draws a submission on this chart), so it lives with the fixtures, not
+# under docs/; `make study` rewrites it.
+STUDY_CSV = PROJECT_ROOT / "fixtures" / "study.csv"
