@@ -39,10 +39,14 @@ def check_names(rows) -> list[str]:
     return names
 
 
-def plain_label(text: str) -> str:
+def plain_label(text: str, limit: int = 28) -> str:
     """A string matplotlib draws as it is: an unescaped $ would start
-    mathtext (and a bad expression raises while drawing)."""
-    return clean(text).replace("\n", " ").replace("$", r"\$")
+    mathtext (and a bad expression raises while drawing). Cut to `limit`
+    characters, so that a long name cannot push the legend off the chart."""
+    text = clean(text).replace("\n", " ")
+    if len(text) > limit:
+        text = text[: limit - 1] + "…"
+    return text.replace("$", r"\$")
 
 
 def _histogram(rows, path: Path) -> None:
@@ -74,7 +78,9 @@ def _speed_chart(rows, path: Path) -> int:
     import matplotlib
     from ..study import chart
     from ..study.run import read_csv
-    from ..study import STUDY_CSV as study
+    from .. import study as study_package
+    # fixtures/study.csv (STUDY_CSV); docs/study/ in versions before it.
+    study = getattr(study_package, "STUDY_CSV", PROJECT_ROOT / "docs" / "study" / "study.csv")
     methods = read_csv(study) if study.is_file() else []
     top = max([r.max_score for r in rows] + [1.0])
     points = [{"label": plain_label(r.student), chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
@@ -127,12 +133,13 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None) -> str:
     failed = [r for r in rows if r.error]
     if failed:
         lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
-        lines += [f"- {md_escape(r.student)}: {md_escape(r.error)}" for r in failed]
+        lines += [f"- {md_escape(r.student, line_start=True)}: {md_escape(r.error)}" for r in failed]
     lines += ["", "## Students' reports", ""]
     for r in rows:
-        name = md_escape(r.student)
-        lines.append(f"- [{name}](<{report_link(r.student)}>)" if r.student in linked
-                     else f"- {name} (no report)")
+        if r.student in linked:
+            lines.append(f"- [{md_escape(r.student)}](<{report_link(r.student)}>)")
+        else:
+            lines.append(f"- {md_escape(r.student, line_start=True)} (no report)")
     return "\n".join(lines) + "\n"
 
 
@@ -162,7 +169,10 @@ def summary_html(rows, markdown_text: str, out: Path, linked: set[str] | None = 
     style = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
              "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:3px 8px;"
              "text-align:left;font-variant-numeric:tabular-nums}td:nth-child(2){white-space:nowrap}th{background:#f3f3f3}tr.bad td{background:#fdeeee}"
-             "img{max-width:100%}.wide{overflow-x:auto}td,li{overflow-wrap:anywhere}")
+             "img{max-width:100%}.wide{overflow-x:auto}p,li,td:first-child{overflow-wrap:anywhere}"
+             # A phone: a table wider than the screen scrolls by itself, the page does not.
+             "table{display:block;overflow-x:auto;max-width:100%}"
+             "@media (max-width:600px){body{margin:1em auto;padding:0 8px}}")
     return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
             f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
             f'<meta name="viewport" content="width=device-width, initial-scale=1">'
