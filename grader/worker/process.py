@@ -1,13 +1,15 @@
 """Worker: one worker process (worker.c) with one submission loaded in it.
 
-It runs in the bubblewrap sandbox when it can (sandbox.py), in a fresh
-temporary directory, with an empty environment and resource limits set by
-worker.c itself. Requests go over a private pipe pair; fds 1 and 2 go to a
+It runs in the isolation mode sandbox.resolve_mode settles (bubblewrap,
+privilege-drop, or unsafe-none only when allowed), in a fresh temporary
+directory, with an almost empty environment and resource limits set by
+worker.c itself. The first message (SANDBOXED, sent before the submission is
+loaded) is the only one believed; everything after it is the submission's. Requests go over a private pipe pair; fds 1 and 2 go to a
 capped capture (capture.py). Every call has its own wall-clock timeout: on
 expiry the worker's process group is killed and the call raises
 SubmissionFailure(kind="timeout"). Anything else the submission does wrong
-raises SubmissionFailure too (failures.py); only harness bugs raise
-WorkerHarnessError.
+raises SubmissionFailure too (failures.py), including replies that blame
+the grader; only the grader's own problems raise WorkerHarnessError.
 """
 from __future__ import annotations
 
