@@ -2,6 +2,17 @@
 
     .venv/bin/python bench/bench_isolation.py [--rounds 7] [--lookups 200000]
 
+Three parts, each a ratio against the way it was done before, medians:
+  1. lookups through each isolation mode (bubblewrap, privilege-drop, plain)
+     against the in-process reference, and worker start-up per mode;
+  2. the speed check's timing: before, TIME_FETCH timed sub_fetch_batch inside
+     the worker (REPEATS passes over one fixed batch, the worker's own clock);
+     now, each pass has fresh directions and is timed by the kernel's CPU
+     accounting from outside, with the colours sent back, plus a pass of the
+     null library for the protocol's cost. Reported: the grader's wall time
+     per round, old and new, and the ns per lookup each way gives;
+  3. privilege-drop against plain (the old fallback) and bubblewrap.
+
 Workload: a correct C++ solution (tests/submissions/correct/axis_table.cpp,
 built by grader/build.py) looks up a fixed set of random directions in a
 64x64-per-face cube map, in batches of 10000, through
@@ -28,7 +39,8 @@ sys.path.insert(0, str(ROOT))
 
 from grader.build import build_submission  # noqa: E402
 from grader.reference import CubeMap  # noqa: E402
-from grader.worker import Worker, sandbox_problem  # noqa: E402
+from grader.worker import Worker, privilege_drop_problem, sandbox_problem  # noqa: E402
+from grader.worker.native import null_library  # noqa: E402
 
 BATCH = 10_000
 
@@ -58,9 +70,12 @@ def main() -> int:
     expected = cube.fetch(dirs)
 
     problem = sandbox_problem()
-    modes = ["plain"] + (["sandbox"] if problem is None else [])
+    drop = privilege_drop_problem()
+    modes = ["plain"] + (["sandbox"] if problem is None else []) + (["privilege-drop"] if drop is None else [])
     if problem:
-        print(f"sandbox unavailable: {problem}; measuring the plain worker only")
+        print(f"bubblewrap unavailable: {problem}")
+    if drop:
+        print(f"privilege-drop unavailable: {drop}")
 
     workers = {}
     for mode in modes:
@@ -76,6 +91,7 @@ def main() -> int:
         for mode in modes:
             times[f"{mode} worker"].append(timed(lambda: [workers[mode].fetch(b, timeout_s=60) for b in batches]))
     inside = {m: workers[m].time_fetch(dirs[:BATCH], repeats=args.rounds) for m in modes}
+    timing = compare_timing(workers[modes[-1] if "sandbox" not in modes else "sandbox"], faces, args.rounds)
     for worker in workers.values():
         worker.close()
 
@@ -98,11 +114,50 @@ def main() -> int:
         print(f"{mode} worker: start + load + set faces, median of {args.starts}: "
               f"{statistics.median(starts[mode]) * 1e3:.1f} ms; "
               f"inside the worker {inside[mode]:.1f} ns/lookup (TIME_FETCH)")
-    if "sandbox" in modes:
-        ratio = statistics.median(times["sandbox worker"]) / statistics.median(times["plain worker"])
-        print(f"sandbox / plain lookup time: {ratio:.2f}; start-up sandbox / plain: "
-              f"{statistics.median(starts['sandbox']) / statistics.median(starts['plain']):.2f}")
+    for mode in modes[1:]:
+        ratio = statistics.median(times[f"{mode} worker"]) / statistics.median(times["plain worker"])
+        print(f"{mode} / plain lookup time: {ratio:.2f}; start-up {mode} / plain: "
+              f"{statistics.median(starts[mode]) / statistics.median(starts['plain']):.2f}")
+    if "sandbox" in modes and "privilege-drop" in modes:
+        print(f"privilege-drop / bubblewrap lookup time: "
+              f"{statistics.median(times['privilege-drop worker']) / statistics.median(times['sandbox worker']):.2f}; "
+              f"start-up: {statistics.median(starts['privilege-drop']) / statistics.median(starts['sandbox']):.2f}")
+    print()
+    print(timing)
     return 0
+
+
+SPEED_LOOKUPS, SPEED_REPEATS = 50_000, 2   # grader/checks/speed.py's pass size; the old REPEATS
+
+
+def compare_timing(worker: Worker, faces: np.ndarray, rounds: int) -> str:
+    """One speed-check round the old way and the new way, on the same worker
+    (the correct submission) and a null-library worker in the same mode."""
+    rng = np.random.default_rng(7)
+    fixed = rng.normal(size=(SPEED_LOOKUPS, 3))
+    old_wall, new_wall, old_ns, new_ns, raw_ns = [], [], [], [], []
+    with Worker(null_library(), sandbox=worker.mode) as null:
+        null.set_faces(faces)
+        for _ in range(rounds):
+            began = time.perf_counter()
+            ns = worker.time_fetch(fixed, repeats=SPEED_REPEATS)
+            old_wall.append(time.perf_counter() - began)
+            old_ns.append(ns)
+            dirs = rng.normal(size=(SPEED_LOOKUPS, 3))
+            began = time.perf_counter()
+            _, used = worker.fetch_timed(dirs)
+            _, overhead = null.fetch_timed(dirs)
+            new_wall.append(time.perf_counter() - began)
+            raw_ns.append(used / SPEED_LOOKUPS)
+            new_ns.append((used - overhead) / SPEED_LOOKUPS)
+    old, new = statistics.median(old_wall), statistics.median(new_wall)
+    return (f"speed timing ({worker.isolation}, {SPEED_LOOKUPS} lookups per pass, median of {rounds} rounds):\n"
+            f"  old (TIME_FETCH x{SPEED_REPEATS}, inside the worker): {old * 1e3:.1f} ms per round, "
+            f"{statistics.median(old_ns):.1f} ns/lookup\n"
+            f"  new (fresh directions, kernel CPU time from outside, colours back, null pass): {new * 1e3:.1f} ms "
+            f"per round, {statistics.median(new_ns):.1f} ns/lookup ({statistics.median(raw_ns):.1f} before taking "
+            f"off the protocol's cost)\n"
+            f"  new / old wall time per round: {new / old:.2f}")
 
 
 if __name__ == "__main__":
