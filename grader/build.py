@@ -7,8 +7,8 @@ refuse the submission with its own diagnosis id:
 
 1. include policy, read from the text (refused-include): a submission may
    include the three API headers and the standard library, by name only;
-2. the preprocessor lists the files it actually read (-M, sandboxed):
-   each must be one of our API headers or under the compiler's own system
+2. the compiler lists the files it actually read (-MD, sandboxed): each
+   must be one of our API headers or under the compiler's own system
    include folders (refused-include);
 3. the student's file is compiled ALONE to assembly with ONLY the template's
    three API headers visible (a private copy in the build folder; never
@@ -724,14 +724,25 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     def failed(done: _Step) -> dict:
         return {"ok": False, "timed_out": done.timed_out, "output": neutral("".join(outputs))}
 
-    # 1. Which files does the preprocessor read? (-MG: a missing header is
-    # left to the compiler to report.)
-    deps = step([CXX, *cxxflags, *extra_flags, *include, "-M", "-MG", "-MF", "deps.txt", SOURCE_NAME],
-                keep_output=False)
-    if deps.timed_out:
-        return failed(deps)
+    # 1. Compile to assembly, listing the files the compiler actually read
+    # (-MD): each must be an API header or a system header, whatever the
+    # compile's outcome.
+    done = step([CXX, *cxxflags, *extra_flags, *include, "-MD", "-MF", "deps.txt", "-S", SOURCE_NAME,
+                 "-o", STUDENT_ASSEMBLY])
+    if done.timed_out:
+        return failed(done)
     listed = _take(scratch, "deps.txt", 1 << 20)
-    (scratch / "deps.txt").unlink(missing_ok=True)  # not there for the compile to #include
+    (scratch / "deps.txt").unlink(missing_ok=True)
+    if listed is None and done.returncode != 0:
+        # A fatal error (or -fmax-errors) left no list: ask the preprocessor
+        # alone (-MG: missing headers are listed, not fatal) before any of
+        # the compiler's messages is shown.
+        again = _run([CXX, *cxxflags, *extra_flags, *include, "-M", "-MG", "-MF", "deps.txt", SOURCE_NAME],
+                     scratch, deadline, isolation)
+        listed = _take(scratch, "deps.txt", 1 << 20)
+        (scratch / "deps.txt").unlink(missing_ok=True)
+        if again.timed_out:
+            return failed(again)
     if listed is not None:
         outside = _outside_files(_dependencies(listed.decode("utf-8", "surrogateescape")), scratch)
         if outside:
@@ -739,10 +750,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
             return _refusal("refused-include", f"{SOURCE_NAME} makes the compiler read {shown}: a submission "
                                                "may include only the C++ standard library and the template's "
                                                "headers (EnvironmentMap.h, Vector3.h, Color.h).")
-    # 2. Compile to assembly, check it, assemble.
-    done = step([CXX, *cxxflags, *extra_flags, *include, "-S", SOURCE_NAME, "-o", STUDENT_ASSEMBLY])
-    if done.timed_out or done.returncode != 0:
+    if done.returncode != 0:
         return failed(done)
+    # 2. The assembly may not read files or build directives; assemble it.
     assembly = _take(scratch, STUDENT_ASSEMBLY, MAX_ASSEMBLY_BYTES + 1) or b""
     if len(assembly) > MAX_ASSEMBLY_BYTES:
         return _refusal("forbidden-object", f"{SOURCE_NAME} compiles to more than "

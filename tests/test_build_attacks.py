@@ -158,7 +158,7 @@ def test_link_runs_in_the_sandbox(cache, tmp_path, monkeypatch):
     assert result.ok and result.isolation == "bubblewrap", result.log
     assert any("-shared" in cmd for cmd in wrapped)     # the link
     assert any("-S" in cmd for cmd in wrapped)          # the compile
-    assert any("-M" in cmd for cmd in wrapped)          # the preprocessor's file list
+    assert any("-MD" in cmd for cmd in wrapped)         # with the list of files it read
 
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
