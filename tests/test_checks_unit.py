@@ -7,6 +7,9 @@ milliseconds.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
+import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
@@ -181,3 +184,55 @@ def test_a_requirement_that_is_not_a_check_is_refused_at_definition():
         @check(requires=(len,), registry={})
         def odd(ctx, result, x):
             """Odd."""
+
+
+# ---- worker failures and the whole pipeline on the fake ---------------------
+
+@pytest.mark.parametrize("kind", ["crash", "exited", "protocol", "load-error", "out-of-bounds-read", "timeout"])
+def test_a_worker_failure_reaches_the_student_under_its_own_id(kind):
+    from grader.checks.context import failure_diagnoses
+    from grader.diagnoses import CATALOGUE
+    from grader.worker.runner import Failure
+    failure = Failure(kind, "fetchColor", 3, "fetchColor(Vector3(1, 0, 0))", "it happened", "do this")
+    [d] = failure_diagnoses([failure])
+    assert d.id == kind and d.id in CATALOGUE and d.hint == "do this"
+
+
+def test_grade_reports_the_runner_isolation_and_warnings(tmp_path, monkeypatch, correct_build):
+    """grade() copies what the runner says about isolation; the checks see only the lookups."""
+    import contextlib
+
+    from grader import grade as grade_module
+    fake = FakeLookups(fetch={"+X": "u-flipped"})
+    fake.isolation, fake.warnings = "privilege-drop", ["no bubblewrap here: ran as an unprivileged user"]
+    monkeypatch.setattr(grade_module, "_open_lookups", lambda library, options: contextlib.nullcontext(fake))
+    source = sorted((Path(__file__).parent / "submissions" / "correct").glob("*.cpp"))[0]
+    result = grade_module.grade(source, tmp_path, grade_module.GradeOptions(
+        quick=True, only=("read_texture", "fetch_sweep", "diagnosis")), write_reports=False)
+    assert result.isolation == "privilege-drop"
+    assert "no bubblewrap here: ran as an unprivileged user" in result.warnings
+    assert [c.name for c in result.checks] == ["read_texture", "fetch_sweep", "diagnosis"]
+    assert {(d.id, d.face) for d in result.diagnoses} == {("u-flipped", "+X")}
+
+
+def test_grade_refuses_a_check_name_the_rubric_does_not_have(tmp_path):
+    from grader.grade import GradeOptions, grade
+    from grader.score import RubricError
+    with pytest.raises(RubricError, match="no such check: fetch_swep"):
+        grade(Path("nowhere.cpp"), tmp_path, GradeOptions(only=("fetch_swep",), allow_stale=True))
+
+
+@pytest.mark.sandbox
+def test_the_fake_answers_like_a_real_correct_submission_in_its_worker(correct_build, rng):
+    """The fake is a faithful stand-in: same colours as compiled C++ in the worker."""
+    from grader.checks.textures import random_faces
+    from grader.worker.lookups import open_lookups
+    faces = random_faces(9, 7, 5)
+    dirs = rng.normal(size=(2000, 3))
+    uv = rng.random((500, 2))
+    fake = FakeLookups()
+    fake.set_faces(faces)
+    with open_lookups(correct_build.library) as real:
+        real.set_faces(faces)
+        np.testing.assert_allclose(real.fetch(dirs).values, fake.fetch(dirs).values, atol=1e-5)
+        np.testing.assert_allclose(real.read_texture(5, uv).values, fake.read_texture(5, uv).values, atol=1e-5)
