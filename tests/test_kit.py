@@ -265,9 +265,11 @@ def test_kit_scores_agree_with_the_grader(alone, tmp_path, source):
     assert {d["id"] for c in summary["checks"] for d in c["diagnoses"]} == expected["ids"]
 
 
-ZOO_SAMPLE = ("nearest-neighbor", "half-texel-offset", "weights-swapped", "scaled-by-size-minus-one",
-              "u-flipped-pos-x", "v-flipped-pos-z", "uv-swapped-neg-y", "wrong-face-x-swapped",
-              "combo-swapped-and-flipped", "not-normalized-length", "not-normalized-unit", "nan-huge")
+# A representative handful: each readTexture mistake the kit models, each
+# kind of fetchColor mistake, a combination and a length mistake. (The zoo's
+# crashing and hanging members take the grader 25-35 s each to narrow down.)
+ZOO_SAMPLE = ("nearest-neighbor", "half-texel-offset", "weights-swapped", "u-flipped-pos-x",
+              "uv-swapped-neg-y", "wrong-face-x-swapped", "combo-swapped-and-flipped", "not-normalized-length")
 
 
 @pytest.mark.slow

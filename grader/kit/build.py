@@ -207,4 +207,5 @@ def write_zip(folder: Path, zip_path: Path) -> None:
             info.external_attr = (0o644 | stat.S_IFREG) << 16
             info.compress_type = zipfile.ZIP_DEFLATED
             z.writestr(info, path.read_bytes(), compresslevel=9)
+    tmp.chmod(0o644)   # mkstemp makes it private; the kit is for handing out
     os.replace(tmp, zip_path)

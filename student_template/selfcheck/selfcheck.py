@@ -250,10 +250,16 @@ class Context:
         self.pictures: dict[str, tuple] = {}
 
     def judging_filter(self) -> tuple[str, float]:
+        """The expected data to judge fetchColor with, and the slack in
+        texels: fetchColor is judged on its own. With a nearest-texel
+        readTexture the expected answers are those of a correct fetchColor
+        over it (stored); with another wrong readTexture, fetchColor still
+        earns credit where every sample lands within a texel of the right
+        spot (the grader fits a model of your readTexture instead)."""
         if self.texture_ok:
             return "bilinear", 0.0
         if self.texture_mistake == "nearest-neighbor":
-            return "nearest", 1.01
+            return "nearest", 0.0
         return "bilinear", 1.01
 
     def out(self, name: str) -> Path:
