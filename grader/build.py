@@ -129,7 +129,7 @@ class BuildResult:
 # character literals, raw strings and numbers (1'000, digit separators) are
 # told apart as the compiler does; the order of the alternatives matters.
 _TOKEN = re.compile(r"""
-    (?P<raw>(?:u8|u|U|L)?R"(?P<delim>[^()\\\s"]{0,16})\((?:.|\n)*?\)(?P=delim)")
+    (?P<raw>(?:u8|u|U|L)?R"(?P<delim>[^()\\\s"]{0,16})\((?:.|\n)*?(?:\)(?P=delim)"|\Z))
   | (?P<ident>[A-Za-z_]\w*)
   | (?P<number>\.?[0-9](?:[eEpP][+-]|'[0-9A-Za-z_]|[0-9A-Za-z_.])*)
   | (?P<string>"(?:\\.|[^"\\\n])*"?)
@@ -143,7 +143,8 @@ _DIRECTIVE = re.compile(r"^[ \t\f\v]*(?:#|%:)[ \t\f\v]*(\w*)(.*)$", re.M)
 _INCLUDES = ("include", "include_next", "import", "embed")
 # A header named plainly: letters, digits, _ . + - and / between them.
 _PLAIN_HEADER = re.compile(r'^(<[\w.+-]+(?:/[\w.+-]+)*>|"[\w.+-]+(?:/[\w.+-]+)*")\s*$')
-_HAS_INCLUDE = re.compile(r"\b(__has_include(?:_next)?|__has_embed)\b\s*(\(\s*([^)]*?)\s*\))?")
+# The argument is looked at up to 300 characters: a longer one is refused.
+_HAS_INCLUDE = re.compile(r"\b(__has_include(?:_next)?|__has_embed)\b[ \t]*(\(([^)\n]{0,300})\))?")
 _PRAGMA_FILES = re.compile(r"\b(dependency|pch_preprocess)\b")
 _TRIGRAPHS = {"??=": "#", "??/": "\\", "??'": "^", "??(": "[", "??)": "]", "??!": "|", "??<": "{",
               "??>": "}", "??-": "~"}
@@ -194,9 +195,11 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
     logical, cuts, removed = _logical(text)
     cleaned = _blank(logical)
 
+    newlines = [m.start() for m in re.finditer("\n", cleaned)]
+
     def line_of(offset: int) -> int:
         at = bisect_right(cuts, offset)
-        return cleaned.count("\n", 0, offset) + (removed[at - 1] if at else 0) + 1
+        return bisect_right(newlines, offset - 1) + (removed[at - 1] if at else 0) + 1
 
     found: list[tuple[int, str]] = []
     for match in _DIRECTIVE.finditer(cleaned):
@@ -214,7 +217,7 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
         elif name == "" and rest and not rest.startswith("!"):
             pass  # a null directive or a stray '#': the compiler says what is wrong
     for match in _HAS_INCLUDE.finditer(cleaned):
-        if match.group(2) is None or not _plain_header(match.group(3)):
+        if match.group(2) is None or not _plain_header(match.group(3).strip()):
             found.append((line_of(match.start()), f"{match.group(0)[:80]} (only a plain header name "
                                                   "may be tested)"))
     for match in re.finditer(r"_Pragma\b[^\n]*", cleaned):
