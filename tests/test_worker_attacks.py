@@ -33,6 +33,8 @@ ATTACKER = r"""
 #include "submission_abi.h"
 #include <dlfcn.h>
 #include <fcntl.h>
+#include <pthread.h>
+#include <setjmp.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -99,11 +101,30 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
         if (x == 17) { int pfd = (int)syscall(SYS_pidfd_open, getppid(), 0);
                        syscall(SYS_pidfd_send_signal, pfd, SIGWINCH, NULL, 0); }
         if (x == 18) syscall(SYS_seccomp, 1, 0, NULL);                  /* stack a filter of our own */
+        if (x == 19) syscall(SYS_msgget, 1234, 01666);                   /* a queue that outlives us */
     }
     return SUB_OK;
 }
 
 static uintptr_t page_of(const void *p) { return (uintptr_t)p & ~(uintptr_t)4095; }
+
+/* Escape from the crash handler: cancel ourselves (deferred), so the next
+ * cancellation point unwinds the thread into our cleanup handler, which
+ * jumps back here. If the handler made a glibc write(), that was the point. */
+static sigjmp_buf escape;
+static void jump_back(void *unused) { (void)unused; siglongjmp(escape, 1); }
+
+static float read_escaping(const float *addr, long index)
+{
+    volatile float value = 0.75f;
+    if (sigsetjmp(escape, 1) == 0) {
+        pthread_cleanup_push(jump_back, NULL);
+        pthread_cancel(pthread_self());
+        value = addr[index];
+        pthread_cleanup_pop(0);
+    }
+    return value;
+}
 
 int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_t n, double *rgb,
                            char *m, size_t s)
@@ -134,6 +155,7 @@ int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_
                          uintptr_t phdr = (uintptr_t)getauxval(AT_PHDR);
                          for (uintptr_t pg = page_of((void *)phdr); pg < page_of((void *)phdr) + (64u << 10); pg += 4096)
                              mprotect((void *)pg, 4096, PROT_READ | PROT_WRITE); }
+        if (how == 12) { rgb[3*i] = rgb[3*i+1] = rgb[3*i+2] = read_escaping(addr, (long)uv[2*i]); continue; }
         rgb[3*i] = rgb[3*i+1] = rgb[3*i+2] = addr[(long)uv[2*i]];
     }
     return SUB_OK;
@@ -152,7 +174,7 @@ def attacker(tmp_path_factory) -> Path:
     (folder / "attacker.c").write_text(ATTACKER)
     library = folder / "attacker.so"
     subprocess.run(["cc", "-std=c11", "-O1", "-shared", "-fPIC", f"-I{ABI_DIR}", "-o", str(library),
-                    str(folder / "attacker.c"), "-ldl"], check=True)
+                    str(folder / "attacker.c"), "-ldl", "-pthread"], check=True)
     library.chmod(0o755)
     return library
 
@@ -233,9 +255,18 @@ def test_without_tricks_the_read_past_the_face_is_still_caught(attacker):
     assert caught.value.kind == "out-of-bounds-read" and "right after the last texel of face -Y" in caught.value.message
 
 
+@pytest.mark.parametrize("mode", MODES)
+def test_unwinding_out_of_the_crash_handler_does_not_hide_the_fault(attacker, mode):
+    with Worker(attacker, sandbox=mode) as worker:
+        worker.set_faces(FACES)
+        with pytest.raises(SubmissionFailure) as caught:
+            worker.read_texture(0, [[FLOATS_PER_FACE, 12]])
+    assert caught.value.kind == "out-of-bounds-read" and caught.value.detail == "after"
+
+
 # ---- signals to the grader -------------------------------------------------------
 
-@pytest.mark.parametrize("x, call", [(16, "rt_sigqueueinfo"), (17, "pidfd_open"), (18, "seccomp")])
+@pytest.mark.parametrize("x, call", [(16, "rt_sigqueueinfo"), (17, "pidfd_open"), (18, "seccomp"), (19, "msgget")])
 def test_other_ways_to_signal_or_filter_are_refused(attacker, x, call):
     received = []
     old = signal.signal(signal.SIGWINCH, lambda *a: received.append(a))

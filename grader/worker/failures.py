@@ -29,7 +29,7 @@ _PROCESS_CALLS = {"fork", "vfork", "clone"}
 _FILE_CALLS = {"unlink", "unlinkat", "rename", "renameat", "renameat2", "rmdir", "mkdir", "mkdirat",
                "link", "linkat", "symlink", "symlinkat", "chmod", "fchmodat", "chown", "lchown",
                "fchownat", "mknod", "mknodat", "truncate"}
-_NETWORK_CALLS = {"socket", "socketpair", "connect", "bind", "listen"}
+_NETWORK_CALLS = {"socket", "socketpair", "connect", "bind", "listen", "shmget", "msgget", "semget", "mq_open"}
 _SIGNAL_CALLS = {"kill", "tkill", "tgkill", "rt_sigqueueinfo", "rt_tgsigqueueinfo", "pidfd_open",
                  "pidfd_send_signal", "pidfd_getfd"}
 _MEMORY_CALLS = {"mprotect", "pkey_mprotect", "munmap", "madvise", "mmap", "mremap", "remap_file_pages", "shmat",
@@ -78,7 +78,9 @@ def _forbidden_message(text: str) -> str:
         return f"tried to change the file system ({name} '{argument}')" if argument else \
             f"tried to change the file system ({name})"
     if name in _NETWORK_CALLS:
-        return f"tried to use the network ({name})"
+        what = "the network" if name in ("socket", "socketpair", "connect", "bind", "listen") else \
+            "shared memory or message queues"
+        return f"tried to use {what} ({name})"
     if name in _SIGNAL_CALLS:
         return f"tried to send a signal to another process ({name})"
     if name in _MEMORY_CALLS:

@@ -272,6 +272,9 @@ static const struct syscall_name forbidden_names[] = {
     NAME(pidfd_open) NAME(pidfd_send_signal) NAME(pidfd_getfd) NAME(rt_sigqueueinfo)
     NAME(rt_tgsigqueueinfo) NAME(seccomp) NAME(kcmp) NAME(name_to_handle_at)
     NAME(open_by_handle_at) NAME(fanotify_init) NAME(prctl)
+    /* System V and POSIX IPC outlive the worker and are shared between
+     * workers outside bubblewrap (privilege-drop): none. */
+    NAME(shmget) NAME(msgget) NAME(semget) NAME(mq_open)
     /* Refused only on the grader's memory (protected ranges) or for W^X. */
     NAME(mprotect) NAME(pkey_mprotect) NAME(munmap) NAME(madvise) NAME(mmap) NAME(mremap)
 #undef NAME
