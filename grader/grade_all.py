@@ -8,6 +8,14 @@ course secret. Re-run after an interruption, a student whose key is
 unchanged is skipped. The gradebook (gradebook.csv) and the class summary
 (summary.md, summary.html and their charts) are rebuilt from what is on
 disk, so they are always complete.
+
+Entries of the class folder that are not submissions (hidden files, notes,
+the results folder) are skipped and listed with the reason in the summary
+data (OUT/summary.json, "skipped"). An entry that looks like an archive or
+a source file in any format is graded, so that a .rar gets its own
+verdict ("unknown-format") instead of vanishing. With a roster (--roster
+CSV, grader/roster.py) the gradebook gains student_id, name and email
+columns and a row for every student who handed nothing in.
 """
 from __future__ import annotations
 
@@ -29,7 +37,14 @@ from .reports.class_summary import check_names, write_summary
 from .results import UNGRADABLE
 
 RECORD_FILE = ".grade.json"
-SUFFIXES = (".zip", ".tar.gz", ".tgz", ".tar", ".cpp")
+# Entries graded as submissions besides folders: archives and sources in any
+# format the grader reads or can name (grader/submissions.py sniffs what a
+# file really is; a .rar or .7z gets its own verdict). Longest first, so
+# "alice.tar.gz" is alice.
+SUFFIXES = (".tar.bz2", ".tar.gz", ".tar.xz", ".tbz2", ".tgz", ".txz", ".zip", ".tar", ".tbz", ".gz", ".bz2",
+            ".xz", ".rar", ".7z", ".cpp", ".cc", ".cxx")
+MISSING = "no-submission"     # a roster's student with nothing in the class folder
+SUMMARY_DATA = "summary.json"
 # What goes into the grader's key: everything that can change a grade. The
 # template contributes only the files the build uses (a student's local
 # build/ in it must not force a regrade of the class).
@@ -47,14 +62,39 @@ def student_name(path: Path) -> str:
     return name
 
 
+def _skip_reason(p: Path, exclude: Path | None) -> str:
+    """Why an entry of the class folder is not a submission ("" when it is one)."""
+    if exclude is not None and p.resolve() == Path(exclude).resolve():
+        return "the results folder (--out) sits among the submissions"
+    if p.name.startswith("."):
+        return "a hidden file or folder (its name starts with a dot)"
+    if p.is_symlink():
+        return "a symbolic link (not followed: hand in the folder or file itself)"
+    if p.is_dir() or p.name.lower().endswith(SUFFIXES):
+        return ""
+    if not p.is_file():
+        return "neither a file nor a folder"
+    kind = f"a {p.suffix} file" if p.suffix else "a file without an extension"
+    return f"{kind}, not a submission (expected a folder, an archive or a .cpp per student)"
+
+
+def skipped_entries(folder: Path, exclude: Path | None = None) -> list[dict[str, str]]:
+    """[{"entry": name, "reason": why}] for every entry find_submissions leaves out."""
+    out = []
+    for p in sorted(Path(folder).iterdir()):
+        reason = _skip_reason(p, exclude)
+        if reason:
+            out.append({"entry": p.name, "reason": reason})
+    return out
+
+
 def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Path]:
-    """{student: path}: one sub-folder, archive or .cpp per student, by name.
+    """{student: path}: one sub-folder, archive or source per student, by name.
     Two entries with the same student name (alice/ and alice.zip) keep
     their full file names, so neither hides the other. `exclude` is the
-    results folder, when it sits among the submissions."""
-    found = [p for p in sorted(Path(folder).iterdir())
-             if not p.name.startswith(".") and (p.is_dir() or p.name.lower().endswith(SUFFIXES))
-             and not (exclude is not None and p.resolve() == Path(exclude).resolve())]
+    results folder, when it sits among the submissions. skipped_entries
+    says why the rest was left out."""
+    found = [p for p in sorted(Path(folder).iterdir()) if not _skip_reason(p, exclude)]
     counts = Counter(student_name(p) for p in found)
     return {(student_name(p) if counts[student_name(p)] == 1 else p.name): p for p in found}
 
@@ -100,6 +140,9 @@ class Row:
     seconds: float = 0.0
     skipped: bool = False                                    # unchanged since the last run
     error: str = ""                                          # the harness's failure, when ungradable
+    student_id: str = ""                                     # from the roster (--roster)
+    name: str = ""
+    email: str = ""
 
 
 def _chart_metrics(result) -> dict[str, float]:
@@ -198,10 +241,16 @@ class Interrupted(Exception):
 
 
 def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | None = None,
-              progress: bool = True, force: bool = False) -> list[Row]:
+              progress: bool = True, force: bool = False, roster: Path | None = None,
+              similarity: bool = False) -> list[Row]:
     """Grade every submission in `folder` into `out`; returns the gradebook rows.
-    Raises Interrupted on Ctrl-C (what finished is kept: run again to go on)."""
+    Raises Interrupted on Ctrl-C (what finished is kept: run again to go on),
+    RosterError when the roster cannot be read (before anything is graded)."""
     options = dict(options or {})
+    class_roster = None
+    if roster is not None:
+        from .roster import load_roster
+        class_roster = load_roster(roster)
     if not options.get("allow_stale"):
         from .fixtures import check_stale
         check_stale()   # once, here: raises StaleFixtures for the instructor to read
@@ -228,9 +277,43 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
             except KeyboardInterrupt:
                 raise Interrupted(len(rows), len(submissions)) from None
     ordered = [rows[s] for s in submissions]
-    write_gradebook(ordered, out / "gradebook.csv")
-    write_summary(ordered, out)
+    data = {"skipped": skipped_entries(folder, exclude=out), "roster": None, "similarity": None}
+    missing: list[Row] = []
+    if class_roster is not None:
+        data["roster"], missing = _apply_roster(class_roster, Path(roster), ordered)
+    if similarity:
+        from .similarity import class_similarity
+        data["similarity"] = class_similarity(submissions, out)
+    write_gradebook(ordered + missing, out / "gradebook.csv", roster_columns=class_roster is not None)
+    _write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
+    _summary(ordered, out, data)
     return ordered
+
+
+def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list[Row]]:
+    """Fill the rows' id, name and email; rows for students who handed in
+    nothing; the summary's "roster" entry."""
+    matched, unmatched, absent = class_roster.match([r.student for r in rows])
+    for r in rows:
+        if r.student in matched:
+            st = matched[r.student]
+            r.student_id, r.name, r.email = st.id, st.name, st.email
+    missing = [Row(st.name or st.id or st.email, MISSING, 0.0, 0.0, student_id=st.id, name=st.name, email=st.email)
+               for st in absent]
+    summary = {"file": path.name, "columns": class_roster.columns, "students": len(class_roster.students),
+               "matched": len(matched), "unmatched": unmatched,
+               "missing": [{"id": st.id, "name": st.name, "email": st.email} for st in absent]}
+    return summary, missing
+
+
+def _summary(rows: list[Row], out: Path, data: dict) -> None:
+    """The class summary (grader/reports/class_summary.py), given the summary
+    data when it takes it."""
+    import inspect
+    if "data" in inspect.signature(write_summary).parameters:
+        write_summary(rows, out, data=data)
+    else:
+        write_summary(rows, out)
 
 
 def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance) -> None:
@@ -278,13 +361,26 @@ class _Progress:
             self.bar.__exit__(*exc)
 
 
-def write_gradebook(rows: list[Row], path: Path) -> None:
+def write_gradebook(rows: list[Row], path: Path, roster_columns: bool = False) -> None:
+    """gradebook.csv: one row per student, the rubric's checks as columns.
+    With a roster: student_id, name and email after the student column (an
+    LMS imports by them), and students who handed in nothing with a blank
+    score (an import leaves their grade alone)."""
     names = check_names(rows)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["student", "score", "max_score", "status", *names, "diagnoses"])
+    who = ["student_id", "name", "email"] if roster_columns else []
+    w.writerow(["student", *who, "score", "max_score", "status", *names, "diagnoses"])
     for r in rows:
+        ids = [_cell(r.student_id), _cell(r.name), _cell(r.email)] if roster_columns else []
+        score = ["", ""] if r.status == MISSING else [f"{r.score:g}", f"{r.max_score:g}"]
         # A check that did not run is blank, not 0: the difference matters when an instructor regrades.
-        w.writerow([r.student, f"{r.score:g}", f"{r.max_score:g}", r.status,
+        w.writerow([_cell(r.student), *ids, *score, r.status,
                     *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], " ".join(r.diagnoses)])
     _write_text_atomic(path, buf.getvalue())
+
+
+def _cell(text: str) -> str:
+    """A spreadsheet cell from a name a student chose: a leading =, +, - or @
+    would be read as a formula by Excel or LibreOffice (CSV injection)."""
+    return "'" + text if text[:1] in ("=", "+", "-", "@", "\t", "\r") else text

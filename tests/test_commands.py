@@ -24,7 +24,7 @@ BROKEN = PROJECT_ROOT / "tests" / "submissions" / "build" / "syntax_error.cpp"
 TEMPLATE = PROJECT_ROOT / "student_template"
 EXAMPLES = PROJECT_ROOT / "examples"
 REPORTS = ("report.html", "report.md", "junit.xml", "results.json")
-SUBCOMMANDS = ("grade", "grade-all", "fixtures", "bundle", "lookup", "render", "gradescope")
+SUBCOMMANDS = ("grade", "grade-all", "fixtures", "bundle", "lookup", "render", "gradescope", "prairielearn")
 
 
 def grader(*args: str, cwd: Path = PROJECT_ROOT, timeout: float = 300) -> subprocess.CompletedProcess:
@@ -162,7 +162,7 @@ def test_make_grade_one_submission_into_out(tmp_path):
 
 def test_make_grade_all_without_submissions_says_how_to_use_it():
     run = subprocess.run(["make", "-s", "grade-all"], cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=300)
-    assert run.returncode != 0
+    assert run.returncode == 2     # the recipe's usage error (exit 2), passed on by make
     assert "SUBMISSIONS=dir" in run.stderr
 
 

@@ -12,6 +12,8 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -24,7 +26,8 @@ import jsonschema
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.grade_all import RECORD_FILE, Row, find_submissions, write_gradebook
+from grader.grade_all import RECORD_FILE, Row, find_submissions, skipped_entries, write_gradebook
+from grader.score import RUBRIC, load_rubric
 from grader.reports.gradescope_json import load_schema
 
 SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
@@ -96,7 +99,7 @@ def resumed(tmp_path_factory):
     third = subprocess.run(grade_all_cmd(class_dir, out, 2), cwd=PROJECT_ROOT, capture_output=True,
                            text=True, timeout=300)
     return dict(out=out, after_kill=after_kill, second=second, after_second=after_second,
-                third=third, after_third=finished(out))
+                third=third, after_third=finished(out), class_dir=class_dir)
 
 
 def test_killed_run_kept_only_complete_results(resumed):
@@ -132,8 +135,7 @@ def test_gradebook_columns_and_statuses(resumed):
         header = next(csv.reader(f))
     assert header[:4] == ["student", "score", "max_score", "status"] and header[-1] == "diagnoses"
     checks = header[4:-1]
-    rubric = json.loads((resumed["out"] / "alice" / "results.json").read_text())
-    assert checks == [t["extra_data"]["check"] for t in rubric["tests"]]   # rubric keys, in rubric order
+    assert checks == list(load_rubric(RUBRIC)["checks"])   # every rubric key, in the rubric's order
     assert set(rows) == set(CLASS)
     for student, (_, _, status, diagnosis) in CLASS.items():
         row = rows[student]
@@ -167,11 +169,120 @@ def test_class_summary_written(resumed):
 
 
 def test_student_names_come_from_folders_and_archives(tmp_path):
-    for name in ("alice", "bob.zip", "carol.tar.gz", "dave.cpp", "erin.tgz", ".hidden", "notes.txt", "frank"):
+    for name in ("alice", "bob.zip", "carol.tar.gz", "dave.cpp", "erin.tgz", ".hidden", "notes.txt", "frank",
+                 "hank.rar", "ivy.7z", "judy.tar.xz"):
         (tmp_path / name).mkdir() if "." not in name else (tmp_path / name).write_text("")
     (tmp_path / "frank.zip").write_text("")   # frank twice: neither hides the other
     names = find_submissions(tmp_path)
-    assert sorted(names) == ["alice", "bob", "carol", "dave", "erin", "frank", "frank.zip"]
+    # A .rar or .7z is graded, so that its student reads why it cannot be (unknown-format), not dropped.
+    assert sorted(names) == ["alice", "bob", "carol", "dave", "erin", "frank", "frank.zip", "hank", "ivy", "judy"]
+    assert skipped_entries(tmp_path) == [
+        {"entry": ".hidden", "reason": "a hidden file or folder (its name starts with a dot)"},
+        {"entry": "notes.txt",
+         "reason": "a .txt file, not a submission (expected a folder, an archive or a .cpp per student)"}]
+
+
+def test_every_skipped_entry_is_in_the_summary_data_and_printed(resumed):
+    data = json.loads((resumed["out"] / "summary.json").read_text())
+    assert [e["entry"] for e in data["skipped"]] == [".DS_Store", "notes.txt"]
+    assert all(e["reason"] for e in data["skipped"])
+    assert data["roster"] is None and data["similarity"] is None    # both off by default
+    assert "skipped notes.txt: a .txt file, not a submission" in resumed["third"].stdout
+
+
+# ---- roster ----------------------------------------------------------------------------
+
+
+def test_roster_adds_id_name_email_and_the_students_who_handed_in_nothing(resumed, tmp_path):
+    """A Canvas export (its "Points Possible" row, "Last, First" names, SIS ids)
+    on the graded class: nothing is regraded, the gradebook gains the columns."""
+    out = tmp_path / "out"
+    shutil.copytree(resumed["out"], out)
+    roster = tmp_path / "canvas.csv"
+    lines = ["Student,ID,SIS User ID,SIS Login ID,Section,Environment map (1234)",
+             "    Points Possible,,,,,100"]
+    lines += [f'"{s.title()}son, {s.title()}",{900 + i},S{i:03d},{s}@uni.example,A,'
+              for i, s in enumerate(CLASS)]
+    lines.append('"Absent, Zed",999,S999,zed@uni.example,A,')
+    roster.write_text("\ufeff" + "\n".join(lines) + "\n")     # Excel's byte-order mark, as Canvas writes it
+    run = subprocess.run(grade_all_cmd(resumed["class_dir"], out, 2) + ["--roster", str(roster)],
+                         cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert f"0 graded now, {len(CLASS)} unchanged" in run.stdout
+    with open(out / "gradebook.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0])[:7] == ["student", "student_id", "name", "email", "score", "max_score", "status"]
+    by_student = {r["student"]: r for r in rows}
+    for i, student in enumerate(CLASS):    # matched by the email's local part, the folder's name
+        assert by_student[student]["student_id"] == f"S{i:03d}"
+        assert by_student[student]["email"] == f"{student}@uni.example"
+    absent = rows[-1]
+    assert (absent["student_id"], absent["name"], absent["status"], absent["score"]) == (
+        "S999", "Absent, Zed", "no-submission", "")
+    summary = json.loads((out / "summary.json").read_text())["roster"]
+    assert summary["matched"] == len(CLASS) and summary["unmatched"] == []
+    assert summary["missing"] == [{"id": "S999", "name": "Absent, Zed", "email": "zed@uni.example"}]
+
+
+def test_an_unreadable_roster_is_a_usage_error(resumed, tmp_path):
+    roster = tmp_path / "roster.csv"
+    roster.write_text("colour,size\nred,3\n")
+    run = subprocess.run(grade_all_cmd(resumed["class_dir"], tmp_path / "out", 1) + ["--roster", str(roster)],
+                         cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2
+    assert "no column to match students by" in run.stderr and "colour, size" in run.stderr
+    assert not (tmp_path / "out" / "gradebook.csv").exists()    # refused before grading
+
+
+# ---- similarity ---------------------------------------------------------------------------
+
+
+def near_copy(source: str) -> str:
+    """Renamed identifiers, another layout, other comments: what hiding a copy looks like."""
+    renames = {"direction": "d", "face": "which", "alpha": "wx", "beta": "wy", "px": "sx", "py": "sy",
+               "ix": "i", "iy": "j", "c00": "q1", "c10": "q2", "c01": "q3", "c11": "q4", "addr": "base"}
+    for old, new in renames.items():
+        source = re.sub(rf"\b{old}\b", new, source)
+    lines = [line.strip() for line in source.splitlines() if not line.strip().startswith("//")]
+    return "// written by me\n" + "\n".join(("\t" + line) if line.endswith(";") else line for line in lines)
+
+
+def test_similarity_finds_the_near_copy_among_independent_solutions(tmp_path):
+    klass = tmp_path / "class"
+    klass.mkdir()
+    independent = sorted((SUBMISSIONS / "correct").glob("*.cpp"))
+    assert len(independent) >= 5
+    for path in independent:
+        shutil.copy(path, klass / f"{path.stem}.cpp")
+    (klass / "copycat").mkdir()
+    (klass / "copycat" / "EnvironmentMap.cpp").write_text(near_copy((SUBMISSIONS / "correct" / "if_chain.cpp").read_text()))
+    with zipfile.ZipFile(klass / "untouched.zip", "w") as z:     # the template as handed out: nothing of its own
+        z.write(PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp", "EnvironmentMap.cpp")
+    from grader.grade_all import find_submissions as found
+    from grader.similarity import class_similarity
+    data = class_similarity(found(klass))
+    assert data["tool"].startswith("copydetect ") and data["boilerplate"] == "student_template/EnvironmentMap.cpp"
+    top = data["pairs"][0]
+    assert (top["a"], top["b"]) == ("copycat", "if_chain") and top["similarity"] > 0.9
+    assert [p for p in data["pairs"] if p is not top] == []      # independent solutions stay below the bar
+    assert top["passages"] and all(p["a_text"] and p["b_text"] for p in top["passages"])
+    assert any("readTexture" in p["b_text"] or "fetchColor" in p["b_text"] for p in top["passages"])
+    assert data["not_compared"] == [{"student": "untouched", "reason": "nothing of its own beyond the template"}]
+    assert data["compared"] == len(independent) + 1
+
+
+@pytest.mark.slow
+def test_grade_all_similarity_writes_the_pairs_into_the_summary_data(tmp_path):
+    klass = tmp_path / "class"
+    klass.mkdir()
+    shutil.copy(SUBMISSIONS / "correct" / "if_chain.cpp", klass / "alice.cpp")
+    shutil.copy(SUBMISSIONS / "correct" / "switch_on_face.cpp", klass / "bob.cpp")
+    (klass / "mallory.cpp").write_text(near_copy((SUBMISSIONS / "correct" / "if_chain.cpp").read_text()))
+    run = subprocess.run(grade_all_cmd(klass, tmp_path / "out", 2) + ["--similarity"], cwd=PROJECT_ROOT,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    pairs = json.loads((tmp_path / "out" / "summary.json").read_text())["similarity"]["pairs"]
+    assert [(p["a"], p["b"]) for p in pairs] == [("alice", "mallory")]
 
 
 def test_gradebook_leaves_checks_that_did_not_run_blank(tmp_path):

@@ -7,6 +7,15 @@ SUBMISSIONS holds one entry per student: a folder, a .zip, a .tar.gz or a
 OUT/<student>/ as soon as they are graded; OUT/gradebook.csv and the class
 summary (OUT/summary.html, summary.md) are written at the end. Interrupted
 (Ctrl-C, a reboot) and run again, it grades only what is missing or changed.
+
+    python -m grader grade-all submissions/ --roster roster.csv --similarity
+
+--roster adds student_id, name and email columns to the gradebook (a
+Gradescope or Canvas export, or any CSV with id, name and email columns) and
+a row for each student who handed nothing in. --similarity compares every
+pair of submissions (copydetect, the template's starter code left out) and
+lists the most similar pairs with their shared passages in the summary.
+Entries of SUBMISSIONS that are not submissions are listed with the reason.
 """
 from __future__ import annotations
 
@@ -35,11 +44,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "submission could then read the grader's environment and write its files")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    p.add_argument("--roster", type=Path, metavar="CSV",
+                   help="class roster (student id, name, email; Gradescope or Canvas export): adds those "
+                        "columns to gradebook.csv")
+    p.add_argument("--similarity", action="store_true",
+                   help="compare the submissions with each other (starter code excluded) and list the most "
+                        "similar pairs in the summary")
 
 
 def run(args) -> int:
     from ..fixtures import StaleFixtures
-    from ..grade_all import Interrupted, find_submissions, grade_all
+    from ..grade_all import Interrupted, find_submissions, grade_all, skipped_entries
+    from ..roster import RosterError
     if not args.submissions.is_dir():
         print(f"grade-all: {args.submissions} is not a folder (expected one sub-folder or archive per student)",
               file=sys.stderr)
@@ -62,7 +78,11 @@ def run(args) -> int:
     options = {"sandbox": args.sandbox, "quick": args.quick, "allow_stale": args.allow_stale,
                "allow_unsafe": args.allow_unsafe}
     try:
-        rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force)
+        rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force,
+                         roster=args.roster, similarity=args.similarity)
+    except RosterError as e:
+        print(f"grade-all: roster: {e}", file=sys.stderr)
+        return 2
     except StaleFixtures as e:
         print(f"grade-all: {e}", file=sys.stderr)
         return 1
@@ -79,6 +99,8 @@ def run(args) -> int:
     for r in rows:
         if r.error:
             print(f"  {r.student}: ungradable: {r.error}", file=sys.stderr)
+    for entry in skipped_entries(args.submissions, exclude=out):
+        print(f"  skipped {entry['entry']}: {entry['reason']}")
     print(f"gradebook: {out / 'gradebook.csv'}")
     print(f"summary:   {out / 'summary.html'} (and summary.md)")
     print(f"reports:   {out}/<student>/report.html")
