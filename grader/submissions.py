@@ -41,6 +41,7 @@ MAX_UPLOAD_BYTES = 64 << 20          # the upload file itself (compressed)
 MAX_UNPACKED_BYTES = 64 << 20        # bytes read out of an archive in all
 MAX_MEMBERS = 20000                  # files (archive members or folder entries)
 MAX_UNPACK_SECONDS = 10.0            # wall time spent finding the source
+MAX_DEPTH = 32                       # folder levels looked into
 # Folders that hold no submission: version control, macOS archive debris.
 SKIPPED_DIRS = ("__MACOSX",)
 EXPECTED = f"{SOURCE_NAME} itself, a folder holding it, or a .zip, .tar or .tar.gz of either"
@@ -344,7 +345,10 @@ def _folder_files(path: Path, budget: _Budget) -> tuple[dict[str, Reader], list[
     listed: list[str] = []
     count = 0
     for dirpath, dirnames, filenames in os.walk(path):  # does not descend into links
-        dirnames[:] = sorted(d for d in dirnames if d not in SKIPPED_DIRS and not d.startswith("."))
+        # Deeper than any project (os.walk recurses: a folder 2000 deep would overflow).
+        deep = len(Path(dirpath).relative_to(path).parts) >= MAX_DEPTH
+        dirnames[:] = [] if deep else sorted(d for d in dirnames
+                                             if d not in SKIPPED_DIRS and not d.startswith("."))
         budget.check_time()
         for filename in sorted(filenames):
             count += 1
@@ -496,6 +500,8 @@ def hash_submission(path: Path) -> str:
     if path.is_dir():
         entries = []
         for dirpath, dirnames, filenames in os.walk(path):
+            if len(Path(dirpath).relative_to(path).parts) >= MAX_DEPTH:
+                dirnames.clear()
             dirnames.sort()
             entries += [Path(dirpath) / f for f in sorted(filenames)]
             if len(entries) > MAX_MEMBERS:

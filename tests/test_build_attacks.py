@@ -423,3 +423,50 @@ def test_every_build_diagnosis_is_declared_and_catalogued():
         used |= set(re.findall(r'return "([a-z-]+)", ', text))
     assert used and used <= set(build.DIAGNOSIS_IDS)
     assert all(i in CATALOGUE and CATALOGUE[i].kind == "build" for i in build.DIAGNOSIS_IDS)
+
+
+def test_a_folder_deeper_than_any_project_is_not_walked_to_the_bottom(cache, tmp_path):
+    folder = tmp_path / "erin"
+    deep = folder
+    folder.mkdir()
+    for _ in range(1500):   # os.walk recursion would overflow at ~1000
+        deep = deep / "d"
+        try:
+            deep.mkdir()
+        except OSError:
+            pytest.skip("this file system refuses paths that long")
+    (folder / "EnvironmentMap.cpp").write_bytes(GOOD)
+    result = build_submission(folder, cache_dir=cache)
+    assert result.ok, result.log
+    assert submissions.hash_submission(folder)
+
+
+@pytest.fixture
+def failing_bwrap(tmp_path, monkeypatch):
+    """A bwrap first on PATH that always fails, as in a container without
+    user namespaces; the sandbox probe is asked again."""
+    from grader.worker import sandbox
+    fake = tmp_path / "fakebin"
+    fake.mkdir()
+    (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    (fake / "bwrap").chmod(0o755)
+    monkeypatch.setenv("PATH", f"{fake}:{os.environ.get('PATH', '/usr/bin:/bin')}")
+    sandbox.sandbox_problem.cache_clear()
+    yield
+    sandbox.sandbox_problem.cache_clear()
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
+def test_without_bubblewrap_root_builds_as_nobody(failing_bwrap, cache, tmp_path):
+    assert build.build_isolation() == "privilege-drop"
+    source = tmp_path / "EnvironmentMap.cpp"
+    source.write_bytes(GOOD + b"\n// no bubblewrap here\n")
+    result = build_submission(source, cache_dir=cache)
+    assert result.ok and result.isolation == "privilege-drop", result.log
+    refused = build_submission(SUBMISSIONS / "attacks" / "include_scratch_file.cpp", cache_dir=cache)
+    assert refused.diagnosis_id == "refused-include"
+
+
+def test_without_bubblewrap_and_not_root_builds_as_ourselves(failing_bwrap, monkeypatch):
+    monkeypatch.setattr(os, "geteuid", lambda: 1000)
+    assert build.build_isolation() == "none"
