@@ -24,6 +24,7 @@ from grader.worker.lookups import open_lookups
 
 WRAPPER = r"""
 #include "submission_abi.h"
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,8 +41,26 @@ static size_t kept_n;
 int sub_abi_version(void) { return ref_abi_version(); }
 void *sub_create(char *m, size_t s) { return ref_create(m, s); }
 void sub_destroy(void *map) { free(map); }
+#if MODE == 4   /* a thread that thrashes memory between calls, to slow whatever is timed next */
+static void *thrash(void *unused)
+{
+    (void)unused;
+    size_t size = (size_t)64 << 20;
+    volatile char *junk = malloc(size);
+    for (size_t i = 0;; i = (i + 4096 + 64) % size)
+        junk[i]++;
+    return NULL;
+}
+#endif
 int sub_set_faces(void *map, const float *t, int w, int h, char *m, size_t s)
-{ face_width = w; return ref_set_faces(map, t, w, h, m, s); }
+{
+#if MODE == 4
+    static pthread_t thread;
+    if (!thread) pthread_create(&thread, NULL, thrash, NULL);
+#endif
+    face_width = w;
+    return ref_set_faces(map, t, w, h, m, s);
+}
 int sub_read_texture_batch(void *map, const float *a, const double *uv, size_t n, double *rgb, char *m, size_t s)
 { return ref_read_texture_batch(map, a, uv, n, rgb, m, s); }
 int sub_load_cross(void *map, const char *p, char *m, size_t s) { (void)map; (void)p; (void)m; (void)s; return 0; }
@@ -68,7 +87,7 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
 """
 RENAMES = [f"-Dsub_{name}=ref_{name}" for name in
            ("abi_version", "create", "destroy", "set_faces", "fetch_batch", "read_texture_batch", "load_cross")]
-MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3}
+MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3, "thrash": 4}
 
 
 @pytest.fixture(scope="module")
@@ -88,7 +107,7 @@ def libraries(tmp_path_factory) -> dict:
     for name, mode in MODES.items():
         library = folder / f"{name}.so"
         subprocess.run(["cc", *flags, f"-DMODE={mode}", "-shared", "-o", str(library), str(folder / "wrapper.c"),
-                        str(ref_object), *ref_sources, "-lm"], check=True)
+                        str(ref_object), *ref_sources, "-lm", "-pthread"], check=True)
         out[name] = library
     return out
 
@@ -120,6 +139,23 @@ def test_skipping_work_while_timed_fails(libraries, tmp_path, name):
     assert result.status == FAILED and result.fraction == 0.0
     assert [d.id for d in result.diagnoses] == ["timed-output-wrong"], result.output
     assert result.metrics["timed_match"] < 0.5
+
+
+def test_the_student_worker_is_frozen_while_others_are_timed(libraries):
+    import time
+    import numpy as np
+    with open_lookups(libraries["thrash"]) as lookups:
+        lookups.set_faces(np.zeros((6, 4, 4, 3), np.float32))
+        assert lookups.fetch(np.eye(3)).ok
+        worker = lookups._worker
+        before = worker.cpu_ns()
+        time.sleep(0.3)
+        assert worker.cpu_ns() > before          # its thread runs between calls...
+        with lookups.frozen():
+            before = worker.cpu_ns()
+            time.sleep(0.3)
+            assert worker.cpu_ns() == before     # ...but not while frozen
+        assert lookups.fetch(np.eye(3)).ok       # and it answers again afterwards
 
 
 BUSY = [sys.executable, "-c", "import time\nend = time.monotonic() + 120\nwhile time.monotonic() < end: pass"]

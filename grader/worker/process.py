@@ -104,6 +104,19 @@ def process_cpu_ns(pid: int) -> int:
     return time.clock_gettime_ns(((~pid) << 3) | 2)
 
 
+def _all_stopped(pid: int) -> bool:
+    """Every thread of `pid` is stopped (state T or t in /proc)."""
+    try:
+        for task in os.listdir(f"/proc/{pid}/task"):
+            with open(f"/proc/{pid}/task/{task}/stat") as f:
+                state = f.read().rpartition(")")[2].split()[0]
+            if state not in ("T", "t"):
+                return False
+    except (OSError, IndexError):
+        return True   # gone: nothing runs
+    return True
+
+
 def _deadline_left(deadline: float) -> float:
     return max(0.0, deadline - time.monotonic())
 
@@ -338,6 +351,28 @@ class Worker:
         except OSError:
             self._fail(EXITED, "the worker ended while it was being timed")
         return rgb, used
+
+    def freeze(self) -> None:
+        """Stop every thread of the worker (SIGSTOP, from outside) while other
+        libraries are timed: a thread left spinning on memory would slow them
+        down and flatter its own ratio."""
+        if self._worker_pid is not None and self.alive:
+            try:
+                os.kill(self._worker_pid, signal.SIGSTOP)
+            except ProcessLookupError:
+                return
+            # The stop lands asynchronously: wait (briefly) until every
+            # thread is stopped, so nothing of it runs in what follows.
+            deadline = time.monotonic() + 1.0
+            while time.monotonic() < deadline and not _all_stopped(self._worker_pid):
+                time.sleep(0.001)
+
+    def thaw(self) -> None:
+        if self._worker_pid is not None and self.alive:
+            try:
+                os.kill(self._worker_pid, signal.SIGCONT)
+            except ProcessLookupError:
+                pass
 
     def cpu_ns(self) -> int:
         """CPU time the worker process has used so far (see fetch_timed)."""

@@ -16,6 +16,7 @@ seconds, the rest of the batch is given up cleanly (NaN, `gave_up`).
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -187,6 +188,19 @@ class SubmissionRunner:
             timed.lookups.append(len(dirs))
             timed.values.append(rgb)
         return timed
+
+    @contextmanager
+    def frozen(self):
+        """The current worker stopped (SIGSTOP) for the duration, e.g. while
+        the reference is timed, so none of its threads can run meanwhile."""
+        worker = self._worker
+        if worker is not None:
+            worker.freeze()
+        try:
+            yield
+        finally:
+            if worker is not None:
+                worker.thaw()
 
     # ---- the search -------------------------------------------------------
 
