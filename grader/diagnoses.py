@@ -94,7 +94,7 @@ _ENTRIES = [
     DiagnosisInfo(
         "calls-reference", "build",
         "Your code calls the grader's reference solution",
-        "Your code calls functions of the grader's reference solution (em_*). "
+        "Your code calls functions of the grader's reference solution (their names start with em_). "
         "They are not part of your program: the grader builds your file with "
         "the template's headers and its own loader only, so the answer cannot "
         "come from there. The message names the functions.",
