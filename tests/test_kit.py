@@ -249,7 +249,7 @@ def grader_visible(source: Path, out: Path) -> dict:
 # seeded per submission by the grader and fixed in the kit; a starting code
 # (nearest texel) matches where a random point lands in a face's last texel,
 # so its score there moves by up to about a point with the seed.
-SEEDED_SLACK = {"read_texture": 1.5}
+SEEDED_SLACK = {"read_texture": 1.5}   # the other checks agree exactly
 
 
 @pytest.mark.slow

@@ -2,7 +2,7 @@
 // self-check's inputs and writes what they return; selfcheck.py compares
 // that with the expected data (selfcheck/data) and scores it.
 //
-//   selfcheck_driver JOBFILE
+//   selfcheck_driver JOBFILE STATUSFILE
 //
 // JOBFILE has one command per line, fields separated by tabs:
 //   faces  W  H  FILE.f32        six faces from raw float32 (6*H*W*3), see below
@@ -11,8 +11,10 @@
 //   texture FACE  IN.f64  OUT.f64  readTexture(faceAddress(FACE), u, v) on n (u, v)
 //   render SCENE.cfg  MAP.hdr  W  H  SPP  OUT.f32   the scene rendered with fetchColor
 //                                   in MAP ("-": the scene's own map)
-// After each command it prints "done<TAB>index"; an exception from your code
-// prints "exception<TAB>index<TAB>row<TAB>message" and gives NaN for that row.
+// After each command it appends "done<TAB>index" to STATUSFILE; an exception
+// from your code appends "exception<TAB>index<TAB>row<TAB>message" and gives
+// NaN for that row. (A file, not stdout: your code may print what it likes.)
+// Exit status: 0, or 86 when a command is malformed or a file is missing.
 //
 // The faces sit in the middle of a larger buffer whose other floats are NaN:
 // reading outside the faces (x = -1 or x = W on the first or last face)
@@ -78,8 +80,9 @@ std::vector<std::string> splitTabs(const std::string& line)
 struct Driver {
     EnvironmentMap map;
     std::vector<float> guarded;   // NaN, the six faces, NaN
-
+    std::ofstream status;
     int index = 0;
+    int exceptions = 0;            // reported in this command (a few are enough)
 
     void exception(std::size_t row, const char* what)
     {
@@ -87,7 +90,8 @@ struct Driver {
         for (char& c : text)
             if (c == '\t' || c == '\n' || c == '\r')
                 c = ' ';
-        std::cout << "exception\t" << index << '\t' << row << '\t' << text.substr(0, 200) << std::endl;
+        if (++exceptions <= 5)
+            status << "exception\t" << index << '\t' << row << '\t' << text.substr(0, 200) << std::endl;
     }
 
     bool faces(int w, int h, const std::string& path)
@@ -222,16 +226,17 @@ struct Driver {
 
 int main(int argc, char** argv)
 {
-    if (argc != 2) {
-        std::cerr << "usage: " << argv[0] << " JOBFILE" << std::endl;
-        return 2;
+    if (argc != 3) {
+        std::cerr << "usage: " << argv[0] << " JOBFILE STATUSFILE" << std::endl;
+        return 86;
     }
     std::ifstream jobs(argv[1]);
-    if (!jobs) {
-        std::cerr << "cannot read " << argv[1] << std::endl;
-        return 2;
-    }
     static Driver driver;   // static: the map's buffer outlives every call
+    driver.status.open(argv[2], std::ios::out | std::ios::trunc);
+    if (!jobs || !driver.status) {
+        std::cerr << "cannot read " << argv[1] << " or write " << argv[2] << std::endl;
+        return 86;
+    }
     std::string line;
     while (std::getline(jobs, line)) {
         if (!line.empty() && line.back() == '\r')
@@ -245,10 +250,11 @@ int main(int argc, char** argv)
         }
         if (!ok) {
             std::cerr << "selfcheck driver: command " << driver.index << " failed: " << line << std::endl;
-            return 3;
+            return 86;
         }
-        std::cout << "done\t" << driver.index << std::endl;
+        driver.status << "done\t" << driver.index << std::endl;
         ++driver.index;
+        driver.exceptions = 0;
     }
     return 0;
 }
