@@ -300,3 +300,39 @@ def test_runner_gives_up_after_the_failure_cap(stand_in):
 def test_input_descriptions():
     assert describe_fetch([1.0, 0.0, -0.5]) == "fetchColor(Vector3(1, 0, -0.5))"
     assert describe_read_texture(0, 1.0, 0.5) == "readTexture(face +X, u = 1.0, v = 0.5)"
+
+
+# ---- timing from outside ---------------------------------------------------------------
+
+@pytest.mark.parametrize("mode", MODES)
+def test_the_worker_pid_is_found_from_outside_and_its_cpu_time_read(stand_in, mode):
+    import os
+    from grader.worker.native import worker_binary
+    with Worker(stand_in, sandbox=mode) as worker:
+        pid = worker._worker_pid
+        assert os.stat(f"/proc/{pid}/exe").st_ino == os.stat(worker_binary()).st_ino
+        if mode == "sandbox":
+            assert pid != worker._proc.pid      # bubblewrap's child, not bubblewrap
+        worker.set_faces(faces())
+        rgb, used = worker.fetch_timed(np.tile([[7.0, 8.0, 9.0]], (20000, 1)))
+        np.testing.assert_array_equal(rgb[-1], [7, 8, 9])
+        assert used > 0
+
+
+def test_children_are_found_without_the_children_file(monkeypatch):
+    import builtins
+    from grader.worker import process
+    child = subprocess.Popen(["sleep", "5"])
+    try:
+        real_open = builtins.open
+
+        def no_children(path, *args, **kwargs):
+            if str(path).endswith("/children"):
+                raise FileNotFoundError(path)
+            return real_open(path, *args, **kwargs)
+
+        monkeypatch.setattr(builtins, "open", no_children)
+        assert child.pid in process._children(__import__("os").getpid())
+    finally:
+        child.kill()
+        child.wait()

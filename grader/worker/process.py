@@ -62,19 +62,39 @@ def _enlarge_pipe(fd: int) -> None:
         pass
 
 
+def _children(pid: int) -> list[int]:
+    """pid's child processes: /proc/<pid>/task/<tid>/children, or (a kernel
+    without CONFIG_PROC_CHILDREN) every process whose parent is pid."""
+    try:
+        out = []
+        for task in os.listdir(f"/proc/{pid}/task"):
+            with open(f"/proc/{pid}/task/{task}/children") as f:
+                out += [int(c) for c in f.read().split()]
+        return out
+    except FileNotFoundError:
+        pass
+    except OSError:
+        return []
+    out = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    if int(f.read().rpartition(")")[2].split()[1]) == pid:
+                        out.append(int(entry))
+            except (OSError, IndexError, ValueError):
+                continue
+    return out
+
+
 def _descendants(pid: int) -> list[int]:
     """pid and every process below it (bubblewrap starts the worker as a
-    grandchild), from /proc/<pid>/task/<tid>/children."""
+    grandchild)."""
     found, queue = [], [pid]
     while queue:
         p = queue.pop()
         found.append(p)
-        try:
-            for task in os.listdir(f"/proc/{p}/task"):
-                with open(f"/proc/{p}/task/{task}/children") as f:
-                    queue += [int(c) for c in f.read().split()]
-        except OSError:
-            continue
+        queue += _children(p)
     return found
 
 
