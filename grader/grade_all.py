@@ -19,12 +19,10 @@ columns and a row for every student who handed nothing in.
 """
 from __future__ import annotations
 
-import concurrent.futures as futures
 import csv
 import hashlib
 import io
 import json
-import multiprocessing
 import os
 import shutil
 import tempfile
@@ -33,8 +31,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import PROJECT_ROOT
-from .reports.class_summary import check_names, write_summary
 from .results import UNGRADABLE
+
+# grade() imports this module for student_name: what only a class needs
+# (process pools, the class summary's report code) is imported where used.
 
 RECORD_FILE = ".grade.json"
 # Entries graded as submissions besides folders: archives and sources in any
@@ -310,6 +310,8 @@ def _summary(rows: list[Row], out: Path, data: dict) -> None:
     """The class summary (grader/reports/class_summary.py), given the summary
     data when it takes it."""
     import inspect
+
+    from .reports.class_summary import write_summary
     if "data" in inspect.signature(write_summary).parameters:
         write_summary(rows, out, data=data)
     else:
@@ -317,6 +319,8 @@ def _summary(rows: list[Row], out: Path, data: dict) -> None:
 
 
 def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance) -> None:
+    import concurrent.futures as futures
+    import multiprocessing
     ctx = multiprocessing.get_context("spawn")   # no copy of the parent's threads or state
     pool = futures.ProcessPoolExecutor(max_workers=min(jobs, len(todo)), mp_context=ctx,
                                        initializer=_ignore_interrupts)
@@ -366,6 +370,7 @@ def write_gradebook(rows: list[Row], path: Path, roster_columns: bool = False) -
     With a roster: student_id, name and email after the student column (an
     LMS imports by them), and students who handed in nothing with a blank
     score (an import leaves their grade alone)."""
+    from .reports.class_summary import check_names
     names = check_names(rows)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")

@@ -21,15 +21,15 @@ SCRIPT = PROJECT_ROOT / "scripts" / "install-system-deps.sh"
 SYSTEMS = {
     "Debian GNU/Linux 12 (bookworm)": {
         "gcc": "4:12.2.0-3", "g++": "4:12.2.0-3", "make": "4.3-4.1", "python3-venv": "3.11.2-1+b1",
-        "bubblewrap": "0.8.0-2+deb12u1", "chromium": "156.0-1~deb12u1", "clang": "1:14.0-55.7~deb12u1",
+        "bubblewrap": "0.8.0-2+deb12u1", "libstb-dev": "0.0~git20220908.8b5f1f3+ds-1", "chromium": "156.0-1~deb12u1", "clang": "1:14.0-55.7~deb12u1",
         "libclang-rt-14-dev": "1:14.0.6-12", "libclang-common-14-dev": "1:14.0.6-12"},
     "Ubuntu 22.04.5 LTS": {
         "gcc": "4:11.2.0-1ubuntu1", "g++": "4:11.2.0-1ubuntu1", "make": "4.3-4.1build1",
-        "python3-venv": "3.10.6-1~22.04", "bubblewrap": "0.6.1-1ubuntu0.1", "chromium-browser": "1:85.0-0ubuntu2",
+        "python3-venv": "3.10.6-1~22.04", "bubblewrap": "0.6.1-1ubuntu0.1", "libstb-dev": "0.0~git20210910.af1a5bc+ds-1", "chromium-browser": "1:85.0-0ubuntu2",
         "clang": "1:14.0-55~exp2", "libclang-common-14-dev": "1:14.0.0-1ubuntu1.1"},
     "Ubuntu 24.04.1 LTS": {
         "gcc": "4:13.2.0-7ubuntu1", "g++": "4:13.2.0-7ubuntu1", "make": "4.3-4.1build2",
-        "python3-venv": "3.12.3-0ubuntu2", "bubblewrap": "0.9.0-1ubuntu0.1", "chromium-browser": "2:1snap1-0ubuntu2",
+        "python3-venv": "3.12.3-0ubuntu2", "bubblewrap": "0.9.0-1ubuntu0.1", "libstb-dev": "0.0~git20230129.5736b15+ds-1", "chromium-browser": "2:1snap1-0ubuntu2",
         "clang": "1:18.0-59~exp2", "libclang-rt-14-dev": "1:14.0.6-19build4", "libclang-rt-18-dev": "1:18.1.3-1ubuntu1",
         "libclang-common-18-dev": "1:18.1.3-1ubuntu1"},
 }
@@ -75,7 +75,7 @@ def test_nothing_missing_does_nothing(tmp_path):
 def test_debian_12_installs_everything(tmp_path):
     done, installed = run_script(tmp_path, "Debian GNU/Linux 12 (bookworm)", [])
     assert done.returncode == 0, done.stderr
-    assert installed == ["gcc", "g++", "make", "python3-venv", "bubblewrap", "chromium", "clang",
+    assert installed == ["gcc", "g++", "make", "python3-venv", "libstb-dev", "bubblewrap", "chromium", "clang",
                          "libclang-rt-14-dev"]
     assert "installing" in done.stdout   # progress, not silence
 
@@ -83,7 +83,8 @@ def test_debian_12_installs_everything(tmp_path):
 def test_ubuntu_22_04_uses_the_common_package_and_explains_chromium(tmp_path):
     done, installed = run_script(tmp_path, "Ubuntu 22.04.5 LTS", [])
     assert done.returncode == 0, done.stderr    # chromium is for a test only
-    assert installed == ["gcc", "g++", "make", "python3-venv", "bubblewrap", "clang", "libclang-common-14-dev"]
+    assert installed == ["gcc", "g++", "make", "python3-venv", "libstb-dev", "bubblewrap", "clang",
+                         "libclang-common-14-dev"]
     assert "cannot install chromium" in done.stderr and "Ubuntu 22.04.5 LTS" in done.stderr
     assert "snap" in done.stderr   # what it is for, and why Ubuntu has none
 
@@ -118,4 +119,4 @@ def test_without_root_it_only_says_what_to_run(tmp_path):
                                   if line.strip() and not line.startswith("#")])
 def test_every_package_says_what_it_is_for(line):
     fields, _, why = line.partition("#")
-    assert len(fields.split()) == 2 and fields.split()[1] in ("core", "test") and len(why.strip()) > 10, line
+    assert len(fields.split()) == 2 and fields.split()[1] in ("core", "kit", "test") and len(why.strip()) > 10, line
