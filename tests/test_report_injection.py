@@ -37,7 +37,7 @@ FENCE = "```"
 PAYLOADS = [FAKE_HEADING, FAKE_LINK, FAKE_IMAGE, FENCE, FAKE_SCRIPT,
             "![img](http://x/y.png)", "<details open><summary>fake</summary>",
             "Regraded\n========", "see http://evil.example and www.evil.example",
-            "[bold red]rich markup[/]", "&lt;entity&gt;", "| fake | table |",
+            "[bold red]rich markup[/]", "&lt;entity&gt;", "| fake | table |", "mail alice@uni.example now",
             "non-text \uffff\ufffe\x00\x07\x1b[31m\ud800 end"]
 PAYLOAD = "\n".join(PAYLOADS)
 # Student names from grade-all: folder and archive names.
@@ -281,7 +281,8 @@ def test_md_escape_is_inert_for_every_payload(payload, render):
     for markdown in (md_escape(payload, line_start=True), "- " + md_escape(payload, line_start=True),
                      "| a |\n|---|\n| " + md_escape(payload) + " |", "x " + md_escape(payload)):
         page = render(markdown)
-        assert page.tags() <= {"p", "ul", "li", "table", "thead", "tbody", "tr", "th", "td"}, (markdown, page.tags())
+        assert page.tags() <= {"p", "ul", "li", "table", "thead", "tbody", "tr", "th", "td", "code"}, (
+            markdown, page.tags())
         assert clean(payload).replace("\n", " ").strip()[:8] in page.plain()
 
 
@@ -295,3 +296,49 @@ def test_grader_markdown_stays_markdown_and_anything_else_becomes_text():
 
 def test_same_hostile_result_same_reports():
     assert render_all(make_hostile()) == render_all(make_hostile())
+
+
+def hostile_summary_data() -> dict:
+    """grade-all's summary data (skipped entries, roster, similarity): file
+    names, roster entries and the students' own code."""
+    return {
+        "skipped": [{"entry": FAKE_IMAGE + ".rar", "reason": "a .rar file " + FAKE_LINK},
+                    {"entry": "a`b``c.txt", "reason": FAKE_HEADING}],
+        "roster": {"file": "roster <b>.csv", "columns": {}, "students": 3, "matched": 2,
+                   "unmatched": [FAKE_HEADING, FAKE_IMAGE],
+                   "missing": [{"id": "42", "name": FAKE_SCRIPT, "email": "x@y.org"}]},
+        "similarity": {"tool": "copydetect", "boilerplate": "student_template/EnvironmentMap.cpp",
+                       "compared": 2, "min_listed": 0.5,
+                       "pairs": [{"a": NAMES[0], "b": NAMES[1], "similarity": 0.93, "share_a": 0.93,
+                                  "share_b": 0.9, "shared_tokens": 400,
+                                  "passages": [{"a_lines": [1, 3], "b_lines": [2, 4], "a_text": PAYLOAD,
+                                                "b_text": "````\n" + FAKE_SCRIPT + "\n```"}]}],
+                       "not_compared": [{"student": FAKE_HEADING, "reason": FAKE_LINK}]},
+    }
+
+
+def test_class_summary_data_sections_stay_text(tmp_path):
+    rows = class_rows()
+    write_summary(rows, tmp_path, data=hostile_summary_data())
+    md = (tmp_path / "summary.md").read_text()
+    for page, where in ((Page((tmp_path / "summary.html").read_text()), "summary.html"),
+                        (gfm(md), "summary.md on GitHub"), (commonmark(md), "summary.md")):
+        assert not page.tags() & {"script", "b", "h4", "details"}, (where, page.tags())
+        assert [a for t, a in page.elements if t == "a"] == [], where      # no report folders here
+        assert not [a for _, attrs in page.elements for a in attrs if a.startswith("on")], where
+        assert not [h for h in page.headings if "Regraded" in h], where
+        assert_shown_literally(page, where, FAKE_IMAGE + ".rar", "roster <b>.csv", FAKE_SCRIPT,
+                               FAKE_HEADING, "Most similar pairs")
+        assert "93%" in page.plain()
+    # The shared passages are code blocks that end where they should.
+    fences = [t for t in MarkdownIt("commonmark").parse(md) if t.type == "fence"]
+    assert [f.info for f in fences] == ["cpp", "cpp"]
+    assert fences[1].content == "````\n" + FAKE_SCRIPT + "\n```\n"
+
+
+def test_class_summary_is_deterministic(tmp_path):
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        write_summary(class_rows(), tmp_path / folder, data=hostile_summary_data())
+    for name in ("summary.md", "summary.html", "summary_histogram.png", "summary_speed_accuracy.png"):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name

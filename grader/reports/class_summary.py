@@ -20,7 +20,7 @@ from urllib.parse import quote
 
 from .. import PROJECT_ROOT
 from ..results import UNGRADABLE
-from .text import clean, md_escape
+from .text import clean, md_code, md_escape, md_fence
 
 HISTOGRAM = "summary_histogram.png"
 SPEED_CHART = "summary_speed_accuracy.png"
@@ -96,7 +96,13 @@ def _speed_chart(rows, path: Path) -> int:
 def _diagnosis_counts(rows) -> list[tuple[str, str, int]]:
     from ..diagnoses import describe
     counts = Counter(d for r in rows for d in r.diagnoses)
-    return [(d, describe(d).title, n) for d, n in counts.most_common()]
+
+    def title(d: str) -> str:
+        try:
+            return describe(d).title
+        except KeyError:   # an id from an older grader's results.json
+            return d
+    return [(d, title(d), n) for d, n in counts.most_common()]
 
 
 def report_link(student: str) -> str:
@@ -105,9 +111,76 @@ def report_link(student: str) -> str:
     return f"{quote(student, safe='')}/{STUDENT_REPORT}"
 
 
-def summary_markdown(rows, charted: int, linked: set[str] | None = None) -> str:
-    """summary.md. `linked`: students whose report.html exists (they get a link)."""
+def _item(value) -> str:
+    """One entry of grade-all's summary data (a name, or a small record) as plain text."""
+    if isinstance(value, dict):
+        return ", ".join(f"{k} {v}" for k, v in value.items() if v not in (None, ""))
+    return str(value)
+
+
+def _skipped_section(skipped) -> list[str]:
+    if not skipped:
+        return []
+    lines = ["", "## Entries that were not graded", "",
+             "What the class folder held besides submissions, and why each was left out.", ""]
+    lines += [f"- {md_code(str(e.get('entry', '')))}: {md_escape(str(e.get('reason', '')))}" for e in skipped]
+    return lines
+
+
+def _roster_section(roster) -> list[str]:
+    if not roster:
+        return []
+    lines = ["", "## Roster", "",
+             f"{md_code(str(roster.get('file', '')))}: {int(roster.get('students', 0))} students, "
+             f"{int(roster.get('matched', 0))} matched to a submission."]
+    for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster")):
+        entries = roster.get(key) or []
+        if entries:
+            lines += ["", f"**{title}:**", ""]
+            lines += [f"- {md_escape(_item(e), line_start=True)}" for e in entries]
+    return lines
+
+
+def _similarity_section(similarity) -> list[str]:
+    """The most similar pairs and their shared passages. Passages are the
+    students' code: fenced, never rendered."""
+    if not similarity:
+        return []
+    pairs = similarity.get("pairs") or []
+    lines = ["", "## Most similar pairs", "",
+             f"{int(similarity.get('compared', 0))} submissions compared with "
+             f"{md_escape(str(similarity.get('tool', 'a similarity tool')))}"
+             + (f", the template ({md_code(str(similarity['boilerplate']))}) not counted"
+                if similarity.get("boilerplate") else "")
+             + f"; pairs sharing at least {float(similarity.get('min_listed', 0)):.0%} are listed. "
+             "A high share is a reason to look, not a verdict.", ""]
+    if not pairs:
+        lines.append("No pair reaches that share.")
+    for p in pairs:
+        a, b = str(p.get("a", "")), str(p.get("b", ""))
+        lines += ["", f"### {md_escape(a)} and {md_escape(b)}: {float(p.get('similarity', 0)):.0%}", "",
+                  f"{float(p.get('share_a', 0)):.0%} of {md_escape(a)}'s code and "
+                  f"{float(p.get('share_b', 0)):.0%} of {md_escape(b)}'s, "
+                  f"{int(p.get('shared_tokens', 0))} tokens in common.", ""]
+        for passage in p.get("passages") or []:
+            for side, name in (("a", a), ("b", b)):
+                first, last = (list(passage.get(f"{side}_lines") or [0, 0]) + [0, 0])[:2]
+                lines += [f"{md_escape(name)}, lines {int(first)}-{int(last)}:", "",
+                          md_fence(str(passage.get(f"{side}_text", "")), "cpp"), ""]
+    not_compared = similarity.get("not_compared") or []
+    if not_compared:
+        lines += ["", "**Not compared:**", ""]
+        lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: {md_escape(str(e.get('reason', '')))}"
+                  for e in not_compared]
+    return lines
+
+
+def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: dict | None = None) -> str:
+    """summary.md. `linked`: students whose report.html exists (they get a
+    link). `data`: grade-all's summary data (skipped entries, roster,
+    similarity), all of it the students' or the instructor's text."""
     linked = linked or set()
+    data = data or {}
     statuses = Counter(r.status for r in rows)
     graded = [r.score for r in rows if r.status != UNGRADABLE]
     lines = ["# Class summary", "",
@@ -122,7 +195,7 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None) -> str:
     counted = _diagnosis_counts(rows)
     if counted:
         lines += ["| diagnosis | what it means | submissions |", "|---|---|---:|"]
-        lines += [f"| `{d}` | {md_escape(title)} | {n} |" for d, title, n in counted]
+        lines += [f"| {md_code(d)} | {md_escape(title)} | {n} |" for d, title, n in counted]
     else:
         lines.append("None: no submission was found at fault.")
     lines += ["", "## Speed against accuracy", "",
@@ -140,6 +213,9 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None) -> str:
             lines.append(f"- [{md_escape(r.student)}](<{report_link(r.student)}>)")
         else:
             lines.append(f"- {md_escape(r.student, line_start=True)} (no report)")
+    lines += _skipped_section(data.get("skipped"))
+    lines += _roster_section(data.get("roster"))
+    lines += _similarity_section(data.get("similarity"))
     return "\n".join(lines) + "\n"
 
 
@@ -179,15 +255,16 @@ def summary_html(rows, markdown_text: str, out: Path, linked: set[str] | None = 
             f"<title>Class summary</title><style>{style}</style></head><body>{body}{table}</body></html>\n")
 
 
-def write_summary(rows, out: Path) -> None:
+def write_summary(rows, out: Path, data: dict | None = None) -> None:
     """summary.md and summary.html: score histogram, most common diagnoses,
     every submission on the speed-against-accuracy chart, a link to every
-    student's report."""
+    student's report; with grade-all's `data`, the entries it skipped, the
+    roster's matches and the most similar pairs."""
     from . import write_atomic
     out = Path(out)
     _histogram(rows, out / HISTOGRAM)
     charted = _speed_chart(rows, out / SPEED_CHART)
     linked = {r.student for r in rows if (out / r.student / STUDENT_REPORT).is_file()}
-    text = summary_markdown(rows, charted, linked)
+    text = summary_markdown(rows, charted, linked, data)
     write_atomic(out / "summary.md", text)
     write_atomic(out / "summary.html", summary_html(rows, text, out, linked))

@@ -37,7 +37,7 @@ def check_points(check: CheckResult) -> str:
 
 def html_text(text: str) -> str:
     """Plain text inside our raw HTML (<summary>): HTML-escaped, one line."""
-    return escape(clean(text).replace("\n", " "), quote=True)
+    return escape(clean(text).replace("\n", " "), quote=False)   # element text, not an attribute
 
 
 def all_correct(view: ReportView) -> str:

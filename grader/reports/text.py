@@ -20,9 +20,10 @@ _NON_TEXT = re.compile("[\ud800-\udfff\ufffe\uffff]")
 # Characters that start inline markup or raw HTML anywhere in a line.
 _MD_SPECIAL = re.compile(r"([\\`*_\[\]<>|~&])")
 # What GitHub's autolink extension turns into a link without any markup:
-# "scheme://" and "www." (an escape breaks them; e-mail addresses it links
-# whatever the escaping, with the address itself as the visible text).
+# "scheme://" and "www." (an escape breaks them) and e-mail addresses (it
+# links them whatever the escaping: they become code spans instead).
 _AUTOLINK = re.compile(r"(?i)(?<=[a-z0-9])(:)(?=//)|\b(www)(\.)")
+_EMAIL = re.compile(r"[\w.+-]+@[\w-]+(?:\.[\w-]+)+")
 # numpy's repr of a vector, e.g. "[16. 16.  1.]" or "[ 1.5e-01 -2.0e+00]".
 _NUMPY_VECTOR = re.compile(
     r"\[\s*((?:[-+]?(?:\d+\.?\d*(?:e[-+]?\d+)?|nan|inf)\s+)+[-+]?(?:\d+\.?\d*(?:e[-+]?\d+)?|nan|inf))\s*\]")
@@ -40,13 +41,21 @@ def md_escape(text: str, line_start: bool = False) -> str:
     """Plain text as inline Markdown: the characters that could start markup
     or raw HTML are backslash-escaped (CommonMark allows that for all ASCII
     punctuation) and newlines become spaces. With line_start, a leading
-    block marker (#, >, -, +, =, "1.") is escaped too."""
-    text = _MD_SPECIAL.sub(r"\\\1", clean(text).replace("\n", " "))
-    text = _AUTOLINK.sub(lambda m: f"\\{m.group(1)}" if m.group(1) else f"{m.group(2)}\\.", text)
+    block marker (#, >, -, +, =, "1.") is escaped too. Nothing in it can
+    become a link, not even on GitHub: e-mail addresses are code spans."""
+    text = clean(text).replace("\n", " ")
+    parts = _EMAIL.split(text)
+    emails = [md_code(m) for m in _EMAIL.findall(text)]
+    text = "".join(_escape_inline(p) + (emails[i] if i < len(emails) else "") for i, p in enumerate(parts))
     if line_start:
         text = re.sub(r"^(\s*)([#>+\-=])", r"\1\\\2", text)
         text = re.sub(r"^(\s*\d+)([.)])", r"\1\\\2", text)
     return text
+
+
+def _escape_inline(text: str) -> str:
+    text = _MD_SPECIAL.sub(r"\\\1", text)
+    return _AUTOLINK.sub(lambda m: f"\\{m.group(1)}" if m.group(1) else f"{m.group(2)}\\.", text)
 
 
 def md_fence(text: str, info: str = "") -> str:
