@@ -336,3 +336,26 @@ def test_children_are_found_without_the_children_file(monkeypatch):
     finally:
         child.kill()
         child.wait()
+
+
+def test_reading_far_before_the_six_faces_placed_at_the_end_is_an_out_of_bounds_read(stand_in):
+    # The window fits these faces: 1 page of guard is 4 KiB away at most.
+    with Worker(stand_in, sandbox="plain", texture_shape=(8, 8)) as worker:
+        worker.set_faces(faces(), "end")
+        with pytest.raises(SubmissionFailure) as caught:
+            worker.fetch([[1, -2000, 0]])
+    assert caught.value.kind == "out-of-bounds-read" and caught.value.detail == "before"
+    assert "before the first texel of the six faces' buffer" in caught.value.message
+
+
+def test_the_runner_sizes_a_worker_for_each_face_size(stand_in):
+    with SubmissionRunner(stand_in, faces(8, 8), sandbox="plain") as runner:
+        runner.fetch([[0, 0, 1]])
+        first = runner._worker
+        assert first.texture_bytes == 8 * 8 * 72
+        runner.set_faces(faces(8, 8, seed=1))
+        assert runner._worker is first                   # same size: same worker
+        runner.set_faces(faces(16, 5))
+        outcome = runner.fetch([[1, 6 * 16 * 5 * 3 - 1, 0]])
+        assert runner._worker is not first and runner._worker.texture_bytes == 16 * 5 * 72
+    assert outcome.ok and outcome.values[0, 0] == faces(16, 5)[5].reshape(-1)[-1]

@@ -50,7 +50,7 @@ class Limits:
     file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
     processes: int = 64                   # threads included; applied in the sandbox's own user namespace
     seccomp: bool = True
-    texture_mb: int = 24                  # the six-face texture window (512 x 512 faces need 18 MiB)
+    texture_mb: int = 24                  # the largest six-face texture window (512 x 512 faces need 18 MiB)
 
 
 def _enlarge_pipe(fd: int) -> None:
@@ -151,8 +151,17 @@ class Worker:
 
     def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
                  preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
-                 start_timeout_s: float = 15.0, allow_unsafe: bool = False):
+                 start_timeout_s: float = 15.0, allow_unsafe: bool = False,
+                 texture_shape: tuple[int, int] | None = None):
         self.library = Path(library)
+        # (H, W) of the faces this worker is for: its six-face window is sized
+        # to them exactly, so a read before the first texel faults in either
+        # placement. None: the largest window (Limits.texture_mb).
+        self.texture_bytes = (texture_shape[0] * texture_shape[1] * 72 if texture_shape
+                              else limits.texture_mb << 20)
+        if not 0 < self.texture_bytes <= limits.texture_mb << 20:
+            raise WorkerHarnessError(f"faces of {texture_shape} do not fit the {limits.texture_mb} MiB texture "
+                                     "window (Limits.texture_mb)")
         self.limits = limits
         self.mode, self.warning = resolve_mode(sandbox, allow_unsafe)
         self._preload = preload
@@ -269,7 +278,7 @@ class Worker:
         # user's processes (the seccomp filter stops fork either way).
         if self.mode == "sandbox" and lim.processes:
             args += ["--nproc", str(lim.processes)]
-        args += ["--texture-mb", str(lim.texture_mb)]
+        args += ["--texture-bytes", str(self.texture_bytes)]
         if not lim.seccomp:
             args.append("--no-seccomp")
         return args
@@ -327,10 +336,10 @@ class Worker:
         faces = np.asarray(faces)
         if faces.ndim != 4 or faces.shape[0] != 6 or faces.shape[3] != 3 or 0 in faces.shape:
             raise ValueError(f"faces must have shape (6, H, W, 3), not {faces.shape}")
-        if faces.shape[1] * faces.shape[2] * 72 > self.limits.texture_mb << 20:
+        if faces.shape[1] * faces.shape[2] * 72 > self.texture_bytes:
             # Checked here, not by the worker: whatever it answers is the submission's.
-            raise WorkerHarnessError(f"faces of {faces.shape[2]} x {faces.shape[1]} texels do not fit the "
-                                     f"{self.limits.texture_mb} MiB texture window (Limits.texture_mb)")
+            raise WorkerHarnessError(f"faces of {faces.shape[2]} x {faces.shape[1]} texels do not fit this "
+                                     f"worker's {self.texture_bytes}-byte texture window")
         if placement not in protocol.PLACEMENTS:
             raise ValueError(f"placement must be one of {', '.join(protocol.PLACEMENTS)}, not {placement!r}")
         payload = protocol.set_faces_payload(faces)

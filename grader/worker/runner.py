@@ -140,6 +140,9 @@ class SubmissionRunner:
     def set_faces(self, faces: np.ndarray) -> None:
         """Use new faces (6, H, W, 3) from the next call on; a running worker gets them now."""
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
+        if self._worker is not None and self._worker.texture_bytes != self.faces.nbytes:
+            # Each worker's window fits one face size exactly: a new size, a new worker.
+            self._drop_worker()
         if self._worker is not None and self._worker.alive:
             try:
                 self._worker.set_faces(self.faces, self._placement or "end", timeout_s=self._timeout(0))
@@ -270,7 +273,8 @@ class SubmissionRunner:
         if self._worker is None or not self._worker.alive:
             self._drop_worker()
             # The mode was settled (and allowed) in __init__.
-            worker = Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload)
+            worker = Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload,
+                            texture_shape=self.faces.shape[1:3])
             self.worker_starts += 1
             try:
                 worker.start()

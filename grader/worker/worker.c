@@ -1,7 +1,7 @@
 /*
  * worker.c - the only process that runs student code.
  *
- *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--texture-mb N]
+ *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--texture-bytes N]
  *          [--chroot DIR --uid N --gid N] [--no-seccomp] [--check-drop]
  *          REQUEST_FD RESPONSE_FD SUBMISSION.so
  *
@@ -128,6 +128,9 @@ static void reply_text(uint32_t status, const char *text)
  *
  *   [guard][six-face body][guard][one-face body][guard]
  *
+ * The grader sizes the six-face body for the faces it will send (one worker
+ * per face size), so texels placed at its end start within a page of the
+ * leading guard too, as the one-face body's do for one face.
  * Guards are PROT_NONE; bodies are read-only MAP_SHARED views of one memfd
  * (the six-face body at file offset 0, the one-face body right after it).
  * Texels are written through a second, writable view of the memfd elsewhere
@@ -1019,7 +1022,8 @@ static int drop_privileges(const char *dir, long uid, long gid)
 
 int main(int argc, char **argv)
 {
-    long as_mb = 0, cpu_s = 0, nproc = -1, texture_mb = 24, uid = -1, gid = -1;
+    long as_mb = 0, cpu_s = 0, nproc = -1, uid = -1, gid = -1;
+    long long texture_bytes = 24ll << 20;
     long long fsize = 0;
     const char *chroot_dir = NULL;
     int seccomp = 1, check_drop = 0, i = 1;
@@ -1028,7 +1032,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--cpu-s") && i + 1 < argc) cpu_s = atol(argv[++i]);
         else if (!strcmp(argv[i], "--fsize") && i + 1 < argc) fsize = atoll(argv[++i]);
         else if (!strcmp(argv[i], "--nproc") && i + 1 < argc) nproc = atol(argv[++i]);
-        else if (!strcmp(argv[i], "--texture-mb") && i + 1 < argc) texture_mb = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--texture-bytes") && i + 1 < argc) texture_bytes = atoll(argv[++i]);
         else if (!strcmp(argv[i], "--chroot") && i + 1 < argc) chroot_dir = argv[++i];
         else if (!strcmp(argv[i], "--uid") && i + 1 < argc) uid = atol(argv[++i]);
         else if (!strcmp(argv[i], "--gid") && i + 1 < argc) gid = atol(argv[++i]);
@@ -1038,7 +1042,7 @@ int main(int argc, char **argv)
     }
     if (check_drop)   /* can this machine run privilege-drop mode? */
         return drop_privileges(chroot_dir, uid, gid) == 0 && getuid() == (uid_t)uid ? 0 : EXIT_SETUP;
-    if (argc - i != 3 || (uid >= 0) != (gid >= 0) || texture_mb <= 0 || texture_mb > 4096)
+    if (argc - i != 3 || (uid >= 0) != (gid >= 0) || texture_bytes <= 0 || texture_bytes > (4096ll << 20))
         return EXIT_LOAD;
     request_fd = atoi(argv[i]);
     response_fd = atoi(argv[i + 1]);
@@ -1059,7 +1063,7 @@ int main(int argc, char **argv)
     setvbuf(stdout, NULL, _IONBF, 0);
     install_handlers();
     preload_runtime();
-    if (reserve_windows((size_t)texture_mb << 20) != 0)
+    if (reserve_windows((size_t)texture_bytes) != 0)
         return setup_failed("cannot reserve the texture windows");
     if (fsize >= 0) set_limit(RLIMIT_FSIZE, (rlim_t)fsize, (rlim_t)fsize);
     if (pipe2(scratch, O_CLOEXEC) != 0)
