@@ -413,7 +413,10 @@ def _publish(tmp: Path, final: Path) -> None:
 # ---- our part: template loader, shim and reference, built once per cache -------
 
 _common_lock = threading.Lock()  # threads of one process build our objects once
-COMMON_FILES = ("loader.o", "shim.o", "libreference.a", "exports.map", "allowed-symbols.txt")
+# Changes whenever what a common folder holds changes (an older one is not reused).
+COMMON_LAYOUT = "common-2: scratch copies, allowed and reference symbols"
+COMMON_FILES = ("loader.o", "shim.o", "libreference.a", "exports.map", "allowed-symbols.txt",
+                "reference-symbols.txt")
 
 
 def _common_objects(cache_dir: Path, sanitize: bool) -> Path:
@@ -428,10 +431,10 @@ def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
     cxxflags, cflags = _flags(sanitize)
     libraries = _library_paths(sanitize)
     key = _fingerprint(_template_files() + _reference_files() + _shim_files(),
-                       compiler_versions(), *cxxflags, "|", *cflags, "|",
+                       COMMON_LAYOUT, compiler_versions(), *cxxflags, "|", *cflags, "|",
                        *(f"{p}:{p.stat().st_size}:{p.stat().st_mtime_ns}" for p in libraries))
     final = cache_dir / f"common-{key[:24]}"
-    if (final / "allowed-symbols.txt").is_file():
+    if (final / "reference-symbols.txt").is_file():
         return final
     cache_dir.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".tmp-common-", dir=cache_dir))
@@ -465,6 +468,11 @@ def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
     allowed |= {name for name, bind, defined in _object_symbols((tmp / "loader.o").read_bytes())[1]
                 if defined and bind != 0 and not name.startswith("em_")}
     (tmp / "allowed-symbols.txt").write_text("\n".join(sorted(allowed)) + "\n")
+    # The reference code's own global names: a submission defining one would
+    # silently replace it inside the loader.
+    ours = {name for obj in reference_objects for name, bind, defined
+            in _object_symbols((tmp / obj).read_bytes())[1] if defined and bind == 1}
+    (tmp / "reference-symbols.txt").write_text("\n".join(sorted(ours)) + "\n")
     _publish(tmp, final)
     return final
 
@@ -561,8 +569,11 @@ def _demangle(names: list[str]) -> list[str]:
         return names
 
 
-def inspect_object(data: bytes, allowed: set[str]) -> tuple[str, str] | None:
-    """(diagnosis id, message) when the student's object is refused, else None."""
+def inspect_object(data: bytes, allowed: set[str], loader_names: frozenset[str] = frozenset()
+                   ) -> tuple[str, str] | None:
+    """(diagnosis id, message) when the student's object is refused, else None.
+    `allowed`: what it may leave undefined; `loader_names`: global names of
+    the reference code linked for the loader, which it may not define."""
     name = SOURCE_NAME
     try:
         sections, symbols = _object_symbols(data)
@@ -588,6 +599,11 @@ def inspect_object(data: bytes, allowed: set[str]) -> tuple[str, str] | None:
             f"{'these are functions' if len(reference) > 1 else 'this is a function'} of the grader's "
             "reference solution, which is not part of your program. fetchColor and readTexture must "
             "compute their answers with your own code.")
+    replaced = sorted({s for s, bind, defined in symbols if defined and bind == 1 and s in loader_names})
+    if replaced:
+        return "forbidden-object", (
+            f"{name} defines {', '.join(replaced[:5])}, which the grader's own loader code defines: "
+            "yours would replace it. Rename your function or make it static.")
     unknown = [s for s in undefined if s not in allowed]
     if unknown:
         shown = _demangle(unknown[:5])
@@ -771,9 +787,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     if done.timed_out or done.returncode != 0:
         return failed(done)
     # 3. What the object holds and calls.
-    allowed = set((scratch / "allowed-symbols.txt").read_text().split()) \
-        if (scratch / "allowed-symbols.txt").is_file() else set()
-    problem = inspect_object(_take(scratch, STUDENT_OBJECT) or b"", allowed)
+    allowed = set((common_dir / "allowed-symbols.txt").read_text().split())
+    loader_names = frozenset((common_dir / "reference-symbols.txt").read_text().split())
+    problem = inspect_object(_take(scratch, STUDENT_OBJECT) or b"", allowed, loader_names)
     if problem:
         return _refusal(*problem)
     # 4. Link with our objects only, as we made them.
