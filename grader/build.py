@@ -192,7 +192,8 @@ def _blank(text: str) -> str:
 
 
 def _refusals_in(text: str) -> list[tuple[int, str]]:
-    logical, cuts, removed = _logical(text)
+    # GCC ends a line at \n, \r\n and a lone \r alike.
+    logical, cuts, removed = _logical(text.replace("\r\n", "\n").replace("\r", "\n"))
     cleaned = _blank(logical)
 
     newlines = [m.start() for m in re.finditer("\n", cleaned)]
