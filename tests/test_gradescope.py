@@ -141,3 +141,18 @@ def test_leaderboard_in_results_when_the_rubric_turns_it_on(autograder, tmp_path
     assert "leaderboard" not in broken       # nothing measured: not on the board
     default = run_autograder(autograder, SUBMISSIONS / "correct" / "switch_on_face.cpp", "--quick")
     assert "leaderboard" not in default
+
+
+def test_setup_sh_installs_like_make_venv_from_the_lock(bundle, tmp_path):
+    """setup.sh is not run here (it is the image build), but it parses, and
+    everything it calls is in the zip: the package script with the core
+    group, make-venv.sh with the lock (pip install --require-hashes)."""
+    with zipfile.ZipFile(bundle) as z:
+        names = set(z.namelist())
+        setup = z.read("setup.sh").decode()
+    (tmp_path / "setup.sh").write_text(setup)
+    assert subprocess.run(["bash", "-n", str(tmp_path / "setup.sh")], capture_output=True).returncode == 0
+    assert "bash scripts/install-system-deps.sh core" in setup
+    assert 'bash scripts/make-venv.sh .venv requirements.lock "$python"' in setup
+    assert {"scripts/install-system-deps.sh", "scripts/make-venv.sh", "requirements.lock", "packages.txt"} <= names
+    assert "pip install --quiet" not in setup     # progress is shown while the image builds
