@@ -142,9 +142,10 @@ _SPLICE = re.compile(r"\\[ \t\f\v]*\r?\n")
 _DIRECTIVE = re.compile(r"^[ \t\f\v]*(?:#|%:)[ \t\f\v]*(\w*)(.*)$", re.M)
 _INCLUDES = ("include", "include_next", "import", "embed")
 # A header named plainly: letters, digits, _ . + - and / between them.
-_PLAIN_HEADER = re.compile(r'^(<[\w.+-]+(?:/[\w.+-]+)*>|"[\w.+-]+(?:/[\w.+-]+)*")\s*$')
+# (What follows the name is ignored by GCC, with a warning: "#include <cmath>;" is harmless.)
+_PLAIN_HEADER = re.compile(r'^(<[\w.+-]+(?:/[\w.+-]+)*>|"[\w.+-]+(?:/[\w.+-]+)*")')
 # The argument is looked at up to 300 characters: a longer one is refused.
-_HAS_INCLUDE = re.compile(r"\b(__has_include(?:_next)?|__has_embed)\b[ \t]*(\(([^)\n]{0,300})\))?")
+_HAS_INCLUDE = re.compile(r"\b(__has_(?:include|embed)\w*)[ \t]*(\(([^)\n]{0,300})\))?")
 _PRAGMA_FILES = re.compile(r"\b(dependency|pch_preprocess)\b")
 _TRIGRAPHS = {"??=": "#", "??/": "\\", "??'": "^", "??(": "[", "??)": "]", "??!": "|", "??<": "{",
               "??>": "}", "??-": "~"}

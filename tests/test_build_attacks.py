@@ -81,6 +81,7 @@ def test_splices_keep_line_numbers():
     b'const char* r = R"(\n#include "/etc/passwd"\n)";\n',      # in a raw string
     b'/*\n#include "/etc/passwd"\n*/\nint x = 1\'000\'000;\n',  # in a comment; digit separators
     b'#if __has_include(<execution>)\n#endif\n',
+    b'#include <cmath>;  // a stray semicolon: GCC warns, nothing more\n',
 ])
 def test_ordinary_sources_are_not_refused(text):
     assert refused_directives(text) == []
