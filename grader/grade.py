@@ -10,7 +10,6 @@ status; library code never exits.
 from __future__ import annotations
 
 import hashlib
-import inspect
 import os
 import time
 from dataclasses import dataclass
@@ -120,12 +119,10 @@ def _environment_warnings() -> list[str]:
 
 
 def _open_lookups(library: Path, options: GradeOptions):
-    """grader.worker's open_lookups, passed allow_unsafe where it accepts it."""
+    """The submission's isolated lookups (grader.worker); raises
+    SandboxUnavailable when no isolation is possible and unsafe is not allowed."""
     from .worker.lookups import open_lookups
-    kwargs = {"sandbox": options.sandbox, "sanitize": options.sanitize}
-    if "allow_unsafe" in inspect.signature(open_lookups).parameters:
-        kwargs["allow_unsafe"] = options.allow_unsafe
-    return open_lookups(library, **kwargs)
+    return open_lookups(library, sandbox=options.sandbox, sanitize=options.sanitize, allow_unsafe=options.allow_unsafe)
 
 
 def _run_checks(result: GradeResult, checks: list[Check], selected: list[Check], library: Path,
