@@ -238,7 +238,16 @@ def _zip_entry_count(path: Path) -> int | None:
     at = tail.rfind(b"PK\x05\x06")
     if at < 0 or at + 22 > len(tail):
         return None
-    return struct.unpack_from("<H", tail, at + 10)[0]
+    count = struct.unpack_from("<H", tail, at + 10)[0]
+    if count == 0xFFFF and at >= 20 and tail[at - 20:at - 16] == b"PK\x06\x07":
+        # Zip64: the real count is in the zip64 end record the locator points to.
+        offset = struct.unpack_from("<Q", tail, at - 12)[0]
+        with path.open("rb") as f:
+            f.seek(min(offset, size))
+            record = f.read(56)
+        if record[:4] == b"PK\x06\x06" and len(record) >= 40:
+            count = struct.unpack_from("<Q", record, 32)[0]
+    return count
 
 
 def _zip_files(path: Path, budget: _Budget) -> tuple[dict[str, Reader], list[str]]:

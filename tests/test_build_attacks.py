@@ -317,6 +317,18 @@ def test_too_many_members_is_refused_before_reading(cache, tmp_path, monkeypatch
     assert result.diagnosis_id == "unreadable-archive" and "more than 5 files" in result.log
 
 
+def test_a_zip64_directory_is_counted_before_it_is_parsed(cache, tmp_path, monkeypatch):
+    # More than 65535 entries: the count is in the zip64 record; parsing a
+    # directory of millions would take seconds and gigabytes.
+    path = tmp_path / "many64.zip"
+    with zipfile.ZipFile(path, "w") as z:
+        for i in range(66000):
+            z.writestr(f"{i}", b"")
+    monkeypatch.setattr(zipfile.ZipFile, "__init__", None)  # must not be reached
+    result = build_submission(path, cache_dir=cache)
+    assert result.diagnosis_id == "unreadable-archive" and "more than 20000 files" in result.log
+
+
 @pytest.mark.parametrize("name, data, words", [
     ("work.rar", b"Rar!\x1a\x07\x01\x00" + os.urandom(200), "RAR archive"),
     ("work.7z", b"7z\xbc\xaf\x27\x1c" + os.urandom(200), "7-Zip archive"),
