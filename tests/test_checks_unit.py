@@ -236,3 +236,15 @@ def test_the_fake_answers_like_a_real_correct_submission_in_its_worker(correct_b
         real.set_faces(faces)
         np.testing.assert_allclose(real.fetch(dirs).values, fake.fetch(dirs).values, atol=1e-5)
         np.testing.assert_allclose(real.read_texture(5, uv).values, fake.read_texture(5, uv).values, atol=1e-5)
+
+
+def test_worst_cases_say_where_the_lookup_landed(tmp_path):
+    """fetch_sweep hands reports its worst cases as data: face, texel and (u, v)."""
+    sweep = run(FakeLookups(fetch={"+X": "u-flipped"}), tmp_path, "fetch_sweep")["fetch_sweep"]
+    assert sweep.mismatches and sum(sweep.mismatch_counts.values()) == round((1 - sweep.fraction) * sweep.metrics["cases"])
+    for m in sweep.mismatches:
+        assert m.call.startswith("fetchColor(Vector3(") and m.group in sweep.mismatch_counts
+        assert m.expected_at.face == m.got_at.face == "+X"
+        # u flipped: the two samples mirror each other across the face's middle; v agrees.
+        assert m.expected_at.uv[0] + m.got_at.uv[0] == pytest.approx(1.0, abs=2 / 32)
+        assert m.expected_at.uv[1] == pytest.approx(m.got_at.uv[1], abs=1e-6)

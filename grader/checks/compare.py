@@ -110,3 +110,29 @@ def explain(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.nd
 def describe_direction(d) -> str:
     """A fetchColor call as a student would write it, exact to the last digit that matters."""
     return "fetchColor(Vector3(" + ", ".join(f"{x:.9g}" for x in d) + "))"
+
+
+def worst_cases(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.ndarray, group: str = "",
+                limit: int = 3, face_size: tuple[int, int] | None = None) -> list:
+    """The worst mismatches as data (grader.results.Mismatch; reports word
+    them). With face_size (W, H), the colours came from a texture that
+    encodes texel positions (textures.coordinate_faces): each case also says
+    where the reference and the submission sampled."""
+    from ..results import Mismatch, TexelHit
+    from .textures import decode_sample_coordinates
+
+    def hit(rgb, w, h):
+        face, px, py = decode_sample_coordinates(np.asarray(rgb, np.float64)[None])
+        if face[0] < 0:
+            return TexelHit("", (float("nan"), float("nan")), (float("nan"), float("nan")))
+        return TexelHit(reference.FACE_NAMES[face[0]], (float(px[0]), float(py[0])),
+                        (float(px[0]) / w, float(py[0]) / h))
+
+    out = []
+    for i in cmp.failures[:limit]:
+        expected_at = got_at = None
+        if face_size is not None and decode_sample_coordinates(np.asarray(expected[i], np.float64)[None])[0][0] >= 0:
+            expected_at, got_at = hit(expected[i], *face_size), hit(actual[i], *face_size)
+        out.append(Mismatch(describe_input(i), tuple(float(x) for x in expected[i]), tuple(float(x) for x in actual[i]),
+                            expected_at=expected_at, got_at=got_at, group=group))
+    return out
