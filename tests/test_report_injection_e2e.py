@@ -1,0 +1,111 @@
+"""Report injection through the real grader: a submission whose exception
+message is a forged report, and a class whose archive and folder names are
+markup and mathtext, graded by `grade` and `grade-all` as an instructor
+would. The reports are parsed as in test_report_injection.py, and the class
+summary is opened in Chromium: nothing the students wrote may run.
+"""
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from grader import PROJECT_ROOT
+from test_report_injection import (FAKE_HEADING, FAKE_LINK, HTML_TAGS, MD_TAGS, Page,
+                                   assert_nothing_formed, assert_shown_literally, commonmark, gfm)
+
+THROW = PROJECT_ROOT / "tests" / "submissions" / "hostile" / "throw.cpp"
+CORRECT = PROJECT_ROOT / "tests" / "submissions" / "correct" / "axis_table.cpp"
+FAKE_IMAGE = "<img src=x onerror=document.body.setAttribute('data-pwned','1')>"
+# What the exception says: a forged report, in C++ raw-string form.
+MESSAGE = "\n".join([FAKE_HEADING, FAKE_LINK, FAKE_IMAGE, "```", "<script>alert(1)</script>",
+                     "nonchar \uffff end"])
+ZIP_NAME = "<img src=x onerror=document.body.setAttribute('data-pwned','2')>"
+MATH_NAME = "$\\undefinedmacro$"
+
+
+def hostile_source() -> str:
+    text = THROW.read_text()
+    assert '"direction too close to +x"' in text
+    return text.replace('"direction too close to +x"', f'R"FORGED({MESSAGE})FORGED"')
+
+
+def run(*args: str, timeout: int = 600) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "grader", *args], cwd=PROJECT_ROOT, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory) -> Path:
+    tmp = tmp_path_factory.mktemp("forged")
+    source = tmp / "forged" / "EnvironmentMap.cpp"
+    source.parent.mkdir()
+    source.write_text(hostile_source(), encoding="utf-8")
+    out = tmp / "out"
+    done = run("grade", str(source.parent), "--out", str(out), "--quick")
+    assert done.returncode == 0, done.stdout + done.stderr
+    return out
+
+
+def test_a_forged_exception_message_is_a_diagnosis_shown_as_text(graded):
+    data = json.loads((graded / "results.json").read_text())
+    assert "exception" in {d["id"] for d in data["extra_data"]["diagnoses"]}
+    assert data["score"] < data["extra_data"]["max_score"]
+    md = (graded / "report.md").read_text()
+    for render in (gfm, commonmark):
+        page = render(md)
+        assert_nothing_formed(page, "report.md", MD_TAGS)
+        assert_shown_literally(page, "report.md", FAKE_HEADING, FAKE_LINK, FAKE_IMAGE)
+        for text in [data["output"]] + [t["output"] for t in data["tests"]]:
+            assert_nothing_formed(render(text), "results.json", MD_TAGS)
+    page = Page((graded / "report.html").read_text())
+    assert_nothing_formed(page, "report.html", HTML_TAGS)
+    assert_shown_literally(page, "report.html", FAKE_HEADING, FAKE_IMAGE)
+    junit = (graded / "junit.xml").read_text()
+    ET.fromstring(junit.encode())                      # still XML
+    assert "\uffff" not in junit and FAKE_HEADING in junit
+
+
+@pytest.fixture(scope="module")
+def graded_class(tmp_path_factory) -> Path:
+    tmp = tmp_path_factory.mktemp("names")
+    folder = tmp / "class"
+    folder.mkdir()
+    with zipfile.ZipFile(folder / f"{ZIP_NAME}.zip", "w") as z:
+        z.writestr("EnvironmentMap.cpp", CORRECT.read_text())
+    (folder / MATH_NAME).mkdir()
+    (folder / MATH_NAME / "EnvironmentMap.cpp").write_text(hostile_source(), encoding="utf-8")
+    out = tmp / "out"
+    done = run("grade-all", str(folder), "--out", str(out), "--jobs", "2", "--quick")
+    # $\undefinedmacro$ once crashed the chart, and the zip's name ran as script.
+    assert done.returncode == 0, done.stdout + done.stderr
+    return out
+
+
+def test_grade_all_with_markup_and_mathtext_names(graded_class):
+    page = Page((graded_class / "summary.html").read_text())
+    extra = page.tags() - HTML_TAGS - {"a"}
+    assert not extra, extra
+    assert not [a for _, attrs in page.elements for a in attrs if a.startswith("on")]
+    assert_shown_literally(page, "summary.html", ZIP_NAME, MATH_NAME)
+    links = sorted(a["href"] for t, a in page.elements if t == "a")
+    assert len(links) == 4 and all(link.endswith("/report.html") and "<" not in link for link in links)
+    for student in (ZIP_NAME, MATH_NAME):
+        assert (graded_class / student / "report.html").is_file()
+    # Both appear on the chart only if the speed check timed them; either way the PNG was drawn.
+    assert (graded_class / "summary_speed_accuracy.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium is not installed")
+def test_no_name_runs_as_script_in_a_browser(graded_class, tmp_path):
+    from test_report_html_browser import probe
+    for page in (graded_class / "summary.html", graded_class / MATH_NAME / "report.html"):
+        dom = probe(page, tmp_path)
+        assert "data-pwned" not in dom.body, page
+        assert dom.body["data-scripts"] == "1" and dom.body["data-handlers"] == "0", page
