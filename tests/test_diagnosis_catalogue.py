@@ -38,6 +38,11 @@ def _worker_ids():
     return set(failures.KINDS)
 
 
+def _face_recovery_ids():
+    from grader.checks import face_recovery
+    return {i for c in face_recovery.CANDIDATES for i in c.ids}
+
+
 def _build_ids():
     from grader import build
     return set(build.DIAGNOSIS_IDS)  # grade.py also checks every build id against the catalogue
@@ -49,6 +54,7 @@ DYNAMIC = {
     ("checks/diagnosis.py", "mistake"): _mapping_ids,
     ("checks/context.py", "kind"): _worker_ids,
     ("grade.py", "diagnosis_id"): _build_ids,
+    ("checks/face_recovery.py", "mistake"): _face_recovery_ids,
 }
 
 
