@@ -99,7 +99,23 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     if write_reports:
         from .reports import write_all
         write_all(result, out_dir, include_hidden=options.include_hidden)
+        write_harness_log(result, out_dir)
     return result
+
+
+HARNESS_LOG = "harness-errors.log"
+
+
+def write_harness_log(result: GradeResult, out_dir: Path) -> Path | None:
+    """The tracebacks of checks the grader failed on, for the instructor
+    (reports tell the student only that the grader failed)."""
+    failed = [c for c in result.checks if c.error_log]
+    if not failed:
+        return None
+    path = Path(out_dir) / HARNESS_LOG
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("".join(f"== check {c.name} ({result.submission})\n{c.error_log}\n" for c in failed))
+    return path
 
 
 def drop_consequences(result: GradeResult) -> None:

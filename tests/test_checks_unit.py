@@ -248,3 +248,23 @@ def test_worst_cases_say_where_the_lookup_landed(tmp_path):
         # u flipped: the two samples mirror each other across the face's middle; v agrees.
         assert m.expected_at.uv[0] + m.got_at.uv[0] == pytest.approx(1.0, abs=2 / 32)
         assert m.expected_at.uv[1] == pytest.approx(m.got_at.uv[1], abs=1e-6)
+
+
+def test_a_harness_error_leaves_its_traceback_for_the_instructor_only(tmp_path, monkeypatch, correct_build):
+    import contextlib
+
+    from grader import grade as grade_module
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("the grader's own bug")   # the real runner reports student faults as Outcomes
+    fake = FakeLookups()
+    fake.read_texture = broken
+    monkeypatch.setattr(grade_module, "_open_lookups", lambda library, options: contextlib.nullcontext(fake))
+    source = sorted((Path(__file__).parent / "submissions" / "correct").glob("*.cpp"))[0]
+    result = grade_module.grade(source, tmp_path, grade_module.GradeOptions(quick=True, only=("read_texture",)))
+    assert result.status == "ungradable" and result.checks[0].status == ERROR
+    log = (tmp_path / grade_module.HARNESS_LOG).read_text()
+    assert "ZeroDivisionError: the grader's own bug" in log and "Traceback" in log
+    for name in ("report.md", "report.html", "results.json", "junit.xml"):
+        text = (tmp_path / name).read_text()
+        assert "ZeroDivisionError" not in text and "Traceback" not in text, name
