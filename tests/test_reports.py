@@ -611,10 +611,10 @@ def test_worst_cases_on_a_position_texture_are_told_as_face_texel_and_uv():
         got_at=TexelHit("-Y", (6.57, 0.0), (0.2053, 0.0)), group="Fibonacci sphere")]
     sweeps.mismatch_counts = {"Fibonacci sphere": 50000}
     texts = render_all(result)
-    should = "face +Y, texel (6.57, 31), (u, v) = (0.2053, 0.9688)"
-    got = "face -Y, texel (6.57, 0), (u, v) = (0.2053, 0)"
+    should = "sample face +Y at texel (6.57, 31), (u, v) = (0.2053, 0.9688)"
+    got = "sampled face -Y at texel (6.57, 0), (u, v) = (0.2053, 0)"
     md = texts["report.md"]
-    assert f"fetchColor(Vector3(0.65, 0.65, -0.38)): should give {should}; your code gave {got}" in md
+    assert f"fetchColor(Vector3(0.65, 0.65, -0.38)): should {should}; yours {got}" in md
     assert "... and 49999 more" in md and "Worst cases, Fibonacci sphere" in md
     assert "(7.57, 32, 3)" not in md                     # not the raw colours
     page = texts["report.html"]

@@ -337,8 +337,8 @@ def _details(view: ReportView) -> str:
 
 
 def _worst_cases(check: CheckResult) -> str:
-    """CheckResult.mismatches as a table: the lookup, what it should give,
-    what it gave (a face, texel and (u, v) where the texture says so)."""
+    """CheckResult.mismatches as a table: the lookup, what it should do,
+    what it did (a face, texel and (u, v) where the texture says so)."""
     out = []
     for group, rows, more in mismatch_groups(check):
         cells = "".join(f"<tr><td><code>{e(call)}</code></td><td>{e(should)}</td><td>{e(got)}</td></tr>"
@@ -347,7 +347,7 @@ def _worst_cases(check: CheckResult) -> str:
             cells += f'<tr><td colspan="3">... and {more} more</td></tr>'
         title = f"Worst cases, {e(group)}" if group else "Worst cases"
         out.append(f'<p><strong>{title}</strong></p><div class="wide"><table class="cases">'
-                   "<thead><tr><th>lookup</th><th>should give</th><th>your code gave</th></tr></thead>"
+                   "<thead><tr><th>lookup</th><th>should</th><th>yours</th></tr></thead>"
                    f"<tbody>{cells}</tbody></table></div>")
     return "".join(out)
 

@@ -28,7 +28,7 @@ def _check_text(check) -> str:
     parts = [check_output(check)]
     for group, rows, more in mismatch_groups(check):
         lines = [f"Worst cases{', ' + group if group else ''}:"]
-        lines += [f"  {call}: should give {should}; your code gave {got}" for call, should, got in rows]
+        lines += [f"  {call}: should {should}; yours {got}" for call, should, got in rows]
         parts.append("\n".join(lines + ([f"  ... and {more} more"] if more else [])))
     for d in check.diagnoses:
         info = describe(d.id)

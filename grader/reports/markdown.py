@@ -121,7 +121,7 @@ def worst_cases(check: CheckResult) -> list[str]:
             lines += [f"**Worst cases, {md_escape(group)}:**", ""]
         else:
             lines += ["**Worst cases:**", ""]
-        lines += [f"- {md_escape(call, line_start=True)}: should give {md_escape(should)}; your code gave {md_escape(got)}"
+        lines += [f"- {md_escape(call, line_start=True)}: should {md_escape(should)}; yours {md_escape(got)}"
                   for call, should, got in rows]
         if more:
             lines.append(f"- ... and {more} more")

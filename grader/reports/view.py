@@ -10,6 +10,7 @@ reduced to its count and points. Instructors ask for include_hidden=True.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -76,24 +77,34 @@ def check_output(check: CheckResult) -> str:
     return tidy_numbers(clean(check.output)).strip() or DEFAULT_OUTPUT.get(check.status, "")
 
 
-def _numbers(values) -> str:
-    return "(" + ", ".join(figure(float(v)) for v in values) + ")"
+def _numbers(values, decimals: int | None = None) -> str:
+    """(a, b, c): four significant digits, or a fixed number of decimals
+    without trailing zeros (texels to 1/100, u and v to 1/10000)."""
+    def one(v: float) -> str:
+        if decimals is None or not math.isfinite(v):
+            return figure(float(v))
+        text = f"{v:.{decimals}f}".rstrip("0").rstrip(".")
+        return "0" if text == "-0" else text
+    return "(" + ", ".join(one(float(v)) for v in values) + ")"
 
 
 def hit_text(hit: TexelHit) -> str:
     """Where a lookup landed, in the handout's terms."""
     if not hit.face:
         return "a colour that is in no face of the texture"
-    return f"face {clean(hit.face)}, texel {_numbers(hit.texel)}, (u, v) = {_numbers(hit.uv)}"
+    return f"face {clean(hit.face)} at texel {_numbers(hit.texel, 2)}, (u, v) = {_numbers(hit.uv, 4)}"
 
 
 def mismatch_groups(check: CheckResult) -> list[tuple[str, list[tuple[str, str, str]], int]]:
     """The check's worst cases as plain text, by group, in order:
-    (group, [(lookup, what it should give, what it gave)], how many more)."""
+    (group, [(lookup, what it should do, what it did)], how many more);
+    "should" and "did" read after "should" and "yours": "sample face +X at
+    texel (6.57, 31), (u, v) = ..." / "sampled ...", or "give colour (...)"
+    / "gave ..." where the texture does not say where a colour came from."""
     groups: dict[str, list[tuple[str, str, str]]] = {}
     for m in check.mismatches:
-        should = hit_text(m.expected_at) if m.expected_at else f"colour {_numbers(m.expected)}"
-        got = hit_text(m.got_at) if m.got_at else f"colour {_numbers(m.got)}"
+        should = f"sample {hit_text(m.expected_at)}" if m.expected_at else f"give colour {_numbers(m.expected)}"
+        got = f"sampled {hit_text(m.got_at)}" if m.got_at else f"gave colour {_numbers(m.got)}"
         groups.setdefault(clean(m.group), []).append((clean(m.call), should, got))
     out = []
     for group, rows in groups.items():
