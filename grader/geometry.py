@@ -53,6 +53,17 @@ def face_frames() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return normal, u_axis, v_axis
 
 
+@cache
+def cross_cells() -> dict[str, tuple[int, int]]:
+    """(column, row) of each face's cell in the vertical cross, row 0 at the
+    top of the image: where the reference's em_cubemap_to_cross puts it."""
+    faces = np.zeros((6, 1, 1, 3), np.float32)
+    faces[:, 0, 0, :] = np.arange(1, 7)[:, None]
+    cross = reference.faces_to_cross(faces)[..., 0]
+    return {FACE_NAMES[int(cross[row, col]) - 1]: (int(col), int(row))
+            for row, col in zip(*np.nonzero(cross))}
+
+
 def face_plane_to_direction(face, a, b) -> np.ndarray:
     """Unnormalised directions (..., 3) through plane point (a, b) of `face`
     (an int or an array broadcast against a and b)."""

@@ -44,3 +44,9 @@ def test_solid_angles_cover_the_sphere_and_match_the_density():
     u, v = geometry.texel_centre_uv(16, 8)
     # A texel's solid angle is its density at the centre times its area, to O(h^2).
     np.testing.assert_allclose(omega, geometry.solid_angle_density(u, v) / (16 * 8), rtol=0.02)
+
+
+def test_cross_cells_are_where_the_reference_puts_each_face():
+    # ASSIGNMENT.md's vertical cross, row 0 at the top.
+    assert geometry.cross_cells() == {"+Y": (1, 0), "-X": (0, 1), "-Z": (1, 1), "+X": (2, 1),
+                                      "-Y": (1, 2), "+Z": (1, 3)}

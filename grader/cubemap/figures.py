@@ -22,13 +22,14 @@ import numpy as np  # noqa: E402
 from .. import PROJECT_ROOT, reference  # noqa: E402
 from ..imaging import tone_map  # noqa: E402
 from .convert import faces_to_latlong  # noqa: E402
-from .directions import FACE_NAMES, face_uv_to_direction  # noqa: E402
+from ..geometry import FACE_NAMES, cross_cells, face_frames, face_uv_to_direction  # noqa: E402
 
 FIGURES_DIR = PROJECT_ROOT / "docs" / "figures"
 CUBEMAP_DIR = PROJECT_ROOT / "Cubemap"
 
-# (column, row) of each face's cell in the vertical cross, row 0 at the top (ASSIGNMENT.md).
-CROSS_CELLS = {"+Y": (1, 0), "-X": (0, 1), "-Z": (1, 1), "+X": (2, 1), "-Y": (1, 2), "+Z": (1, 3)}
+# (column, row) of each face's cell in the vertical cross, row 0 at the top
+# (ASSIGNMENT.md), as reference/src/cross.c lays it out.
+CROSS_CELLS = cross_cells()
 AXIS_COLOURS = {"x": "#d62728", "y": "#2ca02c", "z": "#1f5fd6"}
 FACE_FILL = "#f2f2f2"
 
@@ -40,11 +41,9 @@ def _axis_label(vector: np.ndarray) -> str:
 
 
 def _face_axes(face: int) -> tuple[np.ndarray, np.ndarray]:
-    """The 3D directions in which u and v grow on a face (from its centre)."""
-    centre = face_uv_to_direction(face, 0.5, 0.5)
-    du = face_uv_to_direction(face, 0.5 + 1e-6, 0.5) - centre
-    dv = face_uv_to_direction(face, 0.5, 0.5 + 1e-6) - centre
-    return du / np.linalg.norm(du), dv / np.linalg.norm(dv)
+    """The 3D directions in which u and v grow on a face."""
+    _, u_axis, v_axis = face_frames()
+    return u_axis[face], v_axis[face]
 
 
 def _colour_of(label: str) -> str:
