@@ -513,6 +513,8 @@ details[open] > summary { border-bottom: 1px solid var(--border); }
 footer { color: var(--muted); font-size: .85rem; text-align: center; margin-top: 36px; }
 .wide { overflow-x: auto; }
 .output table, .cases { display: block; overflow-x: auto; max-width: 100%; }
+/* Numbers in tables never break mid-figure: a table too wide scrolls instead. */
+.output th, .output td, .metrics td { overflow-wrap: normal; }
 .cases td, .cases th { border: 1px solid var(--border); padding: 4px 10px; text-align: left; vertical-align: top; }
 .reading { color: var(--muted); font-size: .92rem; margin: .6em 0 0; }
 details > summary .title { flex: 1 1 auto; min-width: 0; overflow-wrap: anywhere; }
@@ -532,5 +534,12 @@ details > summary .title { flex: 1 1 auto; min-width: 0; overflow-wrap: anywhere
   .card, .render-set, .diagnosis { padding: 14px 12px; }
   details > summary { padding: 10px 10px; gap: 6px; }
   .output { padding: 6px 10px 12px; }
+  /* Worst cases: one block per lookup instead of three narrow columns. */
+  .cases thead { display: none; }
+  .cases tr, .cases td { display: block; }
+  .cases tr { border: 1px solid var(--border); border-radius: 6px; margin: 6px 0; padding: 4px 0; }
+  .cases td { border: none; padding: 2px 8px; }
+  .cases td:nth-child(2)::before { content: "should "; font-weight: 600; }
+  .cases td:nth-child(3)::before { content: "yours "; font-weight: 600; }
 }
 """
