@@ -354,7 +354,7 @@ class _Progress:
         from rich.console import Console
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
         self.bar = Progress(TextColumn("grading"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                            TextColumn("{task.description}"), console=Console(stderr=True))
+                            TextColumn("{task.description}", markup=False), console=Console(stderr=True))   # names are not markup
         self.bar.__enter__()
         task = self.bar.add_task(f"({self.already} unchanged)" if self.already else "",
                                  total=self.total, completed=self.already)
