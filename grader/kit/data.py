@@ -89,6 +89,24 @@ def _expected_fetch(data: DataWriter, name: str, cube: reference.CubeMap, dirs: 
     return out
 
 
+# Mistakes the kit recognises beyond read_texture.HYPOTHESES (same form: the
+# (u, v) at which the reference gives the same answer), keyed by a name, with
+# the grader's diagnosis id (grader/diagnoses.py) and the student's words.
+EXTRA_HYPOTHESES = {
+    "texel-offset-minus": ("texel-offset", "bilinear", lambda uv, w, h: np.clip(uv - 1.0 / np.array([w, h]), 0.0, 1.0),
+                           "readTexture reads a whole texel off: it uses p = (uW - 1, vH - 1) instead of p = (uW, vH)."),
+    "texel-offset-plus": ("texel-offset", "bilinear", lambda uv, w, h: np.clip(uv + 1.0 / np.array([w, h]), 0.0, 1.0),
+                          "readTexture reads a whole texel off: it uses p = (uW + 1, vH + 1) instead of p = (uW, vH)."),
+}
+
+
+def _hypotheses() -> dict:
+    """name -> (diagnosis id, filter, transform, detail)."""
+    out = {name: (name, f, t, read_texture_check.DETAILS[name]) for name, (f, t) in read_texture_check.HYPOTHESES.items()}
+    out.update(EXTRA_HYPOTHESES)
+    return out
+
+
 def read_texture_data(data: DataWriter) -> dict:
     groups = []
     for w, h in read_texture_check.FACE_SIZES:
@@ -104,12 +122,12 @@ def read_texture_data(data: DataWriter) -> dict:
                 if kind == "coordinate":
                     # What each recognised mistake returns here (read_texture.recognise).
                     case["mistakes"] = {
-                        mistake: data.f32(f"rt_{w}x{h}_{face}_{mistake}", cube.read_texture(face, transform(uv, w, h), filter))
-                        for mistake, (filter, transform) in read_texture_check.HYPOTHESES.items()}
+                        name: data.f32(f"rt_{w}x{h}_{face}_{name}", cube.read_texture(face, transform(uv, w, h), filter))
+                        for name, (_, filter, transform, _) in _hypotheses().items()}
                 texture["cases"].append(case)
             group["textures"].append(texture)
         groups.append(group)
-    return {"groups": groups, "details": dict(read_texture_check.DETAILS)}
+    return {"groups": groups, "mistakes": {name: {"id": i, "detail": d} for name, (i, _, _, d) in _hypotheses().items()}}
 
 
 def sweep_data(data: DataWriter, fibonacci: np.ndarray) -> dict:
@@ -149,7 +167,9 @@ def diagnosis_data(data: DataWriter) -> dict:
     out = {"dirs": data.f64("diag_dirs", dirs), "count": len(dirs), "face_size": size,
            "faces": _faces_file(data, "diag_faces", coordinate_faces(size, size)),
            "reference_faces": data.i32("diag_ref_faces", ref_faces), "clear": data.i32("diag_clear", clear),
-           "share": diagnosis_check.SHARE}
+           "share": diagnosis_check.SHARE,
+           # the grader's tolerance for comparing answers at two lengths (face_recovery.Instrument)
+           "tolerance": float(tolerance(size, size, float(size + 1)))}
     for f in FILTERS:
         for tag, uv in (("uv", ref_uv), ("uvlen", uv_len)):
             # columns: position at u, 1-u, v, 1-v (clipped to [0, 1] as the check does)

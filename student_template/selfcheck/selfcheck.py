@@ -336,9 +336,10 @@ def check_read_texture(ctx: Context) -> dict:
     # crashes there): no other mistake is guessed from them.
     ctx.read_outside = oob is not None
     if recognised and not ctx.read_outside:
-        mistake = max(sorted(recognised), key=recognised.get)
-        diagnoses.append(diag(mistake, spec["details"][mistake]))
-        ctx.texture_mistake = mistake
+        name = max(sorted(recognised), key=recognised.get)
+        mistake = spec["mistakes"][name]
+        diagnoses.append(diag(mistake["id"], mistake["detail"]))
+        ctx.texture_mistake = mistake["id"]
     diagnoses += failure_diagnoses(failures + ([oob] if oob else []))
     ctx.texture_ok = matched == total
     fraction = matched / total if total else 0.0
@@ -361,6 +362,8 @@ def check_fetch_sweep(ctx: Context) -> dict:
     table_rows, lines, diagnoses = [], [], failure_diagnoses(failures)
     per_face_bad, per_face_all = [0] * 6, [0] * 6
     nan_input = None
+    bad_tied = bad_clear = 0
+    tie_example = None
     for i, s in enumerate(spec["sets"]):
         fetched = Fetched(s, filter)
         n = s["count"]
@@ -373,6 +376,14 @@ def check_fetch_sweep(ctx: Context) -> dict:
                 nan_input = fetched.dirs[fresh[0]]
         total += n
         matched += sum(ok)
+        if (i + 1) not in failed:
+            for r in range(n):
+                if not ok[r]:
+                    if r in fetched.alternatives:
+                        bad_tied += 1
+                        tie_example = tie_example or fetched.dirs[r]
+                    else:
+                        bad_clear += 1
         for r, f in enumerate(fetched.faces):
             if f >= 0:
                 per_face_all[f] += 1
@@ -384,6 +395,10 @@ def check_fetch_sweep(ctx: Context) -> dict:
     # (With a readTexture that reads outside the face, NaN is what it read.)
     if nan_input is not None and not ctx.read_outside:
         diagnoses.append(diag("nan-output", f"{describe_direction(nan_input)} returned NaN or infinity for a finite, non-zero direction."))
+    if bad_tied and not bad_clear and not failed:
+        # Right everywhere but on edges and corners: the face choice at ties.
+        diagnoses.append(diag("tie-untouched-face", f"{describe_direction(tie_example)} lies on an edge or corner of the cube "
+                              f"and samples a face it does not touch ({bad_tied} such directions)."))
     fraction = matched / total if total else 0.0
     table = ["| direction set | cases | match |", "|---|---:|---:|"]
     table += [f"| {name} | {n} | {ok / n:.1%} |" for name, n, ok in table_rows]
@@ -442,13 +457,24 @@ def check_diagnosis(ctx: Context) -> dict:
     filter = ctx.judging_filter()[0]
     tol = 1e-3 if ctx.texture_ok else 1.01
     dirs = rows(load(spec["dirs"], "d"))
+    n = spec["count"]
     write_f64(ctx.out("diag_dirs10.f64"), [10.0 * x for d in dirs for x in d])
+    # Lengths that break a lookup computing in float, or squaring the
+    # components, on a subset of the directions away from edges.
+    clear_all = [r for r, c in enumerate(load(spec["clear"], "i")) if c]
+    subset = clear_all[::max(1, len(clear_all) // 1500)]
+    write_f64(ctx.out("diag_subset.f64"), [x for r in subset for x in dirs[r]])
     commands = [ctx.faces_command(spec["faces"]),
                 ctx.fetch_command("fetchColor on the Fibonacci sphere", spec["dirs"], "diag.out"),
                 ("fetchColor on the same directions, 10 times longer",
-                 ["fetch", str(ctx.out("diag_dirs10.f64")), str(ctx.out("diag10.out"))])]
+                 ["fetch", str(ctx.out("diag_dirs10.f64")), str(ctx.out("diag10.out"))]),
+                ("fetchColor on directions of length 1",
+                 ["fetch", str(ctx.out("diag_subset.f64")), str(ctx.out("diag_subset.out"))])]
+    for k, scale in enumerate(LENGTH_SCALES):
+        write_f64(ctx.out(f"diag_scale{k}.f64"), [scale * x for r in subset for x in dirs[r]])
+        commands.append((f"fetchColor on directions of length {scale:g}",
+                         ["fetch", str(ctx.out(f"diag_scale{k}.f64")), str(ctx.out(f"diag_scale{k}.out"))]))
     failed, threw, _ = ctx.driver.run(commands)
-    n = spec["count"]
     sub = outputs_or_nan(ctx.out("diag.out"), n, 1 in failed)
     evaluated = [1 not in failed and r not in threw.get(1, ()) for r in range(n)]
     ref_faces = list(load(spec["reference_faces"], "i"))
@@ -470,6 +496,7 @@ def check_diagnosis(ctx: Context) -> dict:
             moved += (f2 != sub_faces[r]) or not (abs(x2 - px[r]) <= tol) or not (abs(y2 - py[r]) <= tol)
         if clear_rows and moved / len(clear_rows) > 0.1:
             diagnoses.append(diag("not-normalized", "The answer changes when the direction is made 10 times longer: divide the face-plane coordinates by the major component's magnitude m."))
+        lengths = [] if diagnoses else length_diagnoses(ctx, len(subset), failed, spec["tolerance"])
         pos = rows(load(spec[f"positions_{filter}_uv"], "f"), 4)
         pos_len = rows(load(spec[f"positions_{filter}_uvlen"], "f"), 4)
         for f in range(6):
@@ -499,12 +526,46 @@ def check_diagnosis(ctx: Context) -> dict:
             if share < share_min:
                 diagnoses.append(diag("uv-mismatch", f"On the {name} face, (u, v) follow no pattern we recognise ({share:.0%} of directions explained by the best guess).", name))
             lines.append(f"| {name} | {FACE_NAMES[g]} | {', '.join(ids) if share >= share_min else '?'} | {share:.0%} |")
+        # Dividing by the length squares the components too: one mistake, one fix (divide by m).
+        diagnoses += [d for d in lengths if d["id"] == "float-precision"
+                      or not any(x["id"] == "not-normalized" for x in diagnoses)]
     if diagnoses:
         table = ["| direction toward | face sampled | (u, v) mistakes | explained |", "|---|---|---|---:|"] + lines
         output = "\n".join(["What fetchColor does, recovered from a texture whose texels encode their own position:", ""] + (table if lines else []))
     else:
         output = "On every face, fetchColor samples the right face with u and v running the right way."
     return {"fraction": 0.0 if diagnoses else 1.0, "diagnoses": diagnoses, "output": output}
+
+
+# Lengths that break a lookup computing in float (below float's normal range,
+# above its largest value) and one that squares the components (x*x
+# overflows above 1.3e154, underflows to 0 below 1e-162): the grader's.
+FLOAT_TINY, FLOAT_HUGE = 1e-41, 1e39
+SQUARE_HUGE, SQUARE_TINY = 1e155, 1e-170
+LENGTH_SCALES = (FLOAT_TINY, FLOAT_HUGE, SQUARE_HUGE, SQUARE_TINY)
+
+
+def length_diagnoses(ctx: Context, n: int, failed: set, tol: float) -> list[dict]:
+    base = outputs_or_nan(ctx.out("diag_subset.out"), n, 3 in failed)
+    judged = [r for r in range(n) if finite(base[r])]
+    broken = {}
+    for k, scale in enumerate(LENGTH_SCALES):
+        got = outputs_or_nan(ctx.out(f"diag_scale{k}.out"), n, 4 + k in failed)
+        bad = sum(1 for r in judged if not (finite(got[r]) and all(abs(a - b) <= tol for a, b in zip(got[r], base[r]))))
+        broken[scale] = bad / len(judged) if judged else 0.0
+    if broken[FLOAT_TINY] > 0.1 or broken[FLOAT_HUGE] > 0.1:
+        which = [w for w, s in (("tiny (|d| = 1e-41)", FLOAT_TINY), ("huge (|d| = 1e39)", FLOAT_HUGE)) if broken[s] > 0.1]
+        return [diag("float-precision", f"fetchColor gives another answer for {' and '.join(which)} directions than for the same "
+                     "directions at length 1: the components go through float (float x = direction.x, or a float "
+                     "parameter), which cannot hold magnitudes below 1.2e-38 exactly or above 3.4e38 at all. "
+                     "Keep them in double until you have divided by m.")]
+    if broken[SQUARE_HUGE] > 0.1 or broken[SQUARE_TINY] > 0.1:
+        which = [w for w, s in (("huge (|d| = 1e155)", SQUARE_HUGE), ("tiny (|d| = 1e-170)", SQUARE_TINY)) if broken[s] > 0.1]
+        return [diag("length-overflow", f"fetchColor breaks for {' and '.join(which)} directions but not for 1e39 or 1e-41: "
+                     "x*x + y*y + z*z overflows to infinity above |d| = 1.3e154 (and underflows to 0 below "
+                     "about 1e-162), so normalising first divides by infinity or 0. Divide by m, the largest "
+                     "|component|, instead: it needs no squares.")]
+    return []
 
 
 def colour_class(rgb) -> int:
