@@ -342,3 +342,13 @@ def test_class_summary_is_deterministic(tmp_path):
         write_summary(class_rows(), tmp_path / folder, data=hostile_summary_data())
     for name in ("summary.md", "summary.html", "summary_histogram.png", "summary_speed_accuracy.png"):
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+
+
+def test_grade_all_progress_bar_shows_names_as_text(capsys):
+    """rich reads "[...]" in a string as markup: a folder named "[/x]" raised
+    MarkupError in grade-all's progress bar, before the gradebook was written."""
+    from grader.grade_all import _Progress
+    with _Progress(True, 3, 0) as advance:
+        for name in ("[/oops]", "[bold red]x[/]", "[link=http://evil]y"):
+            advance(name)
+    assert "[link=http://evil]y" in capsys.readouterr().err   # the last name, as it is
