@@ -352,3 +352,13 @@ def test_grade_all_progress_bar_shows_names_as_text(capsys):
         for name in ("[/oops]", "[bold red]x[/]", "[link=http://evil]y"):
             advance(name)
     assert "[link=http://evil]y" in capsys.readouterr().err   # the last name, as it is
+
+
+def test_a_long_message_is_shown_shortened():
+    result = make_hostile()
+    result.checks[1].diagnoses = [Diagnosis("exception", "uncaught exception: " + "A" * 60000 + " END")]
+    result.warnings = ["W" * 60000]
+    for name, text in render_all(result).items():
+        if name != "results.json":      # extra_data keeps every detail for the instructor
+            assert "A" * 5000 not in text and "W" * 5000 not in text, name
+            assert "characters left out" in text and " END" in text, name

@@ -18,7 +18,7 @@ import xml.etree.ElementTree as ET
 from ..results import BUILD_ERROR
 from ..diagnoses import describe
 from .text import clean, points, truncate_middle
-from .view import (STATE_ERROR, STATE_INFO, STATE_PASSED, STATE_SKIPPED,
+from .view import (STATE_ERROR, STATE_INFO, STATE_PASSED, STATE_SKIPPED, TEXT_LIMIT,
                    ReportView, check_output, check_state, mismatch_groups)
 
 SUITE_NAME = "envmap"
@@ -33,7 +33,7 @@ def _check_text(check) -> str:
     for d in check.diagnoses:
         info = describe(d.id)
         face = f" [{d.face}]" if d.face else ""
-        parts.append(f"{d.id}{face}: {d.detail}\n  What to do: {info.what_to_do}")
+        parts.append(f"{d.id}{face}: {truncate_middle(d.detail, TEXT_LIMIT)}\n  What to do: {info.what_to_do}")
     return truncate_middle(clean("\n\n".join(p for p in parts if p)))
 
 

@@ -16,7 +16,7 @@ from html import escape
 from ..results import BUILD_ERROR, CheckResult
 from .text import clean, inert_markdown, md_code, md_escape, md_fence, points, truncate_middle
 from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
-                   STATE_PASSED, STATE_SKIPPED, DiagnosisGroup, ReportView,
+                   STATE_PASSED, STATE_SKIPPED, TEXT_LIMIT, DiagnosisGroup, ReportView,
                    check_output, check_state, mismatch_groups)
 
 STATE_ICON = {
@@ -88,8 +88,9 @@ def diagnosis_section(group: DiagnosisGroup, level: str = "###") -> list[str]:
     lines = [f"{level} {md_escape(info.title)} ({md_code(info.id)})", ""]
     for d in group.findings:
         where = f"**{md_escape(d.face)}:** " if d.face else ""
-        hint = f" _{md_escape(d.hint)}_" if d.hint else ""
-        lines.append(f"- {where}{md_escape(d.detail, line_start=not where)}{hint}")
+        hint = f" _{md_escape(truncate_middle(d.hint, TEXT_LIMIT))}_" if d.hint else ""
+        detail = truncate_middle(d.detail, TEXT_LIMIT)
+        lines.append(f"- {where}{md_escape(detail, line_start=not where)}{hint}")
     lines += ["", info.explanation, "", f"**What to do:** {info.what_to_do}", ""]
     return lines
 

@@ -11,16 +11,19 @@ reduced to its count and points. Instructors ask for include_hidden=True.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from .. import diagnoses as catalogue
 from ..results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED,
                        TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult,
                        TexelHit)
-from .text import clean, figure, tidy_numbers
+from .text import clean, figure, tidy_numbers, truncate_middle
 
 VISIBLE = "visible"
+# A diagnosis or warning can quote the submission (an exception's message,
+# up to the worker's 64 KiB): shown up to this many characters.
+TEXT_LIMIT = 2000
 
 # The sentence a report shows for a submission's overall status.
 STATUS_TEXT = {
@@ -250,7 +253,8 @@ def build_view(result: GradeResult, include_hidden: bool = False) -> ReportView:
             key = (d.id, d.face, d.detail)
             if key not in seen:
                 seen.add(key)
-                found.append(d)
+                found.append(replace(d, detail=truncate_middle(d.detail, TEXT_LIMIT),
+                                     hint=truncate_middle(d.hint, TEXT_LIMIT)))
 
     return ReportView(
         submission=clean(result.submission),
@@ -260,7 +264,7 @@ def build_view(result: GradeResult, include_hidden: bool = False) -> ReportView:
         checks=shown,
         hidden=sorted(hidden.values(), key=lambda h: h.when),
         diagnoses=group_diagnoses(found),
-        warnings=[clean(w) for w in result.warnings],
+        warnings=[truncate_middle(clean(w), TEXT_LIMIT) for w in result.warnings],
         build_log=clean(result.build_log),
         execution_time_s=result.execution_time_s,
         source_sha256=result.source_sha256,
