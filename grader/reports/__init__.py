@@ -11,6 +11,27 @@ The terminal summary is terminal.print_summary. A report never runs a check.
 Student-facing reports show visible checks only (see view.py); pass
 include_hidden=True for an instructor's copy. results.json always holds
 every check: Gradescope hides entries by their visibility.
+
+Text from a submission (its name, exception messages, compiler output,
+file names; in the class summary, folder names and shared code) is hostile
+and reaches every format as text, never as markup:
+  - everywhere: text.clean() drops ANSI codes, control characters, lone
+    surrogates and U+FFFE/U+FFFF (so junit.xml stays XML 1.0);
+  - Markdown (report.md, results.json, summary.md): plain strings through
+    md_escape (no heading, list, link, autolink, image or raw HTML can form;
+    e-mail addresses become code spans), logs and code through md_fence
+    (a fence longer than any backtick run inside); a check's own Markdown
+    output through inert_markdown, which shows it literally when it would
+    form anything beyond paragraphs, lists, tables, emphasis and code;
+    inside our <details><summary>, HTML escaping (no Markdown there);
+  - HTML (report.html, summary.html): html.escape everywhere, Markdown
+    rendered with raw HTML, links and images off, and a Content-Security-
+    Policy (default-src 'none'; img-src data:; style-src 'unsafe-inline')
+    that forbids any script;
+  - charts: names never reach matplotlib's mathtext ($ escaped);
+  - the terminal: rich Text objects, never markup strings.
+tests/test_report_injection.py parses each output as its reader does
+(GitHub's cmark-gfm, markdown-it, html.parser, ElementTree, Chromium).
 """
 from __future__ import annotations
 
