@@ -362,3 +362,12 @@ def test_a_long_message_is_shown_shortened():
         if name != "results.json":      # extra_data keeps every detail for the instructor
             assert "A" * 5000 not in text and "W" * 5000 not in text, name
             assert "characters left out" in text and " END" in text, name
+
+
+def test_the_gradebook_page_shows_the_roster_columns(tmp_path):
+    rows = class_rows()
+    rows[0].student_id, rows[0].name, rows[0].email = "s42", FAKE_SCRIPT, "ada@uni.example"
+    write_summary(rows, tmp_path)
+    page = Page((tmp_path / "summary.html").read_text())
+    assert "script" not in page.tags()
+    assert_shown_literally(page, "summary.html", "student id", "s42", FAKE_SCRIPT, "ada@uni.example")

@@ -230,13 +230,17 @@ def summary_html(rows, markdown_text: str, out: Path, linked: set[str] | None = 
         data = base64.b64encode((out / name).read_bytes()).decode()
         body = body.replace(f'src="{name}"', f'src="data:image/png;base64,{data}"')
     names = check_names(rows)
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in ["student", "score", "status", *names, "diagnoses"])
+    # A roster (grade-all --roster) adds who each student is.
+    who = [k for k in ("student_id", "name", "email") if any(getattr(r, k, "") for r in rows)]
+    head = "".join(f"<th>{html.escape(h.replace('_', ' '))}</th>"
+                   for h in ["student", *who, "score", "status", *names, "diagnoses"])
     lines = []
     for r in rows:
         student = html.escape(clean(r.student))
         if r.student in linked:
             student = f'<a href="{html.escape(report_link(r.student))}">{student}</a>'
-        cells = [student, f"{r.score:g} / {r.max_score:g}", html.escape(r.status),
+        cells = [student, *[html.escape(clean(str(getattr(r, k, "")))) for k in who],
+                 f"{r.score:g} / {r.max_score:g}", html.escape(r.status),
                  *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], html.escape(" ".join(r.diagnoses))]
         cls = ' class="bad"' if r.status != "graded" else ""
         lines.append(f"<tr{cls}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
