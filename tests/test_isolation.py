@@ -29,6 +29,8 @@ from grader.reference import CubeMap
 from grader.worker import sandbox
 from grader.worker.lookups import open_lookups
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
+
 ABI_DIR = PROJECT_ROOT / "grader" / "shim"
 CORRECT = Path(__file__).parent / "submissions" / "correct" / "axis_table.cpp"
 PYTHON = sys.executable

@@ -22,6 +22,8 @@ from grader.checks.sweeps import SweepFinding
 from grader.results import FAILED, PASSED, CheckResult
 from grader.worker.lookups import open_lookups
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
+
 WRAPPER = r"""
 #include "submission_abi.h"
 #include <pthread.h>

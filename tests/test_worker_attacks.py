@@ -21,6 +21,8 @@ import pytest
 from grader import PROJECT_ROOT
 from grader.worker import SubmissionFailure, SubmissionRunner, Worker, WorkerHarnessError, sandbox
 
+pytestmark = [pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
+
 ABI_DIR = PROJECT_ROOT / "grader" / "shim"
 BWRAP = sandbox.sandbox_problem()
 DROP = sandbox.privilege_drop_problem()
