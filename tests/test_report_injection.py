@@ -42,7 +42,7 @@ PAYLOADS = [FAKE_HEADING, FAKE_LINK, FAKE_IMAGE, FENCE, FAKE_SCRIPT,
 PAYLOAD = "\n".join(PAYLOADS)
 # Student names from grade-all: folder and archive names.
 NAMES = ["<img src=x onerror=document.body.setAttribute('data-pwned','3')>", "$\\undefinedmacro$",
-         "a`b``c", "x](http:evil)[y", "# Regraded 100"]
+         "a`b``c", "x](http:evil)[y", "# Regraded 100", "javascript:alert(1)"]
 
 
 def make_hostile() -> GradeResult:
