@@ -36,10 +36,12 @@ ZOO = {
     "weights-swapped": ({("weights-swapped", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "scaled-by-size-minus-one": ({("scaled-by-size-minus-one", None)}, {FILTER, "renders"}, {MAPPING, "arrows"}, GRADED),
     # Runtime failures are attributed, and cost only what they touch.
-    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("crash", None)}, {FILTER}, set(), GRADED),
-    "crash-null": ({("crash", None)}, {MAPPING}, {FILTER}, GRADED),
+    # x1 = x0 + 1 unclamped: the cause (unclamped-edge) is named beside what it does.
+    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("crash", None), ("unclamped-edge", None)}, {FILTER}, set(), GRADED),
+    # Every direction toward -Z crashes: that face is listed as not analysed, never dropped.
+    "crash-null": ({("crash", None), ("face-not-analysed", "-Z")}, {MAPPING}, {FILTER}, GRADED),
     "timeout-loop": ({("timeout", None)}, {"stability"}, {FILTER, "renders"}, TIMEOUT),
-    "nan-huge": ({("nan-output", None)}, {"stability"}, {FILTER, MAPPING, "renders", "arrows"}, GRADED),
+    "nan-huge": ({("nan-output", None), ("length-overflow", None)}, {"stability"}, {FILTER, MAPPING, "renders", "arrows"}, GRADED),
     "slow": ({("slow", None)}, {"speed"}, {FILTER, MAPPING, "renders", "arrows", "stability"}, GRADED),
     "syntax-error": ({("build-error", None)}, {FILTER, MAPPING}, set(), BUILD_ERROR),
 }

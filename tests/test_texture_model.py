@@ -65,7 +65,8 @@ MEMBERS = {
     "unclamped-w-minus-1-offset": (both(scale="N-1", offset=-1.0, edge="none"),
                                    ["texel-offset", "unclamped-edge", "scaled-by-size-minus-one"]),
     "rows-flipped": (tm.TextureModel(A(), A(flip="index")), ["rows-flipped"]),
-    "rows-flipped-coordinate": (tm.TextureModel(A(), A(flip="coordinate")), ["rows-flipped"]),
+    "v-flipped": (tm.TextureModel(A(), A(flip="coordinate")), ["v-flipped"]),
+    "u-flipped": (tm.TextureModel(A(flip="coordinate"), A()), ["u-flipped"]),
     "columns-flipped": (tm.TextureModel(A(flip="index"), A()), ["columns-flipped"]),
     "wh-swapped": (both(size="other"), ["width-height-swapped"]),
     "uv-swapped": (both(source="other"), ["uv-swapped"]),
@@ -103,3 +104,55 @@ def test_a_constant_lookup_is_reported_as_such():
 def test_the_words_name_the_offset():
     text = tm.describe_model(both(weights="nearest", offset=-1.0))
     assert "one to the left and below" in text and "p = (uW - 1, vH - 1)" in text
+
+
+# ---- fetchColor through the fitted readTexture --------------------------------
+
+from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
+
+from grader.checks import face_recovery  # noqa: E402
+from model_lookups import ModelLookups  # noqa: E402
+
+FACE_NAMES = reference.FACE_NAMES
+
+# One fetchColor mistake: (what the fake does, the diagnoses it must get).
+def fetch_mistakes():
+    face = st.sampled_from(FACE_NAMES)
+    per_face = st.tuples(st.sampled_from(["u-flipped", "v-flipped", "uv-swapped"]), face).map(
+        lambda t: ({t[1]: t[0]}, {(t[0], t[1])}))
+    wrong_face = st.sampled_from([("+X", "-X"), ("+Y", "-Y"), ("+Z", "-Z")]).map(
+        lambda p: ({p[0]: f"wrong-face:{p[1]}", p[1]: f"wrong-face:{p[0]}"}, {("wrong-face", p[0]), ("wrong-face", p[1])}))
+    whole = st.sampled_from([("strict-ties", {("tie-untouched-face", None)}),
+                             ("float", {("float-precision", None)}),
+                             ("normalise-first", {("length-overflow", None)}),
+                             (None, set())])
+    return st.one_of(per_face, wrong_face, whole)
+
+
+TEXTURE_MISTAKES = sorted(n for n in MEMBERS if n != "handout")
+
+
+def test_a_correct_fetch_color_over_a_correct_read_texture_gets_no_diagnosis():
+    lookups = ModelLookups()
+    analysis = face_recovery.analyse(lookups, tm.fit(lookups), quick=True)
+    assert analysis.diagnoses() == [] and all(v.correct for v in analysis.faces)
+
+
+def test_a_constant_read_texture_leaves_fetch_color_unanalysed_and_says_why():
+    lookups = ModelLookups(fetch={"+X": "u-flipped"})
+    lookups.read_texture = lambda face, uv, placement="end": lookups._outcome(np.ones((len(uv), 3)), str)
+    found = tm.fit(lookups)
+    assert found.constant
+    ids = [d.id for d in face_recovery.analyse(lookups, found, quick=True).diagnoses()]
+    assert ids == ["fetch-not-analysed"]
+
+
+@settings(max_examples=14, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(fetch=fetch_mistakes(), texture=st.sampled_from(TEXTURE_MISTAKES))
+def test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_other(fetch, texture):
+    (mistake, fetch_ids), (model, texture_ids) = fetch, MEMBERS[texture]
+    lookups = ModelLookups(texture=model, fetch=mistake)
+    found = tm.fit(lookups)
+    assert found.fits and sorted(tm.mistake_ids(found.model)) == sorted(texture_ids)
+    got = {(d.id, d.face) for d in face_recovery.analyse(lookups, found, quick=True).diagnoses()}
+    assert got == fetch_ids

@@ -24,6 +24,9 @@ import numpy as np
 
 from .. import reference
 from ..results import Diagnosis
+
+# Every id a candidate can give (tests/test_diagnosis_catalogue.py).
+DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range")
 from .compare import tolerance
 from .directions import fibonacci_sphere, tied_axes
 from .texture_model import Fit, TextureModel, evaluate_in_buffer
@@ -152,7 +155,8 @@ class FetchAnalysis:
             out.append(Diagnosis("tie-untouched-face", self.ties_untouched))
         if self.precision:
             out.append(Diagnosis("float-precision", self.precision))
-        elif self.overflow:
+        elif self.overflow and not any(d.id == "not-normalized" for d in out):
+            # Dividing by the length squares the components too: one mistake, one fix (divide by m).
             out.append(Diagnosis("length-overflow", self.overflow))
         return out
 
@@ -165,7 +169,10 @@ class FetchAnalysis:
                 rows.append(f"| {face_name(v.face)} | too few answers ({v.answered}) | | |")
             else:
                 sampled = face_name(v.sampled) if v.sampled is not None else "none"
-                ids = ", ".join(v.candidate.ids) or "none" if v.candidate and v.share >= SHARE else "?"
+                if v.candidate is not None and v.share >= SHARE:
+                    ids = ", ".join(v.candidate.ids + (["divides by |d|, not m"] if v.candidate.by_length else [])) or "none"
+                else:
+                    ids = "?"
                 rows.append(f"| {face_name(v.face)} | {sampled} | {ids} | {v.share:.0%} |")
         return rows
 
@@ -215,15 +222,6 @@ def _instrument(fit: Fit) -> tuple[str, TextureModel | None, str]:
                           "back as a face and (u, v). Fix readTexture first.")
 
 
-def _failure_text(outcome, rows: np.ndarray) -> str | None:
-    """The first failure among `rows` (indices of a batch), in words."""
-    wanted = set(int(i) for i in rows)
-    for f in outcome.failures:
-        if f.index is not None and f.index in wanted:
-            return f.input
-    return None
-
-
 def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
     """Face by face, what fetchColor does, read through the fitted readTexture."""
     kind, model, reason = _instrument(fit)
@@ -236,10 +234,26 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
 
     dirs = fibonacci_sphere(6000 if quick else 20_000)
     ref_faces, ref_uv = reference.direction_to_face(dirs)
-    sub = lookups.fetch(dirs)
-    values = np.asarray(sub.values, np.float64)
+    # One batch per face, its centre first: crashes near one face's edges
+    # (the runner stops a batch after a few) cannot starve another face, nor
+    # that face's own centre.
+    order = np.lexsort((np.abs(ref_uv - 0.5).max(axis=1), ref_faces))
+    values = np.full((len(dirs), 3), np.nan)
+    evaluated = np.zeros(len(dirs), bool)
+    crashes: dict[int, str] = {}
+    for f in range(6):
+        rows = order[ref_faces[order] == f]
+        if not len(rows):
+            continue
+        got = lookups.fetch(dirs[rows])
+        values[rows] = np.asarray(got.values, np.float64)
+        evaluated[rows] = np.asarray(got.evaluated, bool)
+        for failure in got.failures:
+            if failure.index is not None:
+                crashes.setdefault(f, failure.input)
+                break
     sub_faces, _, _ = decode_sample_coordinates(values)
-    answered = np.asarray(sub.evaluated, bool) & np.isfinite(values).all(axis=1)
+    answered = evaluated & np.isfinite(values).all(axis=1)
     clear = tied_axes(dirs).sum(axis=1) == 1
     m_over_len = np.abs(dirs).max(axis=1) / np.linalg.norm(dirs, axis=1)
 
@@ -253,8 +267,8 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
         verdict = FaceVerdict(f, int(toward.sum()), int(rows.sum()))
         out.faces.append(verdict)
         if verdict.answered < MIN_DIRECTIONS:
-            failed = np.flatnonzero(toward & ~answered)
-            verdict.crash = _failure_text(sub, failed) or ("every direction toward it" if len(failed) else None)
+            if f in crashes:
+                verdict.crash = crashes[f]
             continue
         known = rows & (sub_faces >= 0)
         if known.sum() < SHARE * rows.sum():

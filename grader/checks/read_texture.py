@@ -1,4 +1,7 @@
-"""readTexture against the reference bilinear filter, and what is wrong when it differs."""
+"""readTexture against the reference bilinear filter, and what is wrong when
+it differs: the lookup is fitted to a family of models (texture_model), and
+the fitted model is what the fetchColor checks read fetchColor's answers
+through, so a readTexture mistake never costs fetchColor's points."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -8,6 +11,7 @@ import numpy as np
 from .. import reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
+from . import texture_model as tm
 from .compare import compare, explain, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .textures import coordinate_faces, random_faces
@@ -17,18 +21,70 @@ from .textures import coordinate_faces, random_faces
 class ReadTextureFinding:
     """What the read_texture check tells the fetchColor checks."""
     ok: bool                    # every readTexture call matched the reference
-    mistake: str | None = None  # the recognised mistake's diagnosis id, if any
+    mistake: str | None = None  # the first diagnosis id of the fitted model's mistakes, if any
+    fit: tm.Fit | None = None   # the student's readTexture as a member of the model family
+
+    @property
+    def model(self) -> tm.TextureModel | None:
+        """The member that reproduces every answer (the handout's when ok), or None."""
+        if self.ok:
+            return tm.HANDOUT
+        return self.fit.model if self.fit is not None and self.fit.fits else None
 
     def judging_filter(self) -> tuple[str, float]:
         """The filter to judge fetchColor with, and the position tolerance in
-        texels: fetchColor is judged on its own, so when readTexture is wrong
-        its mapping still earns credit if every sample lands within a texel
-        of the right spot."""
-        if self.ok:
+        texels. With a fitted model, fetchColor is judged exactly through it
+        (`instrument`), so no slack; otherwise it still earns credit if every
+        sample lands within a texel of the right spot."""
+        if self.model is not None:
             return "bilinear", 0.0
         if self.mistake == "nearest-neighbor":
             return "nearest", 1.01
         return "bilinear", 1.01
+
+    def instrument(self, cube: reference.CubeMap):
+        """`cube`, or a stand-in whose fetch goes through the student's own
+        readTexture model: what a correct fetchColor returns over this
+        readTexture. fetchColor checks compare with it."""
+        model = self.model
+        if model is None or model == tm.HANDOUT:
+            return cube
+        return ModelCube(cube, model)
+
+
+class ModelCube:
+    """A reference.CubeMap whose lookups are the fitted readTexture at the
+    reference's face and (u, v) (directions with no face: the reference's)."""
+
+    def __init__(self, cube: reference.CubeMap, model: tm.TextureModel):
+        self.cube, self.model, self.faces = cube, model, cube.faces
+
+    @property
+    def face_width(self) -> int:
+        return self.cube.face_width
+
+    @property
+    def face_height(self) -> int:
+        return self.cube.face_height
+
+    def fetch_with_faces(self, dirs: np.ndarray, filter: str = "bilinear"):
+        dirs = np.ascontiguousarray(dirs, np.float64).reshape(-1, 3)
+        rgb, faces = self.cube.fetch_with_faces(dirs, "bilinear")
+        _, uv = reference.direction_to_face(dirs)
+        rows = faces >= 0
+        if rows.any():
+            rgb = rgb.copy()
+            rgb[rows] = tm.evaluate_in_buffer(self.model, self.faces, faces[rows], uv[rows])[0]
+        return rgb, faces
+
+    def fetch(self, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
+        return self.fetch_with_faces(dirs, filter)[0]
+
+    def read_texture(self, faces: np.ndarray, uv: np.ndarray, filter: str = "bilinear") -> np.ndarray:
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        faces = np.broadcast_to(np.asarray(faces), (len(uv),))
+        return tm.evaluate_in_buffer(self.model, self.faces, faces, np.clip(uv, 0.0, 1.0))[0]
+
 
 # Square and non-square faces, so a W/H mix-up shows; faces one texel tall,
 # where every row is the last, so reading x = W faults on a guard page on
@@ -51,8 +107,10 @@ def sample_points(width: int, height: int, seed: int) -> np.ndarray:
     return np.stack([u.ravel(), v.ravel()], axis=1)
 
 
-# Mistakes we recognise, each as the (u, v) at which the reference would give
-# the same answer (or the reference's other filter). What a student sees is the id.
+# Common single mistakes, each as the (u, v) at which the reference would give
+# the same answer (or the reference's other filter). The grader itself names
+# mistakes from the fitted model (texture_model); the student kit
+# (grader/kit) uses this table for its offline self-check.
 def _weights_swapped(uv, w, h):
     p = uv * (w, h)
     return np.clip((2 * np.floor(p) + 1 - p) / (w, h), 0.0, 1.0)
@@ -81,18 +139,35 @@ DETAILS = {
 }
 
 
-def recognise(ctx: CheckContext, cube: reference.CubeMap, face: int, uv: np.ndarray, actual: np.ndarray, tol) -> tuple[str, float] | None:
-    """The mistake that explains the submission's answers on the coordinate
-    texture best, with the share of points it explains; None when none
-    explains 90%."""
-    w, h = cube.face_width, cube.face_height
-    best = None
-    for name, (filter, transform) in HYPOTHESES.items():
-        predicted = cube.read_texture(face, transform(uv, w, h), filter)
-        share = compare(actual, predicted, tol).fraction
-        if best is None or share > best[1]:
-            best = (name, share)
-    return best if best and best[1] >= 0.9 else None
+# Every id mistake_diagnoses can give (tests/test_diagnosis_catalogue.py).
+DIAGNOSIS_IDS = tm.MISTAKE_IDS
+
+
+def mistake_diagnoses(model: tm.TextureModel) -> list[Diagnosis]:
+    """One diagnosis per part of the fitted model that differs from the
+    handout, each saying what the code does."""
+    words = tm.describe_model(model)
+    px, py = tm.axis_formula(model.x, 0), tm.axis_formula(model.y, 1)
+    where = f"p = ({px}, {py})"
+    detail = {
+        "nearest-neighbor": f"readTexture returns one texel and never blends (nearest neighbour, or weights that are always 0); it reads at {where}.",
+        "weights-swapped": "readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10 (or beta to c0).",
+        "constant-weights": "readTexture blends with weights that do not follow p (the same weight wherever p is).",
+        "half-texel-offset": f"readTexture samples half a texel off: it uses {where} instead of p = (uW, vH).",
+        "texel-offset": f"readTexture reads a whole texel off: it uses {where} instead of p = (uW, vH).",
+        "truncation-of-negatives": "readTexture rounds a negative p toward zero with (int): for p between -1 and 0 it takes x0 = 0 and a negative weight.",
+        "unclamped-edge": "readTexture does not clamp its lattice points: at the edges it reads the next row, the texels before the face, or past the face.",
+        "wrapped-edge": "readTexture wraps its lattice points around the face (x = W reads x = 0) instead of clamping them.",
+        "scaled-by-size-minus-one": f"readTexture uses {where}: the lattice is scaled by W - 1 instead of W.",
+        "scaled-by-size-plus-one": f"readTexture uses {where}: the lattice is scaled by W + 1 instead of W.",
+        "rows-flipped": "readTexture reads row H-1-y: y = 0 must be the bottom row (v = 0).",
+        "columns-flipped": "readTexture reads column W-1-x: x = 0 must be the left column (u = 0).",
+        "u-flipped": "readTexture runs u from right to left (it uses 1 - u).",
+        "v-flipped": "readTexture runs v from top to bottom (it uses 1 - v; v = 0 must be the bottom row).",
+        "uv-swapped": "readTexture uses u for the vertical position and v for the horizontal one.",
+        "width-height-swapped": "readTexture mixes up the face width and height (u is scaled by the height or v by the width).",
+    }
+    return [Diagnosis(i, detail.get(i, words)) for i in tm.mistake_ids(model)]
 
 
 @check()
@@ -100,7 +175,6 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
     total = matched = 0
     lines, diagnoses = [], []
-    recognised: dict[str, int] = {}
     for w, h in FACE_SIZES:
         uv = sample_points(w, h, ctx.seed)
         for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
@@ -121,24 +195,26 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                         lines.append(f"Face {name}, {w}x{h} {kind} texels, inaccessible memory right {side} them:")
                         lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
                                              outcome.values, expected, limit=3))
-                    if kind == "coordinate" and placement == "end" and cmp.fraction < 0.99:
-                        found = recognise(ctx, cube, face, uv, outcome.values, tol)
-                        if found:
-                            recognised[found[0]] = recognised.get(found[0], 0) + 1
     result.fraction = matched / total if total else 0.0
     result.metrics["cases"] = total
     result.metrics["matched"] = matched
-    # Report the mistake that explains most cases (one readTexture has one mistake).
-    mistake = None
-    if recognised:
-        mistake = max(sorted(recognised), key=recognised.get)
-        diagnoses.insert(0, Diagnosis(mistake, DETAILS[mistake]))
-    result.diagnoses = unique_diagnoses(diagnoses)
+    # The lookup as a member of the model family: every mistake it makes, by
+    # name (several at once), independent of any crash it also causes.
+    fit = tm.fit(ctx.lookups, ctx.seed) if matched < total else None
+    found = mistake_diagnoses(fit.model) if fit is not None and fit.fits else []
+    result.diagnoses = unique_diagnoses(found + diagnoses)
+    mistake = found[0].id if found else None
     if matched < total:
         result.status = FAILED
+        if fit is None or fit.constant:
+            model_text = "readTexture returns the same colour wherever it reads."
+        elif fit.fits:
+            model_text = "What your readTexture does, found from textures that encode their positions: " + tm.describe_model(fit.model)
+        else:
+            model_text = (f"No lookup the grader can model reproduces all your readTexture's answers; the closest "
+                          f"({fit.share:.0%} of them): " + tm.describe_model(fit.closest))
         result.output = (f"{total - matched} of {total} readTexture calls differ from the reference bilinear filter.\n\n"
-                         + "\n".join(lines))
+                         + model_text + "\n\n" + "\n".join(lines))
     else:
         result.output = f"All {total} readTexture calls match the reference (u, v at 0, 1, texel boundaries, centres and random points)."
-    return ReadTextureFinding(ok=matched == total, mistake=mistake)
-
+    return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit)

@@ -15,6 +15,7 @@ from ..results import FAILED, CheckResult, Diagnosis
 from . import Needs, check
 from .context import CheckContext, failure_diagnoses
 from .directions import random_directions
+from .read_texture import ReadTextureFinding, read_texture
 from .sweeps import SweepFinding, fetch_sweep
 
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
@@ -40,8 +41,9 @@ def baseline_library():
 # Returning black is fast: speed only means something for a lookup that works.
 @check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.fraction >= SWEEP_NEEDED,
                        why=f"speed is scored once fetchColor matches the reference on at least "
-                           f"{SWEEP_NEEDED:.0%} of the sweep directions."),))
-def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding) -> None:
+                           f"{SWEEP_NEEDED:.0%} of the sweep directions."), read_texture))
+def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
+          texture: ReadTextureFinding | None = None) -> None:
     """fetchColor runs within a few times the reference's time per lookup."""
     import contextlib
 
@@ -54,7 +56,9 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding) -> None:
     # Smooth faces (colour = direction): a lookup that works gives colours
     # within TIMED_TOLERANCE of the reference whatever its filtering details,
     # and one that returns black or stale colours does not.
+    # Timed colours are judged through the student's own readTexture, as the sweep judged them.
     cube = reference.CubeMap(0.5 + 0.5 * texel_directions(256))
+    cube = texture.instrument(cube) if texture is not None else cube
     within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
     ctx.lookups.set_faces(cube.faces)
     mode = dict(sandbox=getattr(ctx.lookups, "sandboxed", None),

@@ -58,7 +58,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
     # Texels that encode their position, so `slack` (texel units, when
     # readTexture is wrong) means the same here as in the sweeps.
-    cube = reference.CubeMap(coordinate_faces(FACE_SIZE, FACE_SIZE))
+    cube = texture.instrument(reference.CubeMap(coordinate_faces(FACE_SIZE, FACE_SIZE)))
     ctx.lookups.set_faces(cube.faces)
     filter, slack = texture.judging_filter()
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0) + slack
@@ -96,7 +96,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # 4. Continuity: on a continuous environment (each texel holds the
     # direction through it), the jump across each edge is no larger than the
     # reference's own. A wrong readTexture may add up to one texel's step.
-    smooth = reference.CubeMap(0.5 + 0.5 * texel_directions(FACE_SIZE))
+    smooth = texture.instrument(reference.CubeMap(0.5 + 0.5 * texel_directions(FACE_SIZE)))
     ctx.lookups.set_faces(smooth.faces)
     step = float(np.abs(np.diff(smooth.faces, axis=2)).max()) if slack else 0.0
     a, b, edge = edge_pairs()

@@ -28,7 +28,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     """fetchColor picks the right face and (u, v) for every direction: the whole sphere, each face, edge, corner and axis, at any length."""
     w, h = SWEEP_FACE_SIZE
     faces = coordinate_faces(w, h)
-    cube = reference.CubeMap(faces)
+    cube = texture.instrument(reference.CubeMap(faces))   # through the student's own readTexture when it is modelled
     ctx.lookups.set_faces(cube.faces)
     filter, slack = texture.judging_filter()
     sets = sweep_sets(ctx.seed, fibonacci=20_000 if ctx.quick else 100_000)

@@ -402,6 +402,12 @@ def _edge_variants(model: TextureModel):
 
 # ---- words ----------------------------------------------------------------
 
+MISTAKE_IDS = ("nearest-neighbor", "weights-swapped", "constant-weights", "half-texel-offset", "texel-offset",
+               "truncation-of-negatives", "unclamped-edge", "wrapped-edge", "scaled-by-size-minus-one",
+               "scaled-by-size-plus-one", "rows-flipped", "columns-flipped", "u-flipped", "v-flipped",
+               "uv-swapped", "width-height-swapped")
+
+
 def mistake_ids(model: TextureModel) -> list[str]:
     """Diagnosis ids of the parts of `model` that differ from the handout."""
     ids = []
@@ -426,10 +432,14 @@ def mistake_ids(model: TextureModel) -> list[str]:
         ids.append("scaled-by-size-minus-one")
     if any(a.scale == "N+1" for a in axes):
         ids.append("scaled-by-size-plus-one")
-    if model.y.flip != "no":
+    if model.y.flip == "index":
         ids.append("rows-flipped")
-    if model.x.flip != "no":
+    if model.x.flip == "index":
         ids.append("columns-flipped")
+    if model.x.flip == "coordinate":
+        ids.append("u-flipped")
+    if model.y.flip == "coordinate":
+        ids.append("v-flipped")
     if any(a.source == "other" for a in axes):
         ids.append("uv-swapped")
     if any(a.size == "other" for a in axes):
@@ -441,7 +451,7 @@ def _number(x: float) -> str:
     return f"{x:+g}".replace("+", "+ ").replace("-", "- ")
 
 
-def _axis_formula(a: Axis, which: int) -> str:
+def axis_formula(a: Axis, which: int) -> str:
     c = ("u", "v")[which] if a.source == "own" else ("v", "u")[which]
     if a.flip == "coordinate":
         c = f"(1 - {c})"
@@ -457,7 +467,7 @@ def describe_model(model: TextureModel) -> str:
     """The model in one or two sentences a student can check against their code."""
     if model == HANDOUT:
         return "readTexture blends the four texels around p = (uW, vH) as the handout says."
-    px, py = _axis_formula(model.x, 0), _axis_formula(model.y, 1)
+    px, py = axis_formula(model.x, 0), axis_formula(model.y, 1)
     parts = []
     if model.single_texel:
         how = {"floor": "the texel at", "trunc": "the texel at (int)", "round": "the texel nearest to"}
@@ -481,6 +491,10 @@ def describe_model(model: TextureModel) -> str:
         parts.append("rows are read top-down (row H-1-y): y = 0 must be the bottom row")
     if model.x.flip == "index":
         parts.append("columns are read right to left (column W-1-x)")
+    if model.y.flip == "coordinate":
+        parts.append("v runs from top to bottom (1 - v): v = 0 must be the bottom row")
+    if model.x.flip == "coordinate":
+        parts.append("u runs from right to left (1 - u)")
     edges = {a.edge for a in (model.x, model.y)}
     if "none" in edges:
         parts.append("the lattice points are not clamped to [0, W-1] x [0, H-1], so at the edges it reads the "
