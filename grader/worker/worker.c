@@ -365,12 +365,23 @@ static struct sock_filter program[MAX_FILTER];
 static unsigned short program_length;
 
 /* Forward jumps to labels, resolved once the program is complete. */
-#define MAX_LABELS 1024
+#define MAX_LABELS 4096
 static int label_at[MAX_LABELS];
 static int label_count;
 static struct { unsigned short insn; short label; char field; } fixups[2 * MAX_LABELS];
 static int fixup_count;
 static int program_broken;
+
+static void add_fixup(int at, int label, char field)
+{
+    if (fixup_count >= 2 * MAX_LABELS) {
+        program_broken = 1;
+        return;
+    }
+    fixups[fixup_count].insn = (unsigned short)at;
+    fixups[fixup_count].label = (short)label;
+    fixups[fixup_count++].field = field;
+}
 
 static int new_label(void)
 {
@@ -475,21 +486,17 @@ static void jump_to(unsigned code, unsigned k, int if_true, int if_false)
 {
     int at = program_length;
     emit((struct sock_filter)BPF_JUMP(BPF_JMP | code | BPF_K, k, 0, 0));
-    if (if_true >= 0 && fixup_count < 2 * MAX_LABELS)
-        fixups[fixup_count].insn = (unsigned short)at, fixups[fixup_count].label = (short)if_true,
-        fixups[fixup_count++].field = 't';
-    if (if_false >= 0 && fixup_count < 2 * MAX_LABELS)
-        fixups[fixup_count].insn = (unsigned short)at, fixups[fixup_count].label = (short)if_false,
-        fixups[fixup_count++].field = 'f';
+    if (if_true >= 0)
+        add_fixup(at, if_true, 't');
+    if (if_false >= 0)
+        add_fixup(at, if_false, 'f');
 }
 
 static void always_to(int label)
 {
     int at = program_length;
     emit((struct sock_filter)BPF_JUMP(BPF_JMP | BPF_JA, 0, 0, 0));
-    if (fixup_count < 2 * MAX_LABELS)
-        fixups[fixup_count].insn = (unsigned short)at, fixups[fixup_count].label = (short)label,
-        fixups[fixup_count++].field = 'k';
+    add_fixup(at, label, 'k');
 }
 
 static int resolve_labels(void)
@@ -586,8 +593,7 @@ static void on_protected_overlap(long nr, int a, int len, int flag_arg, unsigned
     stmt(BPF_ST, 0);
     int no_carry = new_label(), carried = new_label();
     emit((struct sock_filter)BPF_JUMP(BPF_JMP | BPF_JGE | BPF_X, 0, 0, 0));   /* sum >= len: no carry */
-    fixups[fixup_count].insn = (unsigned short)(program_length - 1), fixups[fixup_count].label = (short)no_carry,
-    fixups[fixup_count++].field = 't';
+    add_fixup(program_length - 1, no_carry, 't');
     stmt(BPF_LD | BPF_IMM, 1);
     always_to(carried);
     place(no_carry);
