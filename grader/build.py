@@ -24,7 +24,7 @@ refuse the submission with its own diagnosis id:
 
 Steps 2-5 run in a scratch folder outside the project holding copies of
 everything they read, under bubblewrap where it works; where it does not
-but we are root, as the unprivileged uid/gid 65534 ("privilege-drop");
+but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop");
 otherwise as ourselves ("none"). Always with stdin /dev/null, a scrubbed
 environment, CPU/memory limits and a wall-clock deadline.
 
@@ -88,7 +88,11 @@ API_HEADERS = ("EnvironmentMap.h", "Vector3.h", "Color.h")
 # The reference sources EnvironmentMapLoader.cpp needs (reading a .hdr
 # cross); the lookup, renderer and scene parser are never linked.
 LOADER_REFERENCE_SOURCES = ("cross.c", "error.c", "rgbe.c")
-NOBODY_UID = NOBODY_GID = 65534
+# The uid/gid compilers run as without bubblewrap (root only). Not nobody
+# (65534): a privilege-dropped worker runs student code as nobody, and must
+# not reach another student's build folder. 65533 is reserved and unused on
+# Debian and Ubuntu (policy: 65000-65533 reserved).
+BUILD_UID = BUILD_GID = 65533
 MAX_ASSEMBLY_BYTES = 64 << 20
 MAX_OUTPUT_FILE_BYTES = 256 << 20   # any file a compiler step writes (ulimit -f)
 # Every BuildResult.diagnosis_id a build can give (grader/diagnoses.py has each).
@@ -344,7 +348,7 @@ _COMPILER_ENVIRONMENT = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "LC_AL
 
 def build_isolation() -> str:
     """How the student's compile and link run here: "bubblewrap",
-    "privilege-drop" (no bubblewrap, but we are root: uid/gid 65534) or
+    "privilege-drop" (no bubblewrap, but we are root: uid/gid BUILD_UID) or
     "none" (no bubblewrap, not root: as ourselves, limits only)."""
     from .worker.sandbox import sandbox_problem
     if sandbox_problem() is None:
@@ -379,9 +383,9 @@ def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted")
         from .worker.sandbox import compiler_command
         cmd = compiler_command(cmd, [], cwd)
     elif isolation == "privilege-drop":
-        # No bubblewrap, but root: the compiler runs as nobody, in a scratch
+        # No bubblewrap, but root: the compiler runs as BUILD_UID, in a scratch
         # folder only it (and root) can enter; its temporary files go there too.
-        drop = {"user": NOBODY_UID, "group": NOBODY_GID, "extra_groups": []}
+        drop = {"user": BUILD_UID, "group": BUILD_GID, "extra_groups": []}
         env = {"PATH": "/usr/bin:/bin", "LC_ALL": "C", "TMPDIR": str(cwd / "tmp"), "HOME": str(cwd)}
     elif isolation == "none":
         env["TMPDIR"] = str(cwd / "tmp")
@@ -679,7 +683,7 @@ def _outside_files(deps: list[str], scratch: Path) -> list[str]:
 def _scratch(common: Path, source: bytes, isolation: str) -> Path:
     """A fresh folder outside the project holding copies of everything the
     student's build reads: the source, include/ (the API headers) and our
-    objects. In privilege-drop mode it belongs to nobody, mode 0700."""
+    objects. In privilege-drop mode it belongs to BUILD_UID, mode 0700."""
     scratch = Path(tempfile.mkdtemp(prefix="envmap-build-"))
     (scratch / "include").mkdir()
     (scratch / "tmp").mkdir()
@@ -690,7 +694,7 @@ def _scratch(common: Path, source: bytes, isolation: str) -> Path:
     (scratch / SOURCE_NAME).write_bytes(source)
     if isolation == "privilege-drop":
         for path in [scratch, *scratch.rglob("*")]:
-            os.lchown(path, NOBODY_UID, NOBODY_GID)
+            os.lchown(path, BUILD_UID, BUILD_GID)
         scratch.chmod(0o700)
     return scratch
 

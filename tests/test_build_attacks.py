@@ -163,10 +163,11 @@ def test_link_runs_in_the_sandbox(cache, tmp_path, monkeypatch):
 
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
-def test_privilege_drop_builds_as_nobody(cache, tmp_path, monkeypatch):
+def test_privilege_drop_builds_as_an_unprivileged_uid(cache, tmp_path, monkeypatch):
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
     step = build._run(["/usr/bin/id", "-u"], tmp_path, time.monotonic() + 20, "privilege-drop")
-    assert step.output.strip() == "65534"
+    # Neither root nor nobody (the uid a privilege-dropped worker runs student code as).
+    assert step.output.strip() == str(build.BUILD_UID) and build.BUILD_UID not in (0, 65534)
     source = tmp_path / "EnvironmentMap.cpp"
     source.write_bytes(GOOD + b"\n// privilege drop\n")
     result = build_submission(source, cache_dir=cache)
@@ -475,7 +476,7 @@ def failing_bwrap(tmp_path, monkeypatch):
 
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
-def test_without_bubblewrap_root_builds_as_nobody(failing_bwrap, cache, tmp_path):
+def test_without_bubblewrap_root_builds_unprivileged(failing_bwrap, cache, tmp_path):
     assert build.build_isolation() == "privilege-drop"
     source = tmp_path / "EnvironmentMap.cpp"
     source.write_bytes(GOOD + b"\n// no bubblewrap here\n")
