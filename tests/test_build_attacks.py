@@ -489,3 +489,18 @@ def test_without_bubblewrap_root_builds_unprivileged(failing_bwrap, cache, tmp_p
 def test_without_bubblewrap_and_not_root_builds_as_ourselves(failing_bwrap, monkeypatch):
     monkeypatch.setattr(os, "geteuid", lambda: 1000)
     assert build.build_isolation() == "none"
+
+
+def test_unsandboxed_build_still_checks_everything(cache, tmp_path, monkeypatch):
+    # Non-root without bubblewrap: the compilers run as ourselves, and every
+    # refusal still happens (they do not depend on the sandbox).
+    monkeypatch.setattr(build, "build_isolation", lambda: "none")
+    source = tmp_path / "EnvironmentMap.cpp"
+    source.write_bytes(GOOD + b"\n// no isolation\n")
+    result = build_submission(source, cache_dir=cache / "none")
+    assert result.ok and result.isolation == "none", result.log
+    for attack, expected_id in [("include_scratch_file.cpp", "refused-include"),
+                                ("incbin_split.cpp", "forbidden-object"),
+                                ("calls_reference.cpp", "calls-reference")]:
+        refused = build_submission(SUBMISSIONS / "attacks" / attack, cache_dir=cache / "none")
+        assert refused.diagnosis_id == expected_id, refused.log
