@@ -489,9 +489,9 @@ class _BadObject(Exception):
     pass
 
 
-def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]]]:
-    """(section names, [(symbol name, binding, defined)]) of an ELF64
-    little-endian relocatable object."""
+def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]], list[int]]:
+    """(section names, [(symbol name, binding, defined)], section flags) of
+    an ELF64 little-endian relocatable object."""
     try:
         if data[:4] != b"\x7fELF" or data[4] != 2 or data[5] != 1:
             raise _BadObject("not a 64-bit little-endian ELF object")
@@ -542,7 +542,7 @@ def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]]
                 if st_name == 0 or kind in (3, 4):  # STT_SECTION, STT_FILE
                     continue
                 symbols.append((string(strings, st_name), st_info >> 4, st_shndx != 0))
-        return sections, symbols
+        return sections, symbols, [h[2] for h in headers]
     except (struct.error, IndexError, ValueError) as exc:
         raise _BadObject(f"malformed object ({exc})") from None
 
@@ -582,9 +582,16 @@ def inspect_object(data: bytes, allowed: set[str], loader_names: frozenset[str] 
     the reference code linked for the loader, which it may not define."""
     name = SOURCE_NAME
     try:
-        sections, symbols = _object_symbols(data)
+        sections, symbols, flags = _object_symbols(data)
     except _BadObject as exc:
         return "forbidden-object", f"The compiled {name} could not be checked: {exc}."
+    # SHF_WRITE | SHF_EXECINSTR: code that can be rewritten while it runs; no compiler makes it.
+    writable_code = sorted({n for n, f in zip(sections, flags) if f & 0x1 and f & 0x4})
+    if writable_code:
+        return "forbidden-object", (
+            f"{name} makes sections that are both writable and executable "
+            f"({', '.join(repr(s) for s in writable_code[:3])}): remove the asm or attributes that "
+            "create them.")
     lto = [s for s in sections if "lto" in s.lower()]
     if lto:
         return "forbidden-object", (
