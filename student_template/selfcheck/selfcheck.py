@@ -19,6 +19,7 @@ import base64
 import html
 import json
 import math
+import re
 import struct
 import subprocess
 import sys
@@ -837,6 +838,11 @@ def png_data_uri(width: int, height: int, display_values: list, scale: int = 3) 
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
 
 
+def inline(text: str) -> str:
+    """Escaped text, with `code` spans of the catalogue's words as <code>."""
+    return re.sub(r"`([^`<>]+)`", r"<code>\1</code>", html.escape(text))
+
+
 def html_report(result: dict) -> str:
     e = html.escape
     parts = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
@@ -847,7 +853,7 @@ def html_report(result: dict) -> str:
              "pre{background:#f6f6f6;padding:.6rem;overflow-x:auto;white-space:pre-wrap}"
              ".passed{color:#176f2c}.failed{color:#b00020}.score{font-size:1.6rem;font-weight:bold}"
              ".fix{border-left:4px solid #b00020;padding-left:.8rem;margin:.8rem 0}figure{display:inline-block;margin:0 1rem 0 0}"
-             "img{image-rendering:pixelated}</style></head><body>",
+             "img{image-rendering:pixelated}td.n{white-space:nowrap}</style></head><body>",
              "<h1>Self-check of EnvironmentMap.cpp</h1>",
              f'<p class="score">Score: {result["score"]:g} / {result["max_score"]:g}</p><p>(the visible checks)</p>']
     groups = grouped_diagnoses(result)
@@ -856,14 +862,14 @@ def html_report(result: dict) -> str:
         for info, ds in groups:
             parts.append(f'<div class="fix"><strong>{e(info["title"])}</strong> <code>{e(info["id"])}</code>')
             if info.get("explanation"):
-                parts.append(f"<p>{e(info['explanation'])}</p>")
+                parts.append(f"<p>{inline(info['explanation'])}</p>")
             parts.append("<ul>" + "".join(f"<li>{e(d['detail'])}</li>" for d in ds[:6]) + "</ul>")
             if info.get("what_to_do"):
-                parts.append(f"<p><em>What to do:</em> {e(info['what_to_do'])}</p>")
+                parts.append(f"<p><em>What to do:</em> {inline(info['what_to_do'])}</p>")
             parts.append("</div>")
     parts.append("<h2>Checks</h2><table><tr><th>check</th><th>score</th><th></th></tr>")
     for c in result["checks"]:
-        parts.append(f'<tr><td>{e(c["title"])}</td><td>{c["score"]:g} / {c["max_score"]:g}</td>'
+        parts.append(f'<tr><td>{e(c["title"])}</td><td class="n">{c["score"]:g} / {c["max_score"]:g}</td>'
                      f'<td class="{e(c["status"])}">{e(c["status"])}</td></tr>')
     parts.append("</table>")
     for c in result["checks"]:
