@@ -504,3 +504,12 @@ def test_unsandboxed_build_still_checks_everything(cache, tmp_path, monkeypatch)
                                 ("calls_reference.cpp", "calls-reference")]:
         refused = build_submission(SUBMISSIONS / "attacks" / attack, cache_dir=cache / "none")
         assert refused.diagnosis_id == expected_id, refused.log
+
+
+@pytest.mark.parametrize("sanitize", [False, True])
+def test_the_whole_standard_library_is_allowed(sanitize, cache):
+    # No false refusals: threads, regex, filesystem, exceptions, RTTI,
+    # thread_local, guarded statics, <random>, <complex> ... all link.
+    result = build_submission(SUBMISSIONS / "build" / "uses_standard_library.cpp", cache_dir=cache,
+                              sanitize=sanitize)
+    assert result.ok, result.log
