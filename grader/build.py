@@ -434,6 +434,10 @@ def _common_objects(cache_dir: Path, sanitize: bool) -> Path:
 
 
 def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
+    missing = [str(p.relative_to(PROJECT_ROOT)) for p in _template_files() + _reference_files() + _shim_files()
+               if not p.is_file()]
+    if missing:
+        raise HarnessBuildError(f"the grader's own build inputs are missing: {', '.join(missing)}")
     cxxflags, cflags = _flags(sanitize)
     libraries = _library_paths(sanitize)
     key = _fingerprint(_template_files() + _reference_files() + _shim_files(),
