@@ -116,3 +116,23 @@ def test_make_grade_all_and_gradescope_in_the_copy(project, tmp_path):
     zipped = make(project, "gradescope")
     assert zipped.returncode == 0, zipped.stdout + zipped.stderr
     assert (project / "build" / "autograder.zip").stat().st_size > 100_000
+
+
+@pytest.mark.slow
+def test_make_venv_in_a_fresh_copy_installs_the_lock(tmp_path):
+    """`make venv` as a fresh clone runs it: a new .venv/ from requirements.lock
+    (pip install --require-hashes), showing progress; pip's wheel cache keeps
+    it to seconds on a machine that has installed it before."""
+    copy = tmp_path / "fresh"
+    shutil.copytree(PROJECT_ROOT, copy, ignore=LEFT_OUT, symlinks=True)
+    made = make(copy, "venv", timeout=900)
+    assert made.returncode == 0, made.stdout[-3000:] + made.stderr[-3000:]
+    assert "venv: installing requirements.lock" in made.stdout and "venv: ready" in made.stdout
+    frozen = subprocess.run([str(copy / ".venv" / "bin" / "python"), "-m", "pip", "freeze"], capture_output=True,
+                            text=True, check=True).stdout
+    installed = {line.split("==")[0].lower().replace("_", "-"): line.split("==")[1]
+                 for line in frozen.splitlines() if "==" in line}
+    lock = (PROJECT_ROOT / "requirements.lock").read_text()
+    pins = dict(re.findall(r"^([a-z0-9._-]+)==([^\s;\\]+)(?! ; sys_platform == 'win32')", lock, re.M))
+    pins = {k.lower(): v for k, v in pins.items() if k.lower() != "colorama"}     # Windows only
+    assert installed == pins
