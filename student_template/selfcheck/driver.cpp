@@ -7,8 +7,9 @@
 // JOBFILE has one command per line, fields separated by tabs:
 //   faces  W  H  FILE.f32        six faces from raw float32 (6*H*W*3), see below
 //   cross  FILE.hdr              the faces of a vertical-cross .hdr map
-//   fetch  IN.f64  OUT.f64       fetchColor on n directions (n*3 doubles) -> n*3 doubles
-//   texture FACE  IN.f64  OUT.f64  readTexture(faceAddress(FACE), u, v) on n (u, v)
+//   fetch  IN.f64  OUT.f64 [FIRST COUNT]   fetchColor on n directions (n*3 doubles) -> n*3 doubles
+//   texture FACE  IN.f64  OUT.f64 [FIRST COUNT]   readTexture(faceAddress(FACE), u, v) on n (u, v)
+//                                 (FIRST COUNT: only those rows of IN)
 //   render SCENE.cfg  MAP.hdr  W  H  SPP  OUT.f32   the scene rendered with fetchColor
 //                                   in MAP ("-": the scene's own map)
 // After each command it appends "done<TAB>index" to STATUSFILE; an exception
@@ -56,6 +57,20 @@ bool readArray(const std::string& path, std::vector<T>& out)
     out.resize(bytes.size() / sizeof(T));
     if (!bytes.empty())
         std::memcpy(out.data(), bytes.data(), bytes.size());
+    return true;
+}
+
+// Rows [first, first + count) of rows of `width` values; false when out of range.
+bool selectRows(std::vector<double>& values, std::size_t width, const std::vector<std::string>& f, std::size_t at)
+{
+    if (f.size() == at)
+        return values.size() % width == 0;
+    if (f.size() != at + 2 || values.size() % width != 0)
+        return false;
+    const std::size_t first = std::stoul(f[at]), count = std::stoul(f[at + 1]), rows = values.size() / width;
+    if (first > rows || count > rows - first)
+        return false;
+    values = std::vector<double>(values.begin() + first * width, values.begin() + (first + count) * width);
     return true;
 }
 
@@ -107,11 +122,12 @@ struct Driver {
         return true;
     }
 
-    bool fetch(const std::string& in, const std::string& out)
+    bool fetch(const std::vector<std::string>& f)
     {
         std::vector<double> dirs;
-        if (!readArray(in, dirs) || dirs.size() % 3 != 0)
+        if (!readArray(f[1], dirs) || !selectRows(dirs, 3, f, 3))
             return false;
+        const std::string& out = f[2];
         std::vector<double> rgb(dirs.size(), NaN);
         for (std::size_t i = 0; i < dirs.size() / 3; ++i) {
             try {
@@ -128,11 +144,13 @@ struct Driver {
         return writeArray(out, rgb);
     }
 
-    bool texture(int face, const std::string& in, const std::string& out)
+    bool texture(const std::vector<std::string>& f)
     {
         std::vector<double> uv;
-        if (face < 0 || face > 5 || !readArray(in, uv) || uv.size() % 2 != 0)
+        const int face = std::stoi(f[1]);
+        if (face < 0 || face > 5 || !readArray(f[2], uv) || !selectRows(uv, 2, f, 4))
             return false;
+        const std::string& out = f[3];
         std::vector<double> rgb(uv.size() / 2 * 3, NaN);
         const float* addr = map.faceAddress(face);
         for (std::size_t i = 0; i < uv.size() / 2; ++i) {
@@ -211,10 +229,10 @@ struct Driver {
             }
             return true;
         }
-        if (cmd == "fetch" && f.size() == 3)
-            return fetch(f[1], f[2]);
-        if (cmd == "texture" && f.size() == 4)
-            return texture(std::stoi(f[1]), f[2], f[3]);
+        if (cmd == "fetch" && (f.size() == 3 || f.size() == 5))
+            return fetch(f);
+        if (cmd == "texture" && (f.size() == 4 || f.size() == 6))
+            return texture(f);
         if (cmd == "render" && f.size() == 7)
             return render(f[1], f[2], std::stoi(f[3]), std::stoi(f[4]), std::stoi(f[5]), f[6]);
         std::cerr << "selfcheck driver: bad command: " << cmd << std::endl;
