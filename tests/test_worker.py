@@ -359,3 +359,14 @@ def test_the_runner_sizes_a_worker_for_each_face_size(stand_in):
         outcome = runner.fetch([[1, 6 * 16 * 5 * 3 - 1, 0]])
         assert runner._worker is not first and runner._worker.texture_bytes == 16 * 5 * 72
     assert outcome.ok and outcome.values[0, 0] == faces(16, 5)[5].reshape(-1)[-1]
+
+
+def test_a_worker_that_cannot_set_up_is_the_graders_problem(stand_in):
+    from grader.worker import Limits
+    # The windows do not fit the address-space limit: SETUP_ERROR, before any student code.
+    with pytest.raises(WorkerHarnessError, match="cannot reserve the texture windows"):
+        Worker(stand_in, sandbox="plain", limits=Limits(address_space_mb=64, texture_mb=200),
+               texture_shape=(1024, 1024)).start()
+    # A worker that exits before its set-up report.
+    with pytest.raises(WorkerHarnessError, match="exited during set-up"):
+        Worker(stand_in, sandbox="plain", limits=Limits(texture_mb=8192), texture_shape=(8000, 8000)).start()
