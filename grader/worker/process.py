@@ -373,9 +373,14 @@ class Worker:
         request and writing the reply, the same for every library timed."""
         if self._worker_pid is None:
             raise WorkerHarnessError("the worker's CPU time cannot be read here (/proc did not show its pid)")
-        before = process_cpu_ns(self._worker_pid)
+        try:
+            before = process_cpu_ns(self._worker_pid)
+        except OSError:      # it ended between calls (a thread of its own crashed, say)
+            before = None
         rgb = self.fetch(dirs, timeout_s)
         try:
+            if before is None:
+                raise OSError
             used = process_cpu_ns(self._worker_pid) - before
         except OSError:
             self._fail(EXITED, "the worker ended while it was being timed")
