@@ -156,3 +156,35 @@ def test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_oth
     assert found.fits and sorted(tm.mistake_ids(found.model)) == sorted(texture_ids)
     got = {(d.id, d.face) for d in face_recovery.analyse(lookups, found, quick=True).diagnoses()}
     assert got == fetch_ids
+
+
+# ---- the checks, scored through the fitted model ------------------------------
+
+from grader.checks import all_checks, run_checks  # noqa: E402
+from grader.checks.context import CheckContext  # noqa: E402
+from grader.results import FAILED, PASSED  # noqa: E402
+
+
+def run_mapping_checks(lookups, tmp_path):
+    checks = [c for c in all_checks().values() if c.name in ("read_texture", "fetch_sweep", "diagnosis", "stability")]
+    ctx = CheckContext(lookups=lookups, seed=99, artifacts=tmp_path, quick=True)
+    return {r.name: r for r in run_checks(checks, ctx).results}
+
+
+@pytest.mark.parametrize("texture", ["texel-offset-clamped", "nearest-w-minus-1", "rows-flipped-w-minus-1-half-truncated",
+                                     "weights-swapped", "wrapped"])
+def test_a_read_texture_mistake_costs_read_texture_points_only(texture, tmp_path):
+    model, texture_ids = MEMBERS[texture]
+    results = run_mapping_checks(ModelLookups(texture=model), tmp_path)
+    assert results["read_texture"].status == FAILED
+    assert {d.id for d in results["read_texture"].diagnoses} == set(texture_ids)
+    for name in ("fetch_sweep", "diagnosis", "stability"):
+        r = results[name]
+        assert (r.status, r.fraction, r.diagnoses) == (PASSED, 1.0, []), (name, r.output[:600])
+
+
+def test_a_fetch_color_mistake_over_a_wrong_read_texture_costs_fetch_color_points(tmp_path):
+    model, _ = MEMBERS["texel-offset-clamped"]
+    results = run_mapping_checks(ModelLookups(texture=model, fetch={"+X": "u-flipped"}), tmp_path)
+    assert {(d.id, d.face) for d in results["diagnosis"].diagnoses} == {("u-flipped", "+X")}
+    assert results["fetch_sweep"].status == FAILED and 0.7 < results["fetch_sweep"].fraction < 0.95
