@@ -569,12 +569,25 @@ _ASSEMBLER_FORBIDDEN = re.compile(r"\.(incbin|include|macro|irpc?|rept|altmacro|
 _ASSEMBLER_STRING = re.compile(r'"(?:\\.|[^"\\\n])*"')
 
 
+def _listed(names, limit: int = 5) -> str:
+    """Names from the object (the student's: any length, any characters),
+    shortened for a message."""
+    names = list(names)
+    shown = [repr(n[:80] + "...") if len(n) > 80 else (n if n.isprintable() else repr(n)) for n in names[:limit]]
+    return ", ".join(shown) + (f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
 def _demangle(names: list[str]) -> list[str]:
+    """C++ names as the source spells them; only short printable ones are
+    given to c++filt (a hostile mangled name could make a demangler recurse
+    for long), in a limited process."""
+    if not all(len(n) <= 200 and n.isprintable() for n in names):
+        return names
     try:
-        done = subprocess.run(["c++filt"], input="\n".join(names), capture_output=True, text=True,
-                              timeout=10)
+        done = subprocess.run(_limited(["c++filt"], 5), input="\n".join(names), capture_output=True,
+                              text=True, timeout=5)
         shown = done.stdout.splitlines()
-        return shown if len(shown) == len(names) else names
+        return shown if len(shown) == len(names) and done.returncode == 0 else names
     except (OSError, subprocess.SubprocessError):
         return names
 
@@ -594,38 +607,38 @@ def inspect_object(data: bytes, allowed: set[str], loader_names: frozenset[str] 
     if writable_code:
         return "forbidden-object", (
             f"{name} makes sections that are both writable and executable "
-            f"({', '.join(repr(s) for s in writable_code[:3])}): remove the asm or attributes that "
+            f"({_listed(writable_code, 3)}): remove the asm or attributes that "
             "create them.")
     lto = [s for s in sections if "lto" in s.lower()]
     if lto:
         return "forbidden-object", (
-            f"{name} carries link-time-optimisation sections ({', '.join(sorted(set(lto))[:3])}): "
+            f"{name} carries link-time-optimisation sections ({_listed(sorted(set(lto)), 3)}): "
             "code the grader cannot see in your source. The grader builds without LTO; "
             "remove the asm or attributes that create these sections.")
     odd = sorted({s for s in sections if not _ORDINARY_SECTION.match(s)})
     if odd:
         return "forbidden-object", (
             f"{name} puts code or data in sections a C++ compiler does not make "
-            f"({', '.join(repr(s) for s in odd[:5])}). Remove the section attributes or asm "
+            f"({_listed(odd)}). Remove the section attributes or asm "
             "that create them.")
     undefined = sorted({s for s, _, defined in symbols if not defined})
     reference = [s for s in undefined if s.startswith("em_")]
     if reference:
         return "calls-reference", (
-            f"{name} calls {', '.join(reference[:5])}: "
+            f"{name} calls {_listed(reference)}: "
             f"{'these are functions' if len(reference) > 1 else 'this is a function'} of the grader's "
             "reference solution, which is not part of your program. fetchColor and readTexture must "
             "compute their answers with your own code.")
     replaced = sorted({s for s, bind, defined in symbols if defined and bind == 1 and s in loader_names})
     if replaced:
         return "forbidden-object", (
-            f"{name} defines {', '.join(replaced[:5])}, which the grader's own loader code defines: "
+            f"{name} defines {_listed(replaced)}, which the grader's own loader code defines: "
             "yours would replace it. Rename your function or make it static.")
     unknown = [s for s in undefined if s not in allowed]
     if unknown:
         shown = _demangle(unknown[:5])
         return "forbidden-object", (
-            f"{name} uses {', '.join(shown)}, which "
+            f"{name} uses {_listed(shown + unknown[5:])}, which "
             f"{'are' if len(unknown) > 1 else 'is'} neither in the C/C++ standard library nor in "
             "EnvironmentMap.h: define it in your file, or use only the standard library.")
     return None

@@ -513,3 +513,10 @@ def test_the_whole_standard_library_is_allowed(sanitize, cache):
     result = build_submission(SUBMISSIONS / "build" / "uses_standard_library.cpp", cache_dir=cache,
                               sanitize=sanitize)
     assert result.ok, result.log
+
+
+def test_refusals_stay_short_whatever_the_object_holds(cache):
+    # 91 undefined symbols of 190 characters: the message names a few, shortened.
+    result = build_submission(SUBMISSIONS / "attacks" / "long_symbol_names.cpp", cache_dir=cache)
+    assert result.diagnosis_id == "forbidden-object"
+    assert "and 86 more" in result.log and len(result.log) < 1000
