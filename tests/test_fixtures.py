@@ -133,3 +133,12 @@ def test_grade_warns_in_the_report_and_strict_exits_3(monkeypatch, tmp_path, cap
     assert cli.main(["grade", str(broken), "--quick", "--strict", "--out", str(tmp_path / "strict")]) == 3
     assert "cc is 'g++ (Imaginary) 99.0' here" in capsys.readouterr().err
     assert not (tmp_path / "strict").exists()
+
+
+def test_fixtures_check_notes_other_versions_but_passes(monkeypatch, capsys):
+    from grader import cli
+    real = fixtures._library_version
+    monkeypatch.setattr(fixtures, "_library_version", lambda n: "0.1" if n == "scikit-image" else real(n))
+    assert cli.main(["fixtures", "--check"]) == 0       # not stale: the same inputs made them
+    printed = capsys.readouterr().out
+    assert "up to date" in printed and "note: scikit-image is '0.1' here" in printed

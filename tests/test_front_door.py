@@ -90,7 +90,7 @@ def test_scene_edit_then_make_fixtures_then_make_grade(project, tmp_path):
 
     made = make(project, "fixtures")
     assert made.returncode == 0, made.stdout + made.stderr
-    assert "fixture files" in made.stdout
+    assert "fixture files" in made.stdout and "recorded: numpy " in made.stdout
     assert fixture.read_bytes() != before           # the camera moved: a new render
 
     graded = make(project, "grade", f"SUBMISSION={CORRECT}", f"OUT={tmp_path / 'graded'}")

@@ -20,10 +20,15 @@ def run(args) -> int:
             print(e)
             return 1
         print("fixtures are up to date")
+        for warning in fixtures.environment_warnings():   # not stale, but made elsewhere: say so
+            print(f"note: {warning}")
         return 0
     t0 = time.monotonic()
     manifest = fixtures.generate()
     size = sum((fixtures.PROJECT_ROOT / f).stat().st_size for f in manifest["files"])
     print(f"wrote {len(manifest['files'])} fixture files ({size / 1e6:.2f} MB) and fixtures/manifest.json "
           f"in {time.monotonic() - t0:.1f} s")
+    env = manifest["environment"]
+    print("recorded: " + ", ".join(f"{k} {v}" for k, v in env["libraries"].items())
+          + "; " + "; ".join(env["compilers"].values()))
     return 0
