@@ -496,12 +496,26 @@ class _BadObject(Exception):
 def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]], list[int]]:
     """(section names, [(symbol name, binding, defined)], section flags) of
     an ELF64 little-endian relocatable object."""
+    sections, symbols, flags, _ = _parse_elf(data, 1)
+    return sections, [(name, bind, defined) for name, bind, defined, _ in symbols], flags
+
+
+def _library_imports(data: bytes) -> tuple[list[str], list[str]]:
+    """(DT_NEEDED libraries, undefined dynamic symbols) of an ELF64 shared object."""
+    _, symbols, _, needed = _parse_elf(data, 3)
+    return needed, sorted({name for name, _, defined, table in symbols if table == 11 and not defined})
+
+
+def _parse_elf(data: bytes, e_type_wanted: int) -> tuple[list[str], list[tuple[str, int, bool, int]],
+                                                         list[int], list[str]]:
+    """Sections, symbols (name, binding, defined, table type), section flags
+    and DT_NEEDED names of an ELF64 little-endian file, every offset checked."""
     try:
         if data[:4] != b"\x7fELF" or data[4] != 2 or data[5] != 1:
             raise _BadObject("not a 64-bit little-endian ELF object")
         e_type, = struct.unpack_from("<H", data, 16)
-        if e_type != 1:
-            raise _BadObject("not a relocatable object")
+        if e_type != e_type_wanted:
+            raise _BadObject("not a relocatable object" if e_type_wanted == 1 else "not a shared object")
         shoff, = struct.unpack_from("<Q", data, 0x28)
         shentsize, shnum, shstrndx = struct.unpack_from("<HHH", data, 0x3A)
         if shentsize != 64:
@@ -533,22 +547,53 @@ def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]]
             end = table.find(b"\0", at)
             return table[at:end if end >= 0 else len(table)].decode("utf-8", "surrogateescape")
 
+        def linked(h: tuple) -> bytes:
+            return body(headers[h[6]]) if h[6] < shnum else b""
+
         names_table = body(headers[shstrndx]) if shnum else b""
         sections = [string(names_table, h[0]) for h in headers]
-        symbols = []
+        symbols, needed = [], []
         for h in headers:
-            if h[1] not in (2, 11):  # SHT_SYMTAB, SHT_DYNSYM
-                continue
-            table, strings = body(h), body(headers[h[6]]) if h[6] < shnum else b""
-            for at in range(24, len(table) - 23, 24):  # entry 0 is the null symbol
-                st_name, st_info, _, st_shndx, _, _ = struct.unpack_from("<IBBHQQ", table, at)
-                kind = st_info & 0xF
-                if st_name == 0 or kind in (3, 4):  # STT_SECTION, STT_FILE
-                    continue
-                symbols.append((string(strings, st_name), st_info >> 4, st_shndx != 0))
-        return sections, symbols, [h[2] for h in headers]
+            if h[1] in (2, 11):  # SHT_SYMTAB, SHT_DYNSYM
+                table, strings = body(h), linked(h)
+                for at in range(24, len(table) - 23, 24):  # entry 0 is the null symbol
+                    st_name, st_info, _, st_shndx, _, _ = struct.unpack_from("<IBBHQQ", table, at)
+                    kind = st_info & 0xF
+                    if st_name == 0 or kind in (3, 4):  # STT_SECTION, STT_FILE
+                        continue
+                    symbols.append((string(strings, st_name), st_info >> 4, st_shndx != 0, h[1]))
+            elif h[1] == 6:  # SHT_DYNAMIC: (d_tag, d_val) pairs, DT_NEEDED = 1
+                table, strings = body(h), linked(h)
+                for at in range(0, len(table) - 15, 16):
+                    tag, value = struct.unpack_from("<qQ", table, at)
+                    if tag == 0:
+                        break
+                    if tag == 1:
+                        needed.append(string(strings, value))
+        return sections, symbols, [h[2] for h in headers], needed
     except (struct.error, IndexError, ValueError) as exc:
         raise _BadObject(f"malformed object ({exc})") from None
+
+
+# What a built library may need at run time (sanitized builds: also these prefixes).
+RUNTIME_NEEDED = ("libstdc++.so.6", "libm.so.6", "libmvec.so.1", "libgcc_s.so.1", "libc.so.6",
+                  "ld-linux-x86-64.so.2", "ld-linux-aarch64.so.1")
+SANITIZER_NEEDED = ("libasan.so", "libubsan.so")
+
+
+def inspect_library(data: bytes, allowed: set[str], sanitize: bool) -> tuple[str, str] | None:
+    """The linked library, checked as the worker will load it: it needs only
+    the runtime libraries and imports only what they (and the linker) define."""
+    try:
+        needed, undefined = _library_imports(data)
+    except _BadObject as exc:
+        return "forbidden-object", f"The library built from {SOURCE_NAME} could not be checked: {exc}."
+    odd = [n for n in needed if n not in RUNTIME_NEEDED and not (sanitize and n.startswith(SANITIZER_NEEDED))]
+    unknown = [n for n in undefined if n not in allowed]
+    if odd or unknown:
+        return "forbidden-object", (f"The library built from {SOURCE_NAME} needs {_listed(odd + unknown)}, "
+                                    "which is neither the C/C++ runtime nor the grader's own code.")
+    return None
 
 
 # Sections g++ writes for ordinary C++ (with -g and sanitizers too).
@@ -834,6 +879,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     library = _take(scratch, LIBRARY_NAME)
     if not library:
         return failed(done)
+    problem = inspect_library(library, allowed, sanitize="-fsanitize=address,undefined" in cxxflags)
+    if problem:
+        return _refusal(*problem)
     (out_dir / LIBRARY_NAME).write_bytes(library)
     (out_dir / LIBRARY_NAME).chmod(0o755)
     return {"ok": True, "timed_out": False, "output": neutral("".join(outputs))}

@@ -520,3 +520,18 @@ def test_refusals_stay_short_whatever_the_object_holds(cache):
     result = build_submission(SUBMISSIONS / "attacks" / "long_symbol_names.cpp", cache_dir=cache)
     assert result.diagnosis_id == "forbidden-object"
     assert "and 86 more" in result.log and len(result.log) < 1000
+
+
+def test_the_linked_library_is_checked_too(cache):
+    # Whatever got past the object checks, the library the worker loads
+    # may need only the C/C++ runtime: a library that needs zlib is refused.
+    from grader.build import inspect_library
+    built = build_submission(SUBMISSIONS / "correct" / "idiomatic.cpp", cache_dir=cache)
+    allowed = set((next(cache.glob("common-*")) / "allowed-symbols.txt").read_text().split())
+    assert inspect_library(built.library.read_bytes(), allowed, sanitize=False) is None
+    other = Path("/usr/lib/x86_64-linux-gnu/libpng16.so.16")
+    if not other.is_file():
+        pytest.skip("no libpng16 here to stand for a library with other needs")
+    verdict = inspect_library(other.read_bytes(), allowed, sanitize=False)
+    assert verdict[0] == "forbidden-object" and "libz.so.1" in verdict[1]
+    assert inspect_library(b"not an ELF file", allowed, sanitize=False)[0] == "forbidden-object"
