@@ -209,10 +209,10 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
         if fit is None or fit.constant:
             model_text = "readTexture returns the same colour wherever it reads."
         elif fit.fits:
-            model_text = "What your readTexture does, found from textures that encode their positions: " + tm.describe_model(fit.model)
+            model_text = "What your readTexture does, found from textures that encode their positions. " + tm.describe_model(fit.model)
         else:
-            model_text = (f"No lookup the grader can model reproduces all your readTexture's answers; the closest "
-                          f"({fit.share:.0%} of them): " + tm.describe_model(fit.closest))
+            model_text = (f"No lookup the grader can model reproduces all your readTexture's answers. The closest "
+                          f"explains {fit.share:.0%} of them: " + tm.describe_model(fit.closest))
         result.output = (f"{total - matched} of {total} readTexture calls differ from the reference bilinear filter.\n\n"
                          + model_text + "\n\n" + "\n".join(lines))
     else:

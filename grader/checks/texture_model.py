@@ -469,15 +469,15 @@ def describe_model(model: TextureModel) -> str:
         return "readTexture blends the four texels around p = (uW, vH) as the handout says."
     px, py = axis_formula(model.x, 0), axis_formula(model.y, 1)
     parts = []
+    left_below = (model.x.offset, model.y.offset) == (-1.0, -1.0)
     if model.single_texel:
-        how = {"floor": "the texel at", "trunc": "the texel at (int)", "round": "the texel nearest to"}
-        parts.append(f"your lookup returns one texel, never a blend: {how[model.x.rounding]} "
-                     f"p = ({px}, {py})")
+        where = "the texel one to the left and below:" if left_below else "the texel at"
+        if model.x.rounding == "round":
+            where = "the texel nearest to"
+        parts.append(f"Your lookup reads {where} p = ({px}, {py}), and returns that one texel, never a blend")
     else:
-        parts.append(f"your lookup blends around p = ({px}, {py})")
-    if (model.x.offset, model.y.offset) == (-1.0, -1.0):
-        parts[-1] = parts[-1].replace("your lookup", "your lookup reads the texel one to the left and below:", 1) \
-            if model.single_texel else parts[-1] + ", one texel to the left and below where the handout reads"
+        parts.append(f"Your lookup blends the four texels around p = ({px}, {py})"
+                     + (", one texel to the left and below where the handout reads" if left_below else ""))
     if any(a.rounding == "trunc" for a in (model.x, model.y)):
         parts.append("(int) truncates toward zero, so for p between -1 and 0 it gives 0, not -1"
                      + ("" if model.single_texel else ", and the weight goes negative"))
