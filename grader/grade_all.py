@@ -242,8 +242,12 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
               similarity: bool = False) -> list[Row]:
     """Grade every submission in `folder` into `out`; returns the gradebook rows.
     Raises Interrupted on Ctrl-C (what finished is kept: run again to go on),
-    RosterError when the roster cannot be read (before anything is graded)."""
+    RosterError when the roster cannot be read and SimilarityUnavailable
+    when --similarity cannot run (both before anything is graded)."""
     options = dict(options or {})
+    if similarity:   # before grading: a missing tool must not cost a class's grading time
+        from .similarity import require_tool
+        require_tool()
     class_roster = None
     if roster is not None:
         from .roster import load_roster

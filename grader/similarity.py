@@ -53,6 +53,11 @@ def _copydetect():
     return f"copydetect {metadata.version('copydetect')}", CodeFingerprint, compare_files
 
 
+def require_tool() -> str:
+    """The tool's name and version; SimilarityUnavailable when it is missing."""
+    return _copydetect()[0]
+
+
 def _fingerprint(CodeFingerprint, text: str, boilerplate=None):
     # The file name only picks the lexer; language= forces C++ whatever students named it.
     win = GUARANTEE_TOKENS - NOISE_TOKENS + 1

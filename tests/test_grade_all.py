@@ -297,3 +297,23 @@ def test_missing_folder_is_a_clear_error(tmp_path):
     run = subprocess.run([sys.executable, "-m", "grader", "grade-all", str(tmp_path / "nope")],
                          cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and "is not a folder" in run.stderr
+
+
+def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeypatch):
+    import builtins
+
+    import grader.grade_all
+    from grader.similarity import SimilarityUnavailable
+    real_import = builtins.__import__
+
+    def no_copydetect(name, *args, **kwargs):
+        if name.startswith("copydetect"):
+            raise ImportError("No module named 'copydetect'")
+        return real_import(name, *args, **kwargs)
+    monkeypatch.setattr(builtins, "__import__", no_copydetect)
+    klass = tmp_path / "class"
+    klass.mkdir()
+    shutil.copy(SUBMISSIONS / "build" / "syntax_error.cpp", klass / "alice.cpp")
+    with pytest.raises(SimilarityUnavailable, match="make venv"):
+        grader.grade_all.grade_all(klass, tmp_path / "out", 1, {"quick": True}, progress=False, similarity=True)
+    assert not (tmp_path / "out" / "alice").exists()

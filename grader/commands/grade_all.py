@@ -56,6 +56,7 @@ def run(args) -> int:
     from ..fixtures import StaleFixtures
     from ..grade_all import Interrupted, find_submissions, grade_all, skipped_entries
     from ..roster import RosterError
+    from ..similarity import SimilarityUnavailable
     if not args.submissions.is_dir():
         print(f"grade-all: {args.submissions} is not a folder (expected one sub-folder or archive per student)",
               file=sys.stderr)
@@ -82,6 +83,9 @@ def run(args) -> int:
                          roster=args.roster, similarity=args.similarity)
     except RosterError as e:
         print(f"grade-all: roster: {e}", file=sys.stderr)
+        return 2
+    except SimilarityUnavailable as e:
+        print(f"grade-all: {e}", file=sys.stderr)
         return 2
     except StaleFixtures as e:
         print(f"grade-all: {e}", file=sys.stderr)
