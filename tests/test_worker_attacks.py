@@ -45,6 +45,7 @@ ATTACKER = r"""
 #include <sys/auxv.h>
 #include <sys/mman.h>
 #include <sys/syscall.h>
+#include <time.h>
 #include <unistd.h>
 
 typedef struct { const float *texels; int w, h; } map_t;
@@ -104,6 +105,8 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
                        syscall(SYS_pidfd_send_signal, pfd, SIGWINCH, NULL, 0); }
         if (x == 18) syscall(SYS_seccomp, 1, 0, NULL);                  /* stack a filter of our own */
         if (x == 19) syscall(SYS_msgget, 1234, 01666);                   /* a queue that outlives us */
+        if (x == 20) syscall(SYS_personality, 0x0400000);                /* READ_IMPLIES_EXEC */
+        if (x == 21) { struct timespec t = {0, 0}; syscall(SYS_clock_settime, 12345, &t); }   /* a clock that does not exist: harmless if let through */
     }
     return SUB_OK;
 }
@@ -268,7 +271,8 @@ def test_unwinding_out_of_the_crash_handler_does_not_hide_the_fault(attacker, mo
 
 # ---- signals to the grader -------------------------------------------------------
 
-@pytest.mark.parametrize("x, call", [(16, "rt_sigqueueinfo"), (17, "pidfd_open"), (18, "seccomp"), (19, "msgget")])
+@pytest.mark.parametrize("x, call", [(16, "rt_sigqueueinfo"), (17, "pidfd_open"), (18, "seccomp"), (19, "msgget"),
+                                     (20, "personality"), (21, "clock_settime")])
 def test_other_ways_to_signal_or_filter_are_refused(attacker, x, call):
     received = []
     old = signal.signal(signal.SIGWINCH, lambda *a: received.append(a))

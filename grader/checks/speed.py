@@ -20,6 +20,7 @@ from .sweeps import SweepFinding, fetch_sweep
 
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
 ROUNDS = 5          # interleaved rounds: student, reference, null library; fresh directions each
+MAX_ROUNDS = 15     # more while the ratio is near the limit: each side's fastest round settles with more
 PASS_LOOKUPS = 50_000
 TIMED_TOLERANCE = 0.01  # smooth timing faces: any sensible filter lands well within this
 TIMED_SLACK = 0.1       # timed passes may match this much less often than the sweep did
@@ -68,7 +69,11 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     with open_lookups(baseline_library(), **mode) as base, open_lookups(null_library(), **mode) as null:
         base.set_faces(cube.faces)
         null.set_faces(cube.faces)
-        for round in range(ROUNDS):
+        for round in range(MAX_ROUNDS):
+            if len(sub_ns) >= ROUNDS:
+                estimate = (min(sub_ns) - min(null_ns)) / max(min(ref_ns) - min(null_ns), 1e-9)
+                if not within / 1.5 <= estimate <= within * 1.5:
+                    break   # far from the limit either way: more rounds would change nothing
             # Fresh, unguessable directions for every pass: nothing to cache.
             # A seed of its own (not an offset another check might also use):
             # no direction answered untimed earlier comes back to be timed.
@@ -89,7 +94,9 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
             # a thread of its own left thrashing memory cannot slow them.
             frozen = getattr(ctx.lookups, "frozen", None)
             with frozen() if frozen else contextlib.nullcontext():
-                ref_ns.append(base.time_fetch([dirs]).ns_per_lookup())
+                # The reference twice: on a busy machine its fastest pass is the one to compare with.
+                twice = [base.time_fetch([dirs]).ns_per_lookup() for _ in range(2)]
+                ref_ns.append(None if None in twice else min(twice))
                 null_ns.append(null.time_fetch([dirs]).ns_per_lookup())
             if None in ref_ns or None in null_ns:
                 raise RuntimeError("the reference or the null library could not be timed")
@@ -112,8 +119,9 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     sub_raw, ref_raw = float(min(sub_ns)), float(min(ref_ns))
     sub, ref = max(sub_raw - overhead, 0.01 * sub_raw), max(ref_raw - overhead, 0.01 * ref_raw)
     ratio = sub / ref if ref > 0 else float("inf")
+    # The number of rounds varies (more near the limit): metrics only, so reports repeat.
     result.metrics.update(ns_per_lookup=sub, reference_ns_per_lookup=ref, speed_ratio=ratio,
-                          protocol_ns_per_lookup=overhead)
+                          protocol_ns_per_lookup=overhead, rounds=len(sub_ns))
     try:
         point = accuracy_point(ctx, sub)
         result.metrics["uniform_smooth_rms"] = point["uniform_smooth_rms"]
@@ -121,7 +129,7 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     except Exception as e:  # the chart is a courtesy: it never costs points
         result.output += f"(The speed-against-accuracy chart could not be drawn: {e})\n\n"
     result.output += (f"Your fetchColor: {sub:.1f} ns of CPU time per lookup; the reference: {ref:.1f} ns "
-                      f"(fastest of {len(sub_ns)} interleaved rounds, each over {PASS_LOOKUPS} fresh random "
+                      f"(the fastest of interleaved rounds, each over {PASS_LOOKUPS} fresh random "
                       f"directions, measured by the kernel from outside the worker, less {overhead:.1f} ns of "
                       f"protocol per lookup): {ratio:.2f}x. Full points within {within:g}x.")
     if ratio > within:

@@ -32,6 +32,9 @@ _FILE_CALLS = {"unlink", "unlinkat", "rename", "renameat", "renameat2", "rmdir",
 _NETWORK_CALLS = {"socket", "socketpair", "connect", "bind", "listen", "shmget", "msgget", "semget", "mq_open"}
 _SIGNAL_CALLS = {"kill", "tkill", "tgkill", "rt_sigqueueinfo", "rt_tgsigqueueinfo", "pidfd_open",
                  "pidfd_send_signal", "pidfd_getfd"}
+_SYSTEM_CALLS = {"settimeofday", "clock_settime", "clock_adjtime", "adjtimex", "syslog", "acct", "swapon", "swapoff",
+                 "sethostname", "setdomainname", "quotactl", "vhangup", "personality", "sync", "syncfs", "iopl",
+                 "ioperm", "reboot", "mount", "umount2", "pivot_root", "chroot", "unshare", "setns"}
 _MEMORY_CALLS = {"mprotect", "pkey_mprotect", "munmap", "madvise", "mmap", "mremap", "remap_file_pages", "shmat",
                  "process_madvise", "memfd_create"}
 
@@ -83,6 +86,8 @@ def _forbidden_message(text: str) -> str:
         return f"tried to use {what} ({name})"
     if name in _SIGNAL_CALLS:
         return f"tried to send a signal to another process ({name})"
+    if name in _SYSTEM_CALLS:
+        return f"tried to change the machine's settings ({name})"
     if name in _MEMORY_CALLS:
         return (f"tried to change memory the grader owns ({name}): the texture's guard pages and the "
                 "grader's code keep their mappings, and no memory may become executable")
