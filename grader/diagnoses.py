@@ -207,8 +207,11 @@ _ENTRIES = [
         "Your code returned NaN or infinity",
         "For some finite, non-zero direction your code returned a colour that "
         "is not a number (NaN) or is infinite. One such pixel spoils a whole "
-        "render.",
-        "Divide only by m, the absolute value of the largest component, which "
+        "render. When the grader found the cause, it is named beside this "
+        "(`float-precision`: components converted to float; `length-overflow`: "
+        "a squared length; `not-normalized`: a division by the length).",
+        "Fix the cause named beside this one first. Otherwise: divide only by "
+        "m, the absolute value of the largest component, which "
         "is never zero for a non-zero direction; dividing by another "
         "component divides by zero on the axes. Do not square the direction "
         "in float (1e30 squared overflows, 1e-30 squared becomes 0): the "
