@@ -754,17 +754,21 @@ def _scratch(common: Path, source: bytes, isolation: str) -> Path:
     student's build reads: the source, include/ (the API headers) and our
     objects. In privilege-drop mode it belongs to BUILD_UID, mode 0700."""
     scratch = Path(tempfile.mkdtemp(prefix="envmap-build-"))
-    (scratch / "include").mkdir()
-    (scratch / "tmp").mkdir()
-    for name in API_HEADERS:
-        shutil.copyfile(common / "include" / name, scratch / "include" / name)
-    for name in COMMON_FILES:
-        shutil.copyfile(common / name, scratch / name)
-    (scratch / SOURCE_NAME).write_bytes(source)
-    if isolation == "privilege-drop":
-        for path in [scratch, *scratch.rglob("*")]:
-            os.lchown(path, BUILD_UID, BUILD_GID)
-        scratch.chmod(0o700)
+    try:
+        (scratch / "include").mkdir()
+        (scratch / "tmp").mkdir()
+        for name in API_HEADERS:
+            shutil.copyfile(common / "include" / name, scratch / "include" / name)
+        for name in COMMON_FILES:
+            shutil.copyfile(common / name, scratch / name)
+        (scratch / SOURCE_NAME).write_bytes(source)
+        if isolation == "privilege-drop":
+            for path in [scratch, *scratch.rglob("*")]:
+                os.lchown(path, BUILD_UID, BUILD_GID)
+            scratch.chmod(0o700)
+    except BaseException:
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise
     return scratch
 
 
@@ -797,7 +801,13 @@ def _compile_and_link(source: bytes, common: Path, out_dir: Path, sanitize: bool
     try:
         return _build_in(scratch, common, out_dir, cxxflags, tuple(extra_flags), deadline, isolation)
     finally:
-        shutil.rmtree(scratch, ignore_errors=True)
+        # A compiler killed at the deadline inside bubblewrap dies a moment
+        # later (its pid namespace goes with bwrap): it may still write here.
+        for _ in range(20):
+            shutil.rmtree(scratch, ignore_errors=True)
+            if not scratch.exists():
+                break
+            time.sleep(0.1)
 
 
 def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str],

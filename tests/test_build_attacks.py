@@ -534,3 +534,16 @@ def test_the_linked_library_is_checked_too(cache):
     verdict = inspect_library(other.read_bytes(), allowed, sanitize=False)
     assert verdict[0] == "forbidden-object" and "libz.so.1" in verdict[1]
     assert inspect_library(b"not an ELF file", allowed, sanitize=False)[0] == "forbidden-object"
+
+
+def test_no_scratch_folder_outlives_its_build(cache, tmp_path, monkeypatch):
+    # Also when the compile is killed at the deadline, and on a refusal.
+    import tempfile
+    scratch = tmp_path / "scratch"
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
+    slow = build_submission(SUBMISSIONS / "build" / "slow_compile.cpp", cache_dir=cache, timeout_s=2)
+    assert slow.timed_out
+    refused = build_submission(SUBMISSIONS / "attacks" / "incbin_split.cpp", cache_dir=cache / "again")
+    assert refused.diagnosis_id == "forbidden-object"
+    assert list(scratch.iterdir()) == []
