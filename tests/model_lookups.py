@@ -20,6 +20,7 @@ UV_MISTAKES = {
     "u-flipped": lambda uv: np.stack([1 - uv[:, 0], uv[:, 1]], 1),
     "v-flipped": lambda uv: np.stack([uv[:, 0], 1 - uv[:, 1]], 1),
     "uv-swapped": lambda uv: uv[:, ::-1].copy(),
+    "u-squared": lambda uv: np.stack([uv[:, 0] ** 2, uv[:, 1]], 1),     # no candidate does this
 }
 
 

@@ -188,3 +188,14 @@ def test_a_fetch_color_mistake_over_a_wrong_read_texture_costs_fetch_color_point
     results = run_mapping_checks(ModelLookups(texture=model, fetch={"+X": "u-flipped"}), tmp_path)
     assert {(d.id, d.face) for d in results["diagnosis"].diagnoses} == {("u-flipped", "+X")}
     assert results["fetch_sweep"].status == FAILED and 0.7 < results["fetch_sweep"].fraction < 0.95
+
+
+def test_an_unknown_fetch_color_mistake_is_read_back_as_the_uv_it_used():
+    # u = u^2 on +X: no candidate explains it; the instrument, inverted, gives the (u, v) used.
+    lookups = ModelLookups(texture=both(offset=-0.5), fetch={"+X": "u-squared"})
+    analysis = face_recovery.analyse(lookups, tm.fit(lookups), quick=True)
+    assert {(d.id, d.face) for d in analysis.diagnoses()} == {("uv-mismatch", "+X")}
+    inst = face_recovery.Instrument(both(offset=-0.5), coordinate_faces(32, 32))
+    uv = np.array([[0.3, 0.8]])
+    lo, hi = face_recovery.recover_uv(inst, 0, inst.predict(np.array([0]), uv ** [2, 1])[0])
+    np.testing.assert_allclose([lo, hi], [[0.09, 0.8], [0.09, 0.8]], atol=1e-6)

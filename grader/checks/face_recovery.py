@@ -96,6 +96,7 @@ class FaceVerdict:
     candidate: Candidate | None = None
     share: float = 0.0              # directions the best candidate explains
     crash: str | None = None        # the input that crashed, when it kept the face from being analysed
+    example: str = ""               # for a face no candidate explains: one direction, its (u, v) and the recovered one
 
     @property
     def analysed(self) -> bool:
@@ -150,7 +151,8 @@ class FetchAnalysis:
                     out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
             else:
                 out.append(Diagnosis("uv-mismatch", f"On the {name} face, (u, v) follow no pattern we recognise "
-                                     f"({v.share:.0%} of directions explained by the best guess).", face=name))
+                                     f"({v.share:.0%} of directions explained by the best guess)."
+                                     + (f" {v.example}" if v.example else ""), face=name))
         if self.ties_untouched:
             out.append(Diagnosis("tie-untouched-face", self.ties_untouched))
         if self.precision:
@@ -287,10 +289,63 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
             if share >= 0.999:
                 break
         verdict.candidate, verdict.share = best, best_share
+        if best_share < SHARE:
+            verdict.example = _example(inst, dirs, idx, g, ref_uv, values, best, m_over_len)
 
     _lengths(lookups, dirs[clear][:: max(1, int(clear.sum()) // 1500)], inst, out)
     _ties(lookups, inst, out)
     return out
+
+
+def recover_uv(inst: Instrument, face: int, answer: np.ndarray, steps: int = 2048):
+    """The (u, v) ranges at which the fitted readTexture gives `answer` on a
+    coordinate-encoding face: each lattice axis inverted on its own channel
+    (R tells x, G tells y) by searching [-0.5, 1.5] for where the model's
+    channel equals the answer or crosses it. Exact for any member of the
+    family, however it rounds, blends or flips. None when no (u, v) gives it."""
+    from .texture_model import axis_taps, replace_edge
+    model = inst.model
+    h, w = inst.faces.shape[1:3]
+    c = np.linspace(-0.5, 1.5, 2 * steps + 1)
+    found = [None, None]
+    for which, axis in enumerate((model.x, model.y)):
+        axis = replace_edge(axis)            # reads past the edge say nothing about c
+        n = (w, h)[which]
+        size = ((w, h) if axis.size == "own" else (h, w))[which]
+        i0, i1, w1, _ = axis_taps(axis, c, size, n)
+        pred = (1.0 - w1) * (i0 + 1) + w1 * (i1 + 1)
+        diff = pred - answer[which]
+        hit = np.abs(diff) <= inst.tol
+        cross = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
+        values = list(c[hit]) + list(c[cross] - diff[cross] * (c[cross + 1] - c[cross]) / (diff[cross + 1] - diff[cross]))
+        if not values:
+            return None
+        # The coordinate this axis reads: u for x unless readTexture swaps them.
+        coordinate = which if axis.source == "own" else 1 - which
+        found[coordinate] = (min(values), max(values))
+    if found[0] is None or found[1] is None:
+        return None
+    return np.array([found[0][0], found[1][0]]), np.array([found[0][1], found[1][1]])
+
+
+def _example(inst: Instrument, dirs, idx, g: int, ref_uv, values, best: Candidate | None, m_over_len) -> str:
+    """One direction the best candidate does not explain, in words: the
+    (u, v) the handout gives and the (u, v) the student's answer comes from."""
+    cand = best or Candidate()
+    ok = inst.explains(np.full(len(idx), g), cand.uv(ref_uv[idx], m_over_len[idx]), values[idx])
+    misses = idx[~ok]
+    if not len(misses):
+        return ""
+    i = int(misses[len(misses) // 2])
+    box = recover_uv(inst, g, values[i])
+    d = ", ".join(f"{x:.4g}" for x in dirs[i])
+    want = f"({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f})"
+    if box is None:
+        return f"For example fetchColor(Vector3({d})) should read (u, v) = {want}; its answer comes from no (u, v) on {face_name(g)}."
+    lo, hi = box
+    got = ", ".join(f"{a:.3f}" if abs(a - b) < 2e-3 else f"{a:.3f}..{b:.3f}" for a, b in zip(lo, hi))
+    return (f"For example fetchColor(Vector3({d})) should read (u, v) = {want} on {face_name(int(g))}; "
+            f"your answer is what your readTexture returns at (u, v) = ({got}).")
 
 
 def _consistent(a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:

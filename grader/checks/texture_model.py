@@ -391,6 +391,11 @@ def fit(lookups_or_probes, seed: int = 0, keep: int = 12) -> Fit:
     return Fit(None, best, best_share, points)
 
 
+def replace_edge(axis: Axis) -> Axis:
+    """The axis with an unclamped edge read as clamped (for inverting it)."""
+    return replace(axis, edge="clamp") if axis.edge == "none" else axis
+
+
 def _edge_variants(model: TextureModel):
     """The model, then with unclamped edges: per-axis fits cannot tell an
     unclamped edge from a clamped one where the read stays inside the face."""
