@@ -8,6 +8,7 @@ records what it was asked to install.
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -120,3 +121,59 @@ def test_without_root_it_only_says_what_to_run(tmp_path):
 def test_every_package_says_what_it_is_for(line):
     fields, _, why = line.partition("#")
     assert len(fields.split()) == 2 and fields.split()[1] in ("core", "kit", "test") and len(why.strip()) > 10, line
+
+
+# ---- scripts/make-venv.sh: which Python, and python3-venv ---------------------------------
+
+MAKE_VENV = PROJECT_ROOT / "scripts" / "make-venv.sh"
+FAKE_PYTHON = """#!/bin/bash
+# A stand-in interpreter: VERSION is its version, NO_ENSUREPIP says whether `import ensurepip` fails.
+VERSION={version}
+NO_ENSUREPIP={no_ensurepip}
+case "$*" in
+  --version) echo "Python $VERSION";;
+  *'version_info[0]'*) echo "${VERSION%.*}";;
+  *version_info*) [ "${VERSION%.*}" != 3.10 ];;
+  *ensurepip*) [ -z "$NO_ENSUREPIP" ];;
+  *) exit 0;;
+esac
+"""
+
+
+def run_make_venv(tmp_path: Path, pythons: dict[str, tuple[str, bool]], root: bool = False):
+    """pythons: command -> (version, has ensurepip). Returns the finished process."""
+    bin_dir = tmp_path / "pybin"
+    bin_dir.mkdir(exist_ok=True)
+    for name, (version, ensurepip) in pythons.items():
+        (bin_dir / name).write_text(FAKE_PYTHON.replace("{version}", version)
+                                    .replace("{no_ensurepip}", "" if ensurepip else "no"))
+        (bin_dir / name).chmod(0o755)
+    (bin_dir / "id").write_text(f"#!/bin/bash\necho {0 if root else 1000}\n")
+    (bin_dir / "id").chmod(0o755)
+    (bin_dir / "apt-get").write_text('#!/bin/bash\necho "apt-get $*" >> "$FAKE_LOG"\n')
+    (bin_dir / "apt-get").chmod(0o755)
+    for tool in ("grep", "cat"):      # nothing else from the real PATH: no real python3.x can be found
+        (bin_dir / tool).symlink_to(shutil.which(tool))
+    env = {"PATH": str(bin_dir), "FAKE_LOG": str(tmp_path / "apt.log")}
+    return subprocess.run([shutil.which("bash"), str(MAKE_VENV), str(tmp_path / "venv"), str(PROJECT_ROOT / "requirements.lock"),
+                           "python3"], env=env, capture_output=True, text=True, timeout=60)
+
+
+def test_make_venv_refuses_python_3_10_and_says_what_to_install(tmp_path):
+    done = run_make_venv(tmp_path, {"python3": ("3.10.12", True)})
+    assert done.returncode == 1
+    assert "needs Python 3.11 or later; python3 is Python 3.10.12" in done.stderr
+    assert "apt-get install python3.11 python3.11-venv" in done.stderr
+
+
+def test_make_venv_names_the_venv_package_when_ensurepip_is_missing(tmp_path):
+    done = run_make_venv(tmp_path, {"python3": ("3.10.12", True), "python3.12": ("3.12.3", False)})
+    assert done.returncode == 1       # python3.12 chosen over the old python3, but it cannot make a venv
+    assert "python3.12 cannot create a virtual environment" in done.stderr
+    assert "sudo apt-get install python3.12-venv" in done.stderr
+
+
+def test_make_venv_installs_the_venv_package_as_root(tmp_path):
+    run_make_venv(tmp_path, {"python3": ("3.11.2", False)}, root=True)
+    log = (tmp_path / "apt.log").read_text()
+    assert "install -y -q --no-install-recommends python3.11-venv" in log
