@@ -12,6 +12,7 @@ from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import corners, edges
 from .read_texture import ReadTextureFinding, read_texture
 from ..cubemap.directions import texel_directions
+from ..geometry import face_uv_to_direction
 from .textures import coordinate_faces
 
 FACE_SIZE = 16
@@ -40,6 +41,43 @@ def extreme_directions() -> np.ndarray:
 def ulp_moved(dirs: np.ndarray) -> np.ndarray:
     """Each direction with every component moved one ulp up and one ulp down."""
     return np.concatenate([np.nextafter(dirs, np.inf), np.nextafter(dirs, -np.inf)])
+
+
+def border_and_interior(size: int = FACE_SIZE, per_face: int = 64, seed: int = 7):
+    """Directions whose (u, v) lie within one texel of a face's border, and
+    directions at least two texels inside it: (border, interior), each (n, 3)."""
+    rng = np.random.default_rng(seed)
+    texel = 1.0 / size
+    faces = np.repeat(np.arange(6), per_face)
+    n = len(faces)
+    # Border: one coordinate in the outer texel (either side), the other anywhere.
+    across = rng.uniform(0.0, 1.0, n)
+    band = rng.uniform(0.0, texel, n)
+    band = np.where(rng.random(n) < 0.5, band, 1.0 - band)
+    u_first = rng.random(n) < 0.5
+    u, v = np.where(u_first, band, across), np.where(u_first, across, band)
+    border = face_uv_to_direction(faces, u, v)
+    inner = rng.uniform(2 * texel, 1.0 - 2 * texel, (n, 2))
+    interior = face_uv_to_direction(faces, inner[:, 0], inner[:, 1])
+    return border, interior
+
+
+def seam_only(lookups, cube, filter: str, tol) -> tuple[bool, int, int]:
+    """(wrong only near the edges, border directions wrong, border directions
+    judged): every direction two texels or more inside a face matches the
+    reference, and some within a texel of the border do not. Rows where the
+    fitted readTexture reads past the faces (NaN expected) are not judged."""
+    border, interior = border_and_interior()
+    results = []
+    for dirs in (border, interior):
+        outcome = lookups.fetch(dirs)
+        expected = cube.fetch(dirs, filter)
+        judged = np.isfinite(expected).all(axis=1)
+        acceptable = np.concatenate([expected[:, None], tie_alternatives(cube, dirs, filter)], axis=1)
+        ok = compare(outcome.values, acceptable, tol).ok
+        results.append((int((judged & ~ok).sum()), int(judged.sum())))
+    (border_bad, border_judged), (interior_bad, _) = results
+    return interior_bad == 0 and border_bad > 0, border_bad, border_judged
 
 
 def edge_pairs(k: int = 8, offset: float = 1e-7):
@@ -76,7 +114,9 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     diagnoses += failure_diagnoses(outcome.failures)
     nan_rows = np.flatnonzero(outcome.evaluated & ~np.isfinite(outcome.values).all(axis=1))
     if len(nan_rows):
-        diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero. Divide by the major component's magnitude, never by a squared length (which underflows or overflows)."))
+        # The cause (float conversion, a squared length, a division by the
+        # length) is named by its own diagnosis beside this one; here only what happened.
+        diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero."))
     expected = np.concatenate([cube.fetch(extreme, filter)[:, None], tie_alternatives(cube, extreme, filter)], axis=1)
     cmp = compare(outcome.values, expected, tol)
     parts.append(("tiny and huge directions give the reference colour", len(extreme), int(cmp.ok.sum())))
@@ -93,6 +133,14 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     cmp = compare(outcome.values, expected, tol)
     parts.append(("edges and corners moved by one ulp", len(ties), int(cmp.ok.sum())))
 
+    # Where the answers are wrong: only within a texel of the cube's edges?
+    # (On the position-encoding cube, before it is replaced below.)
+    near_edges_only, border_bad, border_judged = seam_only(ctx.lookups, cube, filter, tol)
+    seam_hint = (f" Away from the edges your colours match the reference: only directions within one texel of a "
+                 f"face's border are wrong ({border_bad} of {border_judged} tried there). Look at what happens to "
+                 "(u, v) at the face's border: the clamp, the rounding, or which face an edge direction goes to."
+                 if near_edges_only else "")
+
     # 4. Continuity: on a continuous environment (each texel holds the
     # direction through it), the jump across each edge is no larger than the
     # reference's own. A wrong readTexture may add up to one texel's step.
@@ -108,7 +156,9 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     bad_edges = sorted({int(e) for e in edge[bad]})
     parts.append(("no seam larger than the reference's at the 12 edges", 12, 12 - len(bad_edges)))
     if bad_edges:
-        diagnoses.append(Diagnosis("discontinuous-seam", f"The colour jumps across {len(bad_edges)} of the 12 cube edges where the reference is continuous: neighbouring faces disagree about (u, v) along their shared edge."))
+        diagnoses.append(Diagnosis("discontinuous-seam", f"The colour jumps across {len(bad_edges)} of the 12 cube edges where the reference is continuous: neighbouring faces disagree about (u, v) along their shared edge." + seam_hint))
+    elif near_edges_only:
+        diagnoses.append(Diagnosis("discontinuous-seam", "The colours differ from the reference next to the cube's edges." + seam_hint))
 
     total = sum(n for _, n, _ in parts)
     ok = sum(k for _, _, k in parts)

@@ -1,0 +1,96 @@
+"""fetch_sweep leaves out the directions where the student's own readTexture
+(as fitted) reads past the faces; stability says when fetchColor is wrong
+only next to the cube's edges, and its NaN detail blames no particular cause.
+
+Fakes in-process (tests/fake_lookups.py), no compiler.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from fake_lookups import FACES, FakeLookups
+from grader import reference
+from grader.checks import texture_model as tm
+from grader.results import FAILED, PASSED
+from test_checks_unit import ids, run
+
+# x1 = x0 + 1 and y1 = y0 + 1 never clamped: reads the next row, or past the
+# last face's end (where the worker's guard page faults).
+UNCLAMPED = tm.TextureModel(x=tm.Axis(edge="none"), y=tm.Axis(edge="none"))
+
+
+class UnclampedLookups(FakeLookups):
+    """A correct fetchColor (or one with the given mistakes) over an
+    unclamped readTexture, with memory laid out as the worker lays it out."""
+
+    def read_texture(self, face, uv, placement="end"):
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        values, past = tm.evaluate(UNCLAMPED, self.faces[face], uv)
+        return self._outcome(values, past, lambda i: f"readTexture(face {FACES[face]}, {uv[i]!r})", "readTexture")
+
+    def _read(self, faces, uv):
+        return tm.evaluate_in_buffer(UNCLAMPED, self.faces, faces, uv)
+
+
+def test_sweep_does_not_judge_fetch_color_where_its_read_texture_reads_past_the_faces(tmp_path):
+    results = run(UnclampedLookups(), tmp_path, "fetch_sweep")
+    texture, sweep = results["read_texture"], results["fetch_sweep"]
+    assert texture.status == FAILED and ("unclamped-edge", None) in ids(texture)
+    # The crash is readTexture's; fetchColor is right wherever it can be judged.
+    assert sweep.status == PASSED and sweep.fraction == 1.0, sweep.output
+    assert "were not judged" in sweep.output
+
+
+def test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture(tmp_path):
+    sweep = run(UnclampedLookups(fetch={"+X": "u-flipped"}), tmp_path, "fetch_sweep")["fetch_sweep"]
+    assert sweep.status == FAILED
+    # +X is about a sixth of the sphere; the rest stays right.
+    assert 0.75 < sweep.fraction < 0.9, sweep.fraction
+
+
+class BorderClampedLookups(FakeLookups):
+    """fetchColor clamps (u, v) to [1/W, 1 - 1/W]: wrong only within one
+    texel of each face's border."""
+
+    def fetch(self, dirs, placement="end"):
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        faces, uv = reference.direction_to_face(dirs)
+        h, w = self.faces.shape[1:3]
+        uv = np.clip(uv, [1.0 / w, 1.0 / h], [1.0 - 1.0 / w, 1.0 - 1.0 / h])
+        values, failed = self._read(faces.copy(), uv)
+        values[~np.isfinite(dirs).all(axis=1) | ~dirs.any(axis=1)] = 0.0
+        return self._outcome(values, failed, lambda i: f"fetchColor({dirs[i]!r})", "fetchColor")
+
+
+def test_wrong_only_next_to_the_edges_gets_the_seam_hint(tmp_path):
+    r = run(BorderClampedLookups(), tmp_path, "stability")["stability"]
+    seams = [d for d in r.diagnoses if d.id == "discontinuous-seam"]
+    assert len(seams) == 1, ids(r)
+    assert "only directions within one texel of a face's border are wrong" in seams[0].detail
+
+
+def test_a_mistake_inside_the_faces_gets_no_seam_only_hint(tmp_path):
+    r = run(FakeLookups(fetch={"+X": "u-flipped"}), tmp_path, "stability")["stability"]
+    assert ("discontinuous-seam", None) in ids(r)
+    assert all("within one texel" not in d.detail for d in r.diagnoses)
+
+
+class FloatComponentsLookups(FakeLookups):
+    """Converts the components to float first: tiny ones become 0, and the
+    projection divides 0 by 0."""
+
+    def fetch(self, dirs, placement="end"):
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        out = super().fetch(dirs, placement)
+        with np.errstate(over="ignore"):
+            as_float = dirs.astype(np.float32)
+        lost = np.isfinite(dirs).all(axis=1) & dirs.any(axis=1) & ~as_float.any(axis=1)
+        out.values[lost] = np.nan
+        return out
+
+
+def test_nan_detail_does_not_blame_a_squared_length(tmp_path):
+    r = run(FloatComponentsLookups(), tmp_path, "stability")["stability"]
+    nan = [d for d in r.diagnoses if d.id == "nan-output"]
+    assert len(nan) == 1, ids(r)
+    assert "squared" not in nan[0].detail and "finite and not zero" in nan[0].detail
