@@ -14,6 +14,7 @@ the grader; only the grader's own problems raise WorkerHarnessError.
 from __future__ import annotations
 
 import fcntl
+import mmap
 import os
 import select
 import shutil
@@ -35,6 +36,7 @@ from .native import worker_binary
 from .sandbox import INPUT_INSIDE, ISOLATION, NOBODY, bwrap_command, resolve_mode
 
 LIBRARY_NAME = "submission.so"
+_NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
 PIPE_BYTES = 1 << 20
 
 
@@ -172,6 +174,7 @@ class Worker:
         self._tmp: Path | None = None
         self._request_fd = self._response_fd = -1
         self._worker_pid: int | None = None
+        self._progress: mmap.mmap | None = None
         self.start_time_s = 0.0
 
     @property
@@ -213,7 +216,12 @@ class Worker:
         output_r, output_w = os.pipe()
         for fd in (request_w, response_w):
             _enlarge_pipe(fd)
-        args = self._limit_args() + [str(request_r), str(response_w)]
+        # A page both sides map: the worker writes the index of the input it
+        # is about to evaluate, readable here after a crash or a timeout.
+        progress_fd = os.memfd_create("envmap-progress", os.MFD_CLOEXEC)
+        os.ftruncate(progress_fd, mmap.PAGESIZE)
+        self._progress = mmap.mmap(progress_fd, mmap.PAGESIZE)
+        args = self._limit_args() + ["--progress-fd", str(progress_fd), str(request_r), str(response_w)]
         env = {"PATH": "/usr/bin:/bin", "LANG": "C"}
         if self._preload:
             env["LD_PRELOAD"] = ":".join(self._preload)
@@ -226,13 +234,13 @@ class Worker:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
         try:
             self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
-                                          pass_fds=(request_r, response_w), start_new_session=True,
+                                          pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
                                           env=env, cwd=cwd, close_fds=True)
         except OSError as exc:
-            for fd in (request_r, request_w, response_r, response_w, output_r, output_w):
+            for fd in (request_r, request_w, response_r, response_w, output_r, output_w, progress_fd):
                 os.close(fd)
             raise WorkerHarnessError(f"cannot start the worker: {exc}") from exc
-        for fd in (request_r, response_w, output_w):
+        for fd in (request_r, response_w, output_w, progress_fd):
             os.close(fd)
         self._request_fd, self._response_fd = request_w, response_r
         os.set_blocking(self._request_fd, False)
@@ -308,6 +316,8 @@ class Worker:
         if self._tmp is not None:
             shutil.rmtree(self._tmp, ignore_errors=True)
             self._tmp = None
+        # The progress page stays readable after close (the runner reads it
+        # once the worker is gone); it is unmapped with this object.
 
     def _kill(self) -> None:
         """Kill the worker's whole process group and reap it."""
@@ -322,6 +332,16 @@ class Worker:
         except subprocess.TimeoutExpired:
             self._proc.kill()
             self._proc.wait()
+
+    def progress(self) -> int | None:
+        """The index (within the last FETCH or READ_TEXTURE request) of the
+        input the worker was about to evaluate, as the worker's progress page
+        says; None when it says nothing. Written inside the worker: a hint,
+        which the caller must confirm (the submission can write it too)."""
+        if self._progress is None or self._progress.closed:
+            return None
+        value = struct.unpack_from("=Q", self._progress, 0)[0]
+        return None if value == _NO_PROGRESS else value
 
     def output(self) -> str:
         """Everything the submission printed so far (capped)."""
@@ -377,7 +397,11 @@ class Worker:
             before = process_cpu_ns(self._worker_pid)
         except OSError:      # it ended between calls (a thread of its own crashed, say)
             before = None
-        rgb = self.fetch(dirs, timeout_s)
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        n = len(dirs)
+        # The whole batch in one submission call, as before per-input progress.
+        _, payload = self._call(protocol.FETCH_WHOLE, n, dirs.tobytes(), n, n * 24, timeout_s, "fetchColor")
+        rgb = protocol.decode_doubles(payload, n)
         try:
             if before is None:
                 raise OSError
@@ -453,6 +477,8 @@ class Worker:
         if not self.alive:
             raise WorkerHarnessError("the worker is not running (start it, or start a new one after a failure)")
         deadline = time.monotonic() + timeout_s
+        if self._progress is not None:
+            struct.pack_into("=Q", self._progress, 0, _NO_PROGRESS)
         self._send(protocol.request(op, count, payload), deadline, what)
         status, count, reply = self._receive(expected_count, expected_bytes, deadline, what)
         if status == protocol.OK:

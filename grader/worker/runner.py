@@ -111,6 +111,7 @@ class SubmissionRunner:
         self.max_timeouts = max_timeouts
         self.warnings: list[str] = [warning] if warning else []
         self.worker_starts = 0
+        self.failed_runs = 0     # worker runs that ended in a failure, over this runner's life
         self._worker: Worker | None = None
         self._placement: str | None = None
         self._load_failure: Failure | None = None
@@ -216,14 +217,20 @@ class SubmissionRunner:
                           warnings=self.warnings)
         began = time.monotonic()
 
+        hint: list[int | None] = [None]
+
         def attempt(lo: int, hi: int) -> SubmissionFailure | None:
+            hint[0] = None
             try:
                 worker = self._ready_worker(placement)
                 outcome.values[lo:hi] = run(worker, lo, hi)
                 outcome.evaluated[lo:hi] = True
                 return None
             except SubmissionFailure as failure:
+                # Which input was running, as the worker's progress page says.
+                hint[0] = self._worker.progress() if self._worker is not None else None
                 self._drop_worker()     # a fresh worker after any failure: no state carries over
+                self.failed_runs += 1
                 return failure
 
         lo = 0
@@ -239,6 +246,23 @@ class SubmissionRunner:
                     break
                 # Invariant: [lo, hi) holds the first failing input.
                 hi = n
+                # The worker names the input it was evaluating (lo + hint). A
+                # hint only: the submission can write that page. Confirmed
+                # when that input fails alone in a fresh worker and the inputs
+                # before it evaluate in another; then it is the first failing
+                # input, as bisection would find (with ~2 worker starts rather
+                # than ~log2(n)). A wrong hint falls back to bisection, so it
+                # can cost the submission time, never gain it a value.
+                guess = hint[0]
+                if guess is not None and 0 <= guess < n - lo:
+                    f = lo + guess
+                    single = attempt(f, f + 1)
+                    if single is not None:
+                        if f == lo or attempt(lo, f) is None:
+                            outcome.failures.append(self._failure(single, function, f, describe(f)))
+                            lo = f + 1
+                            continue
+                        hi = f      # something before it fails: the first failure is there
                 while hi - lo > 1 and time.monotonic() - began <= self.budget_s:
                     mid = (lo + hi) // 2
                     if attempt(lo, mid) is None:
