@@ -37,6 +37,7 @@ from .sandbox import INPUT_INSIDE, ISOLATION, NOBODY, bwrap_command, resolve_mod
 
 LIBRARY_NAME = "submission.so"
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
+_WATCH_S = 0.02                   # how often the progress page is looked at during a long call
 PIPE_BYTES = 1 << 20
 
 
@@ -175,6 +176,10 @@ class Worker:
         self._request_fd = self._response_fd = -1
         self._worker_pid: int | None = None
         self._progress: mmap.mmap | None = None
+        # (progress value, when first seen, the worker's CPU ns then), watched
+        # while a reply is awaited; `stuck` is what it showed at a timeout.
+        self._watch: tuple[int | None, float, int | None] | None = None
+        self.stuck: tuple[int, float, float] | None = None
         self.start_time_s = 0.0
 
     @property
@@ -479,6 +484,7 @@ class Worker:
         deadline = time.monotonic() + timeout_s
         if self._progress is not None:
             struct.pack_into("=Q", self._progress, 0, _NO_PROGRESS)
+        self._watch, self.stuck = (None, time.monotonic(), self._cpu_or_none()), None
         self._send(protocol.request(op, count, payload), deadline, what)
         status, count, reply = self._receive(expected_count, expected_bytes, deadline, what)
         if status == protocol.OK:
@@ -517,9 +523,14 @@ class Worker:
         """`size` bytes, or None at end of file (the worker exited)."""
         chunks, got = [], 0
         while got < size:
-            ready, _, _ = select.select([self._response_fd], [], [], _deadline_left(deadline))
+            left = _deadline_left(deadline)
+            # Short waits while a call runs, to watch which input it is on.
+            ready, _, _ = select.select([self._response_fd], [], [], min(left, _WATCH_S))
             if not ready:
-                self._timeout(what, deadline)
+                if left <= _WATCH_S:
+                    self._timeout(what, deadline)
+                self._observe()
+                continue
             chunk = os.read(self._response_fd, min(size - got, 1 << 20))
             if not chunk:
                 if got:
@@ -569,7 +580,29 @@ class Worker:
         self._kill()
         self._output.wait_closed(2.0)
 
+    def _cpu_or_none(self) -> int | None:
+        try:
+            return process_cpu_ns(self._worker_pid) if self._worker_pid is not None else None
+        except OSError:
+            return None
+
+    def _observe(self) -> None:
+        """Note when the progress page first showed its current value."""
+        if self._watch is None:
+            return
+        value = self.progress()
+        if value != self._watch[0]:
+            self._watch = (value, time.monotonic(), self._cpu_or_none())
+
     def _timeout(self, what: str, deadline: float):
+        # Before the kill: how long (wall and CPU seconds, seen from here)
+        # the worker has been on the input its progress page names.
+        self._observe()
+        if self._watch is not None and self._watch[0] is not None:
+            value, since, cpu0 = self._watch
+            cpu1 = self._cpu_or_none()
+            cpu = (cpu1 - cpu0) / 1e9 if cpu0 is not None and cpu1 is not None else 0.0
+            self.stuck = (value, time.monotonic() - since, cpu)
         self._kill()
         self._output.wait_closed(2.0)
         raise SubmissionFailure(TIMEOUT, f"{what} did not finish in time (killed)", output=self.output())

@@ -23,7 +23,7 @@ from typing import Callable
 
 import numpy as np
 
-from .failures import FACE_NAMES, SubmissionFailure, hint
+from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, hint
 from .process import Limits, Worker
 from .sandbox import ISOLATION, resolve_mode
 
@@ -218,9 +218,10 @@ class SubmissionRunner:
         began = time.monotonic()
 
         hint: list[int | None] = [None]
+        stuck: list[tuple | None] = [None]
 
         def attempt(lo: int, hi: int) -> SubmissionFailure | None:
-            hint[0] = None
+            hint[0] = stuck[0] = None
             try:
                 worker = self._ready_worker(placement)
                 outcome.values[lo:hi] = run(worker, lo, hi)
@@ -229,6 +230,7 @@ class SubmissionRunner:
             except SubmissionFailure as failure:
                 # Which input was running, as the worker's progress page says.
                 hint[0] = self._worker.progress() if self._worker is not None else None
+                stuck[0] = self._worker.stuck if self._worker is not None else None
                 self._drop_worker()     # a fresh worker after any failure: no state carries over
                 self.failed_runs += 1
                 return failure
@@ -246,20 +248,28 @@ class SubmissionRunner:
                     break
                 # Invariant: [lo, hi) holds the first failing input.
                 hi = n
-                # The worker names the input it was evaluating (lo + hint). A
-                # hint only: the submission can write that page. Confirmed
-                # when that input fails alone in a fresh worker and the inputs
-                # before it evaluate in another; then it is the first failing
-                # input, as bisection would find (with ~2 worker starts rather
-                # than ~log2(n)). A wrong hint falls back to bisection, so it
-                # can cost the submission time, never gain it a value.
+                # The worker names the input it was evaluating (lo + hint): a
+                # hint only, as the submission can write that page. Taken when
+                # the inputs before it evaluate in a fresh worker (which then
+                # goes on with the rest): it is then the first failing input,
+                # as bisection would find, for ~1 worker start instead of
+                # ~log2(n). A timeout's input must also hang alone (a slow
+                # batch times out anywhere). A wrong hint can only cost the
+                # submission (that input counts as failed, or bisection runs),
+                # never gain it a value.
                 guess = hint[0]
                 if guess is not None and 0 <= guess < n - lo:
                     f = lo + guess
-                    single = attempt(f, f + 1)
-                    if single is not None:
+                    confirmed = failure
+                    if failure.kind == TIMEOUT and not (stuck[0] and stuck[0][0] == guess
+                                                        and stuck[0][1] >= 0.5 * self.timeout_s
+                                                        and stuck[0][2] >= 0.25 * self.timeout_s):
+                        # Not seen spinning on that input for long (watched
+                        # from here): it must also time out alone.
+                        confirmed = attempt(f, f + 1)
+                    if confirmed is not None:
                         if f == lo or attempt(lo, f) is None:
-                            outcome.failures.append(self._failure(single, function, f, describe(f)))
+                            outcome.failures.append(self._failure(confirmed, function, f, describe(f)))
                             lo = f + 1
                             continue
                         hi = f      # something before it fails: the first failure is there

@@ -1,0 +1,187 @@
+"""The runner finds the input that fails from the worker's progress page (the
+index of the input being evaluated, shared with the grader) instead of
+bisecting, in a couple of worker starts; the page is the submission's to
+write, so a forged index must never gain it a value."""
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from grader import PROJECT_ROOT
+from grader.worker import SubmissionRunner, sandbox
+
+ABI_DIR = PROJECT_ROOT / "grader" / "shim"
+SANDBOX_PROBLEM = sandbox.sandbox_problem()
+MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(
+    SANDBOX_PROBLEM is not None, reason=f"no sandbox here: {SANDBOX_PROBLEM}"))]
+
+# fetchColor answers (x, y, z) for direction (x, y, z), except:
+#   x == 1: crashes (NULL write); x == 3: spins forever;
+#   x == 7: writes y into the grader's progress page (found in /proc/self/maps), then crashes;
+#   x == 8: crashes on the process's z-th call (state: only a fresh worker forgets it).
+STAND_IN = r"""
+#define _GNU_SOURCE
+#include "submission_abi.h"
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int sub_abi_version(void) { return SUB_ABI_VERSION; }
+void *sub_create(char *m, size_t s) { (void)m; (void)s; return calloc(1, 16); }
+void sub_destroy(void *map) { free(map); }
+int sub_set_faces(void *map, const float *t, int w, int h, char *m, size_t s)
+{ (void)map; (void)t; (void)w; (void)h; (void)m; (void)s; return SUB_OK; }
+static void forge(uint64_t value)
+{
+    FILE *maps = fopen("/proc/self/maps", "r");
+    char line[512];
+    while (maps && fgets(line, sizeof line, maps))
+        if (strstr(line, "envmap-progress")) {
+            unsigned long start = strtoul(line, NULL, 16);
+            *(volatile uint64_t *)start = value;
+        }
+}
+static long calls;
+int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
+{
+    (void)map; (void)m; (void)s;
+    for (size_t i = 0; i < n; i++) {
+        double x = d[3*i], y = d[3*i+1], z = d[3*i+2];
+        calls++;
+        if (x == 1) *(volatile int *)0 = 1;
+        if (x == 3) for (volatile int spin = 1; spin;) {}
+        if (x == 7) { forge((uint64_t)y); *(volatile int *)0 = 1; }
+        if (x == 8 && calls == (long)z) *(volatile int *)0 = 1;
+        rgb[3*i] = x; rgb[3*i+1] = y; rgb[3*i+2] = z;
+    }
+    return SUB_OK;
+}
+int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_t n, double *rgb,
+                           char *m, size_t s)
+{
+    (void)map; (void)addr; (void)m; (void)s;
+    for (size_t i = 0; i < n; i++) {
+        if (uv[2*i] == 1) *(volatile int *)0 = 1;
+        rgb[3*i] = uv[2*i]; rgb[3*i+1] = uv[2*i+1]; rgb[3*i+2] = 0;
+    }
+    return SUB_OK;
+}
+int sub_load_cross(void *map, const char *path, char *m, size_t s)
+{ (void)map; (void)path; (void)m; (void)s; return 0; }
+"""
+
+
+@pytest.fixture(scope="module")
+def stand_in(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("localise")
+    (folder / "stand_in.c").write_text(STAND_IN)
+    library = folder / "stand_in.so"
+    subprocess.run(["cc", "-std=c11", "-O1", "-shared", "-fPIC", f"-I{ABI_DIR}", "-o", str(library),
+                    str(folder / "stand_in.c")], check=True)
+    return library
+
+
+def faces() -> np.ndarray:
+    return np.zeros((6, 4, 4, 3), np.float32)
+
+
+def directions(n: int, special: dict[int, tuple[float, float, float]]) -> np.ndarray:
+    dirs = np.column_stack([np.full(n, 0.5), np.arange(n, dtype=float), np.ones(n)])
+    for i, d in special.items():
+        dirs[i] = d
+    return dirs
+
+
+def honest_rows_only(outcome, dirs) -> None:
+    """Every value the runner kept is the stand-in's honest answer."""
+    ev = outcome.evaluated
+    np.testing.assert_array_equal(outcome.values[ev], dirs[ev])
+    assert np.isnan(outcome.values[~ev]).all()
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_crash_is_found_from_the_progress_page_in_two_worker_starts(stand_in, mode):
+    dirs = directions(2000, {37: (1, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox=mode, timeout_s=2) as runner:
+        outcome = runner.fetch(dirs)
+        # The failing batch, then the inputs before 37 (the worker goes on with the rest);
+        # bisection needed about log2(2000) = 11.
+        assert runner.worker_starts == 2
+    assert [(f.index, f.kind) for f in outcome.failures] == [(37, "crash")]
+    assert outcome.evaluated.sum() == 1999 and not outcome.evaluated[37]
+    honest_rows_only(outcome, dirs)
+
+
+def test_several_crashes_each_cost_about_one_start(stand_in):
+    dirs = directions(1000, {10: (1, 0, 0), 11: (1, 0, 0), 500: (1, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        outcome = runner.fetch(dirs)
+        assert runner.worker_starts <= 5
+    assert [f.index for f in outcome.failures] == [10, 11, 500]
+    honest_rows_only(outcome, dirs)
+
+
+def test_read_texture_crash_is_found_the_same_way(stand_in):
+    uv = np.column_stack([np.full(300, 0.25), np.linspace(0, 1, 300)])
+    uv[123] = (1, 0.5)
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        outcome = runner.read_texture(2, uv)
+        assert runner.worker_starts == 2
+    assert [f.index for f in outcome.failures] == [123]
+    assert outcome.evaluated.sum() == 299
+
+
+@pytest.mark.parametrize("forged", [5, 0])
+def test_an_index_forged_too_early_only_costs_the_submission(stand_in, forged):
+    # It crashes at 40 but names an earlier input: that one is charged, and
+    # nothing from 40 on is ever counted as answered.
+    dirs = directions(100, {40: (7, forged, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        outcome = runner.fetch(dirs)
+    assert outcome.failures[0].index == forged      # the page was written: the forged input is charged
+    assert not outcome.evaluated[40]
+    honest_rows_only(outcome, dirs)
+
+
+@pytest.mark.parametrize("forged", [70, 99, 10**12])
+def test_an_index_forged_later_or_out_of_range_falls_back_to_bisection(stand_in, forged):
+    # The hint is relative to the batch: 70 and 99 name inputs after the crash
+    # (the inputs before them fail again), 10**12 no input at all.
+    dirs = directions(100, {40: (7, forged, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        outcome = runner.fetch(dirs)
+    assert [(f.index, f.kind) for f in outcome.failures] == [(40, "crash")]
+    assert outcome.evaluated.sum() == 99
+    honest_rows_only(outcome, dirs)
+
+
+def test_a_crash_that_depends_on_state_is_reported_the_same_every_time(stand_in):
+    # Crashes on the worker's 30th call, whatever the input: no input fails
+    # alone, and the report must still be the same on every run.
+    dirs = directions(100, {i: (8, i, 30) for i in range(100)})
+    reports = []
+    for _ in range(2):
+        with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+            outcome = runner.fetch(dirs)
+        honest_rows_only(outcome, dirs)
+        reports.append(([f.index for f in outcome.failures], outcome.evaluated.tolist(), outcome.gave_up))
+    assert reports[0] == reports[1]
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_hang_is_found_without_waiting_for_a_second_time_limit(stand_in, mode):
+    dirs = directions(50, {20: (3, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox=mode, timeout_s=0.5, max_timeouts=1) as runner:
+        outcome = runner.fetch(dirs)
+        starts = runner.worker_starts
+    assert [(f.index, f.kind) for f in outcome.failures] == [(20, "timeout")]
+    assert outcome.evaluated[:20].all() and not outcome.evaluated[20:].any()
+    assert outcome.gave_up
+    # The batch, then the inputs before 20 (no third start unless the hang
+    # was not seen spinning, e.g. on a very busy machine).
+    assert starts in (2, 3)
+    honest_rows_only(outcome, dirs)
