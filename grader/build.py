@@ -47,6 +47,7 @@ import hashlib
 import json
 import os
 import re
+import select
 import shutil
 import signal
 import stat
@@ -61,7 +62,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import PROJECT_ROOT
-from .build_messages import MEMORY_LIMIT_BYTES, describe
+from .build_messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED, describe
 from .submissions import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
                           SubmissionError, select_source as _select_source)
 
@@ -392,17 +393,49 @@ def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted")
     proc = subprocess.Popen(_limited(cmd, cpu), cwd=cwd, stdin=subprocess.DEVNULL,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True, env=env, **drop)
-    try:
-        out, _ = proc.communicate(timeout=remaining)
-    except subprocess.TimeoutExpired:
+    out, ended = _read_capped(proc, remaining)
+    if ended != "exited":
         os.killpg(proc.pid, signal.SIGKILL)
-        out, _ = proc.communicate()
-        return _Step(-1, out.decode("utf-8", "replace"), timed_out=True)
+        proc.wait()
+        proc.stdout.close()
+        text = out.decode("utf-8", "replace")
+        if ended == "timeout":
+            return _Step(-1, text, timed_out=True)
+        return _Step(-1, f"{text}\n{OUTPUT_STOPPED}\n")
     # cc1plus stopped by the CPU-time limit: "Killed signal terminated program cc1plus".
     text = out.decode("utf-8", "replace")
     if proc.returncode != 0 and "signal terminated program" in text:
         return _Step(proc.returncode, text, timed_out=True)
     return _Step(proc.returncode, text)
+
+
+def _read_capped(proc: subprocess.Popen, timeout: float) -> tuple[bytes, str]:
+    """proc's output (at most MAX_COMPILER_OUTPUT_BYTES) and how reading
+    ended: "exited", "timeout" or "overflow" (it printed more; the caller
+    kills it). communicate() would hold all of it in our memory."""
+    end = time.monotonic() + timeout
+    fd = proc.stdout.fileno()
+    chunks, size = [], 0
+    while True:
+        left = end - time.monotonic()
+        if left <= 0:
+            return b"".join(chunks), "timeout"
+        ready, _, _ = select.select([fd], [], [], left)
+        if not ready:
+            continue
+        chunk = os.read(fd, 1 << 16)
+        if not chunk:
+            break
+        chunks.append(chunk)
+        size += len(chunk)
+        if size > MAX_COMPILER_OUTPUT_BYTES:
+            return b"".join(chunks)[:MAX_COMPILER_OUTPUT_BYTES], "overflow"
+    proc.stdout.close()
+    try:
+        proc.wait(timeout=max(0.0, end - time.monotonic()))
+    except subprocess.TimeoutExpired:
+        return b"".join(chunks), "timeout"
+    return b"".join(chunks), "exited"
 
 
 def _publish(tmp: Path, final: Path) -> None:

@@ -13,6 +13,11 @@ SOURCE_NAME = "EnvironmentMap.cpp"
 STUDENT_MEMBERS = ("fetchColor", "readTexture")
 MEMORY_LIMIT_BYTES = 2 << 30
 MAX_LOG_LINES = 60
+# One compiler run's messages kept; past this it is stopped (a macro repeating
+# a #pragma warning printed a gigabyte into the grader's memory and cache).
+MAX_COMPILER_OUTPUT_BYTES = 4 << 20
+OUTPUT_STOPPED = (f"(the grader stopped the compiler: it printed more than "
+                  f"{MAX_COMPILER_OUTPUT_BYTES >> 20} MiB of messages)")
 MAX_LOG_CHARS = 6000
 
 
@@ -50,6 +55,9 @@ def _friendly(output: str) -> list[str]:
         else:
             say(f"EnvironmentMap::{name} is not declared in EnvironmentMap.h, which you cannot change: "
                 "write helpers as free functions in your file (e.g. in an anonymous namespace).")
+    if OUTPUT_STOPPED in output:
+        say(f"The compiler printed more than {MAX_COMPILER_OUTPUT_BYTES >> 20} MiB of messages and was "
+            "stopped: far more than any program needs (a macro that repeats a warning?).")
     if "virtual memory exhausted" in output or "out of memory allocating" in output:
         say(f"The compiler ran out of memory (the limit is {MEMORY_LIMIT_BYTES >> 30} GiB).")
     for header in _MISSING_HEADER.findall(output):

@@ -45,6 +45,12 @@ SUFFIXES = (".tar.bz2", ".tar.gz", ".tar.xz", ".tbz2", ".tgz", ".txz", ".zip", "
             ".xz", ".rar", ".7z", ".cpp", ".cc", ".cxx")
 MISSING = "no-submission"     # a roster's student with nothing in the class folder
 SUMMARY_DATA = "summary.json"
+# What grade-all writes beside the students' folders in OUT (lower case).
+CLASS_FILES = ("gradebook.csv", SUMMARY_DATA, "summary.md", "summary.html", "summary_histogram.png",
+               "summary_speed_accuracy.png")
+# Temporary folders are named after the student, cut short: a student name
+# near the 255-byte limit made mkdtemp fail ("ungradable", the grader blamed).
+TMP_NAME_CHARS = 40
 # What goes into the grader's key: everything that can change a grade. The
 # template contributes only the files the build uses (a student's local
 # build/ in it must not force a regrade of the class).
@@ -96,7 +102,15 @@ def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Pat
     says why the rest was left out."""
     found = [p for p in sorted(Path(folder).iterdir()) if not _skip_reason(p, exclude)]
     counts = Counter(student_name(p) for p in found)
-    return {(student_name(p) if counts[student_name(p)] == 1 else p.name): p for p in found}
+    out = {}
+    for p in found:
+        name = student_name(p) if counts[student_name(p)] == 1 else p.name
+        # A student's folder in OUT must not take the place of a class file
+        # (a "summary.html.zip" made summary.html a folder and stopped the run).
+        while name.lower() in CLASS_FILES or name in out:
+            name += "_"
+        out[name] = p
+    return out
 
 
 def _hash_tree(path: Path) -> str:
@@ -159,7 +173,7 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
     a .tmp- folder, which the next run removes."""
     from .grade import GradeOptions, grade
     final = Path(out)
-    work = Path(tempfile.mkdtemp(prefix=f".tmp-{student}-", dir=final.parent))
+    work = Path(tempfile.mkdtemp(prefix=f".tmp-{student[:TMP_NAME_CHARS]}-", dir=final.parent))
     try:
         result = grade(Path(submission), work, GradeOptions(**options))
         record = {"key": key, "metrics": _chart_metrics(result),
@@ -179,7 +193,7 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
 def _replace_dir(new: Path, final: Path) -> None:
     old = None
     if final.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".old-{final.name}-", dir=final.parent))
+        old = Path(tempfile.mkdtemp(prefix=f".old-{final.name[:TMP_NAME_CHARS]}-", dir=final.parent))
         os.replace(final, old / final.name)
     os.replace(new, final)
     if old:

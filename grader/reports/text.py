@@ -17,6 +17,9 @@ _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]")
 # Lone surrogates (from undecodable bytes) and the noncharacters U+FFFE,
 # U+FFFF: not valid in XML 1.0, and not text anyway.
 _NON_TEXT = re.compile("[\ud800-\udfff\ufffe\uffff]")
+# Bidirectional embeddings, overrides and isolates: they make a submission's
+# text display in another order than it reads ("Trojan source").
+_BIDI = re.compile("[\u202a-\u202e\u2066-\u2069]")
 # Characters that start inline markup or raw HTML anywhere in a line.
 _MD_SPECIAL = re.compile(r"([\\`*_\[\]<>|~&])")
 # What GitHub's autolink extension turns into a link without any markup:
@@ -34,6 +37,7 @@ def clean(text: str) -> str:
     text = text.replace("\r\n", "\n").replace("\r", "\n")
     text = _ANSI.sub("", text)
     text = _CONTROL.sub("\ufffd", text)
+    text = _BIDI.sub("\ufffd", text)
     return _NON_TEXT.sub("\ufffd", text)
 
 

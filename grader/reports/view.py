@@ -253,8 +253,10 @@ def build_view(result: GradeResult, include_hidden: bool = False) -> ReportView:
             key = (d.id, d.face, d.detail)
             if key not in seen:
                 seen.add(key)
-                found.append(replace(d, detail=truncate_middle(d.detail, TEXT_LIMIT),
-                                     hint=truncate_middle(d.hint, TEXT_LIMIT)))
+                # clean(): a detail quotes the submission (an exception's text), and
+                # the terminal prints it as is: escapes there moved the cursor.
+                found.append(replace(d, detail=truncate_middle(clean(d.detail), TEXT_LIMIT),
+                                     hint=truncate_middle(clean(d.hint), TEXT_LIMIT)))
 
     return ReportView(
         submission=clean(result.submission),

@@ -1,0 +1,77 @@
+// A correct lookup behind a macro that makes the compiler print 8 MiB of warnings (a bigger one printed a gigabyte into the grader's memory and build cache, and scored 100). Verdict: build-error, the compiler stopped at 4 MiB, the log says why.
+#define W0 _Pragma("GCC warning \"AAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAAA\"")
+#define W1 W0 W0
+#define W2 W1 W1
+#define W3 W2 W2
+#define W4 W3 W3
+#define W5 W4 W4
+#define W6 W5 W5
+#define W7 W6 W6
+#define W8 W7 W7
+#define W9 W8 W8
+#define W10 W9 W9
+#define W11 W10 W10
+#define W12 W11 W11
+#define W13 W12 W12
+W13
+
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace {
+
+struct FaceCoord
+{
+    int face;
+    double u;
+    double v;
+};
+
+// Where a direction meets the cube: the face and (u, v) of README.md's table.
+FaceCoord directionToFace(const Vector3& d)
+{
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    auto toUnit = [](double s, double m) { return (s / m + 1.0) / 2.0; };
+    if (ax >= ay && ax >= az) {
+        return d.x > 0 ? FaceCoord{FACE_POS_X, toUnit(d.z, ax), toUnit(d.y, ax)}
+                       : FaceCoord{FACE_NEG_X, toUnit(-d.z, ax), toUnit(d.y, ax)};
+    }
+    if (ay >= az) {
+        return d.y > 0 ? FaceCoord{FACE_POS_Y, toUnit(d.x, ay), toUnit(d.z, ay)}
+                       : FaceCoord{FACE_NEG_Y, toUnit(d.x, ay), toUnit(-d.z, ay)};
+    }
+    return d.z > 0 ? FaceCoord{FACE_POS_Z, toUnit(d.x, az), toUnit(-d.y, az)}
+                   : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
+}
+
+} // namespace
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    const auto [face, u, v] = directionToFace(direction);
+    return readTexture(faceAddress(face), u, v);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const double px = u * m_FaceWidth;
+    const double py = v * m_FaceHeight;
+    const int ix = static_cast<int>(px);
+    const int iy = static_cast<int>(py);
+    const double alpha = px - ix;
+    const double beta = py - iy;
+
+    const auto texel = [&](int x, int y) -> Color {
+        x = std::clamp(x, 0, m_FaceWidth - 1);
+        y = std::clamp(y, 0, m_FaceHeight - 1);
+        const float* t = addr + 3 * (static_cast<std::ptrdiff_t>(y) * m_FaceWidth + x);
+        return {t[0], t[1], t[2]};
+    };
+    const Color c0 = (1.0 - alpha) * texel(ix, iy) + alpha * texel(ix + 1, iy);
+    const Color c1 = (1.0 - alpha) * texel(ix, iy + 1) + alpha * texel(ix + 1, iy + 1);
+    return (1.0 - beta) * c0 + beta * c1;
+}
