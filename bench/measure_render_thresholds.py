@@ -1,4 +1,4 @@
-"""Where the renders check's thresholds (SSIM_MIN, FLIP_MAX) come from.
+"""Where the renders check's thresholds (SSIM_MIN, FLIP_MAX, PIXEL_FLIP_MAX) come from.
 
     .venv/bin/python bench/measure_render_thresholds.py [--out build/thresholds]
 
@@ -21,10 +21,23 @@ reference lookup ("changed": 0 means the mistake is invisible in that render).
 Writes measurements.csv (one row per render) and thresholds.md (the tables
 and the recommended thresholds) to --out, and prints the Markdown.
 
+It also records the largest per-pixel FLIP error of each render and the
+share of its pixels at or below PIXEL_FLIP_MAX ("matched": what a failing
+render scores), and for each wrong submission the matched share of every
+render.
+
 Recommendation: per metric, the worst correct render against, for each
 wrong submission that changes some render, its most telling render; the
 threshold sits at the geometric middle of the gap in dissimilarity
-(1 - SSIM, FLIP), so both margins are the same factor.
+(1 - SSIM, FLIP), so both margins are the same factor. PIXEL_FLIP_MAX has
+no such gap (a wrong render has pixels of every error). It is chosen so that
+a render with one face wrong scores the share of pixels that face does not
+reach: on the main scene with a map of random texels (every texel unlike its
+neighbours, so a wrong face changes every pixel it reaches), each face in
+turn has v flipped, and the candidate (at least PIXEL_MARGIN times the
+largest per-pixel error of any correct build) whose matched shares are
+closest to the unreached shares is recommended. The table of matched shares
+shows what the zoo's wrong submissions then keep.
 """
 from __future__ import annotations
 
@@ -45,7 +58,7 @@ sys.path.insert(0, str(ROOT))
 from grader import fixtures, reference  # noqa: E402
 from grader.build import build_submission  # noqa: E402
 from grader.checks import renders  # noqa: E402
-from grader.checks.image_metrics import display, flip, ssim  # noqa: E402
+from grader.checks.image_metrics import display, flip, flip_pixels, ssim  # noqa: E402
 from grader.worker.lookups import open_lookups  # noqa: E402
 
 SUBMISSIONS = ROOT / "tests" / "submissions"
@@ -55,6 +68,11 @@ DEFAULT_VARIANT = "-O2"
 NO_RENDER = ("syntax-error", "slow", "timeout-loop")
 # A pixel counts as changed when it moves by more than one 8-bit display level.
 CHANGED_LEVEL = 1.0 / 255.0
+# PIXEL_FLIP_MAX sits at least this factor above the largest per-pixel FLIP
+# error of any correct build.
+PIXEL_MARGIN = 10.0
+# Other per-pixel thresholds shown beside the chosen one.
+PIXEL_CANDIDATES = (0.01, 0.02, 0.05, 0.1, 0.2)
 
 
 @dataclass
@@ -69,6 +87,9 @@ class Measurement:
     ssim_unstored: float   # against the reference-lookup render itself, before RGBE storage
     flip_unstored: float
     failures: int      # inputs the worker reported as failed (crash, out-of-bounds read, ...)
+    pixel_flip_max: float = 0.0   # largest per-pixel FLIP error against the fixture
+    matched: float = 1.0          # share of pixels with per-pixel FLIP <= renders.PIXEL_FLIP_MAX
+    matched_at: tuple = ()        # the same share at each of PIXEL_CANDIDATES
 
 
 @dataclass
@@ -90,11 +111,16 @@ def prepare_scenes() -> list[Scene]:
 
 def compare(scene: Scene, image_display: np.ndarray) -> tuple[float, ...]:
     """SSIM and FLIP against the fixture (what the check sees), the fraction
-    of changed pixels, and SSIM and FLIP against the reference-lookup render
-    (what the build alone changes, without the fixture's RGBE rounding)."""
+    of changed pixels, SSIM and FLIP against the reference-lookup render
+    (what the build alone changes, without the fixture's RGBE rounding), 0,
+    and the per-pixel figures: largest FLIP error, matched share at
+    PIXEL_FLIP_MAX and at each candidate."""
     changed = np.abs(image_display - scene.reference_render).max(axis=2) > CHANGED_LEVEL
+    pixels = flip_pixels(scene.expected, image_display)
     return (ssim(scene.expected, image_display), flip(scene.expected, image_display)[0], float(changed.mean()),
-            ssim(scene.reference_render, image_display), flip(scene.reference_render, image_display)[0])
+            ssim(scene.reference_render, image_display), flip(scene.reference_render, image_display)[0],
+            0, float(pixels.max()), float((pixels <= renders.PIXEL_FLIP_MAX).mean()),
+            tuple(float((pixels <= t).mean()) for t in PIXEL_CANDIDATES))
 
 
 def measure_library(library: Path, scenes: list[Scene], kind: str, name: str, variant: str) -> list[Measurement]:
@@ -103,8 +129,9 @@ def measure_library(library: Path, scenes: list[Scene], kind: str, name: str, va
         ctx = types.SimpleNamespace(lookups=lookups)
         for scene in scenes:
             image, outcome = renders.render_with_submission(ctx, scene.fixture)
-            rows.append(Measurement(kind, name, variant, scene.fixture.name, *compare(scene, display(image)),
-                                    len(outcome.failures)))
+            figures = list(compare(scene, display(image)))
+            figures[5] = len(outcome.failures)
+            rows.append(Measurement(kind, name, variant, scene.fixture.name, *figures))
     return rows
 
 
@@ -112,7 +139,7 @@ def measure_reference(scenes: list[Scene]) -> list[Measurement]:
     rows = []
     for scene in scenes:
         rows.append(Measurement("reference", "reference library", "", scene.fixture.name,
-                                *compare(scene, scene.reference_render), 0))
+                                *compare(scene, scene.reference_render)))
     return rows
 
 
@@ -256,8 +283,92 @@ def markdown(rows: list[Measurement], ssim_min: float, flip_max: float, elapsed:
         margin = f"{math.sqrt(gap.wrong_least / gap.correct_worst):.0f}x" if gap.exists and gap.correct_worst > 0 else "-"
         lines.append(f"| {gap.metric} | {gap.correct_worst:.2g} | {gap.correct_where} | {gap.wrong_least:.3g} | "
                      f"{gap.wrong_who} | {margin} |")
+    lines += pixel_tables(rows, scenes, short, one_face_wrong(fixtures.render_fixtures()[0]),
+                          fixtures.render_fixtures()[0].name)
     lines += ["", "Time: " + ", ".join(f"{k} {v:.1f} s" for k, v in elapsed.items()) + "."]
     return "\n".join(lines) + "\n"
+
+
+@dataclass
+class OneFace:
+    face: str
+    unreached: float             # share of pixels none of whose light comes from the face
+    matched: tuple               # share of pixels matched at each of PIXEL_CANDIDATES
+
+
+def one_face_wrong(fixture: fixtures.RenderFixture, seed: int = 3) -> list[OneFace]:
+    """For each face: v flipped on that face only (the rest the reference),
+    on `fixture`'s scene with a map of random texels; the share of pixels
+    the face does not reach (a render with that face white, the rest black,
+    is black there) and the matched share at each candidate threshold."""
+    escapes = fixtures.prepared_scene(fixture).trace()
+    noise = np.random.default_rng(seed).uniform(0.0, 2.0, (6, 32, 32, 3)).astype(np.float32)
+    cube = reference.CubeMap(noise)
+    expected = display(escapes.resolve(cube.fetch(escapes.dirs, "bilinear")))
+    faces, uv = reference.direction_to_face(escapes.dirs)
+    out = []
+    for k, name in enumerate(reference.FACE_NAMES):
+        only = np.zeros_like(noise)
+        only[k] = 1.0
+        reach = escapes.resolve(reference.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
+        flipped = uv.copy()
+        flipped[faces == k, 1] = 1.0 - flipped[faces == k, 1]
+        values = cube.read_texture(np.maximum(faces, 0), flipped, "bilinear")
+        values[faces < 0] = 0.0
+        pixels = flip_pixels(expected, display(escapes.resolve(values)))
+        out.append(OneFace(name, float((reach <= 0).mean()),
+                           tuple(float((pixels <= t).mean()) for t in PIXEL_CANDIDATES)))
+    return out
+
+
+def pixel_tables(rows: list[Measurement], scenes: list[str], short: dict[str, str],
+                 one_face: list[OneFace], one_face_fixture: str) -> list[str]:
+    """Per-pixel FLIP: the correct builds' largest error, the recommended
+    PIXEL_FLIP_MAX, and the share of pixels each wrong render keeps."""
+    correct = [r for r in rows if r.kind == "correct"]
+    worst = max(correct, key=lambda r: r.pixel_flip_max)
+    allowed = [i for i, t in enumerate(PIXEL_CANDIDATES) if t >= PIXEL_MARGIN * worst.pixel_flip_max]
+    error = {i: float(np.mean([abs(f.matched[i] - f.unreached) for f in one_face])) for i in allowed}
+    recommended = PIXEL_CANDIDATES[min(error, key=error.get)] if error else float("nan")
+    lines = ["", "### Per-pixel FLIP: partial credit for a failing render", "",
+             f"One face wrong (v flipped), {one_face_fixture} with a map of random 32 x 32 texels: share of pixels "
+             "the face does not reach, and the share matched at each candidate PIXEL_FLIP_MAX:", "",
+             "| face wrong | not reached | " + " | ".join(f"matched at {t:g}" for t in PIXEL_CANDIDATES) + " |",
+             "|---|---:|" + "---:|" * len(PIXEL_CANDIDATES)]
+    for f in one_face:
+        lines.append(f"| {f.face} | {f.unreached:.3f} | " + " | ".join(f"{m:.3f}" for m in f.matched) + " |")
+    lines.append("| mean absolute difference | | " + " | ".join(
+        f"{error[i]:.3f}" if i in error else "(margin too small)" for i in range(len(PIXEL_CANDIDATES))) + " |")
+    lines += ["",
+             f"Largest per-pixel FLIP error of any correct build: {worst.pixel_flip_max:.4g} "
+             f"({worst.submission} {worst.variant} on {worst.fixture}); per build:", "",
+             "| build | largest per-pixel FLIP over all correct solutions and renders |", "|---|---:|"]
+    for variant in VARIANTS:
+        group = [r for r in correct if r.variant == variant]
+        lines.append(f"| {variant} | {max(r.pixel_flip_max for r in group):.4g} |")
+    lines += ["", f"Recommended PIXEL_FLIP_MAX = {recommended:g} (of the candidates at least {PIXEL_MARGIN:g}x the "
+              f"largest correct error, the one whose one-face scores are closest to the unreached shares); "
+              f"in use: {renders.PIXEL_FLIP_MAX:g} ({renders.PIXEL_FLIP_MAX / worst.pixel_flip_max:.0f}x the largest "
+              f"correct error). "
+              f"Correct renders with a pixel above the one in use: "
+              f"{sum(r.pixel_flip_max > renders.PIXEL_FLIP_MAX for r in correct)}.", "",
+              f"Share of pixels matched (per-pixel FLIP <= {renders.PIXEL_FLIP_MAX:g}) per wrong render, "
+              "and the renders score the check would give (a passing render scores 1):", "",
+              "| submission | " + " | ".join(short[n] for n in scenes) + " | renders score (all 7) | "
+              + " | ".join(f"score at {t:g}" for t in PIXEL_CANDIDATES) + " |",
+              "|---|" + "---:|" * (len(scenes) + 1 + len(PIXEL_CANDIDATES))]
+    wrong = [r for r in rows if r.kind == "wrong"]
+    ssim_min, flip_max = renders.SSIM_MIN, renders.FLIP_MAX
+    for name in dict.fromkeys(r.submission for r in wrong):
+        group = {r.fixture: r for r in wrong if r.submission == name}
+        per = [group[n] for n in scenes]
+
+        def score(r: Measurement, share: float) -> float:
+            return share if fails(r, ssim_min, flip_max) else 1.0
+        at = [np.mean([score(r, r.matched_at[i]) for r in per]) for i in range(len(PIXEL_CANDIDATES))]
+        lines.append(f"| {name} | " + " | ".join(f"{100 * score(r, r.matched):.1f}%" for r in per)
+                     + f" | {np.mean([score(r, r.matched) for r in per]):.3f} | " + " | ".join(f"{a:.3f}" for a in at) + " |")
+    return lines
 
 
 def main() -> int:

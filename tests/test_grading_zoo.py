@@ -9,8 +9,10 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from grader import fixtures, reference
 from grader.grade import GradeOptions, grade
 from grader.results import BUILD_ERROR, GRADED, TIMEOUT
 
@@ -47,6 +49,31 @@ ZOO = {
 }
 
 
+# fetchColor mistakes confined to some faces: the renders check keeps about
+# the share of the (quick) render's pixels those faces do not reach (it used
+# to give 0 for any visible mistake). Written from the faces each mistake
+# touches; the share is computed below from the scene, not from the grader.
+RENDER_FACES = {
+    "u-flipped-pos-x": ("+X",),
+    "v-flipped-pos-z": ("+Z",),
+    "uv-swapped-neg-y": ("-Y",),
+    "wrong-face-x-swapped": ("+X", "-X"),
+    "combo-swapped-and-flipped": ("+X", "+Y", "-Y"),
+}
+
+
+def not_reached(faces) -> float:
+    """Share of pixels of the quick render (the first fixture) that get no
+    light from `faces`: black in a render with those faces white, the rest black."""
+    fixture = fixtures.render_fixtures()[0]
+    escapes = fixtures.prepared_scene(fixture).trace()
+    only = np.zeros((6, 4, 4, 3), np.float32)
+    for name in faces:
+        only[reference.FACE_NAMES.index(name)] = 1.0
+    reach = escapes.resolve(reference.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
+    return float((reach <= 0.0).mean())
+
+
 def test_every_zoo_file_has_an_expectation():
     assert {p.stem for p in (HERE / "wrong").glob("*.cpp")} == set(ZOO)
 
@@ -69,6 +96,12 @@ def test_wrong_submission_is_diagnosed(name, tmp_path):
     assert all(by_name[c].score < by_name[c].max_score for c in loses), {c: by_name[c].score for c in loses}
     assert all(by_name[c].score == by_name[c].max_score for c in keeps), {c: by_name[c].score for c in keeps}
     assert result.score < result.max_score
+    if name in RENDER_FACES:
+        share, renders = not_reached(RENDER_FACES[name]), by_name["renders"]
+        # Never more than FLIP's spread of an error below the share; above
+        # it, where the faces' wrong texels happen to look like the right ones.
+        assert renders.max_score * (share - 0.03) <= renders.score <= renders.max_score * min(share + 0.1, 0.999), \
+            (renders.score, share)
     # The report was written, and results.json lists the same diagnoses.
     data = json.loads((tmp_path / "results.json").read_text())
     assert {(d["id"], d.get("face")) for d in data["extra_data"]["diagnoses"]} == diagnoses

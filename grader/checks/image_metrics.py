@@ -30,6 +30,15 @@ def flip(reference_display: np.ndarray, test_display: np.ndarray):
     return float(mean), np.asarray(error_map, np.float32)
 
 
+def flip_pixels(reference_display: np.ndarray, test_display: np.ndarray) -> np.ndarray:
+    """Per-pixel FLIP error (H, W), 0 = indistinguishable, 1 = the largest
+    difference FLIP knows; on sRGB display images, LDR mode."""
+    import flip_evaluator
+    error_map, _, _ = flip_evaluator.evaluate(
+        np.ascontiguousarray(reference_display), np.ascontiguousarray(test_display), "LDR", applyMagma=False)
+    return np.asarray(error_map, np.float32).reshape(reference_display.shape[:2])
+
+
 def difference_picture(reference_display: np.ndarray, test_display: np.ndarray) -> np.ndarray:
     """|reference - test| per pixel, amplified 4x so small errors show."""
     return np.clip(4.0 * np.abs(reference_display - test_display), 0.0, 1.0)

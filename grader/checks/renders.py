@@ -1,18 +1,52 @@
 """Full renders with the submission's lookup, against the fixture renders."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import fixtures, reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .image_metrics import difference_picture, display, flip, ssim
+from .image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
 # Measured on the correct solutions (-O0, -O3, -ffast-math, float and double)
 # and on the zoo of wrong ones; docs/thresholds.md has the numbers.
 SSIM_MIN = 0.99995
 FLIP_MAX = 0.0006
+# A render that fails the rule above scores the share of its pixels whose
+# own FLIP error is at most this: so one wrong face costs about the share of
+# the picture it covers, and a black render about everything. Set well above
+# the largest per-pixel error of any correct build (docs/thresholds.md).
+PIXEL_FLIP_MAX = 0.02
+
+
+@dataclass(frozen=True)
+class RenderScore:
+    ssim: float
+    flip_mean: float
+    flip_map: np.ndarray    # magma-coloured, for the report
+    passed: bool            # the whole-image rule: full marks
+    matched: float          # share of pixels with FLIP <= PIXEL_FLIP_MAX (1.0 when passed)
+
+    @property
+    def score(self) -> float:
+        return 1.0 if self.passed else self.matched
+
+
+def score_render(expected_display: np.ndarray, got_display: np.ndarray) -> RenderScore:
+    """The renders check's rule for one render, on display images."""
+    s = ssim(expected_display, got_display)
+    f_mean, f_map = flip(expected_display, got_display)
+    passed = s >= SSIM_MIN and f_mean <= FLIP_MAX
+    matched = 1.0 if passed else matched_share(expected_display, got_display)
+    return RenderScore(s, f_mean, f_map, passed, matched)
+
+
+def matched_share(expected_display: np.ndarray, got_display: np.ndarray) -> float:
+    """Share of pixels a person could not tell from the reference's."""
+    return float((flip_pixels(expected_display, got_display) <= PIXEL_FLIP_MAX).mean())
 
 
 def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
@@ -30,7 +64,7 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
 def renders(ctx: CheckContext, result: CheckResult) -> None:
     """Full renders of the mirror and glass spheres with your lookup look like the reference renders."""
     from ..imaging import write_image
-    rows, diagnoses, passed = [], [], 0
+    rows, diagnoses, passed, earned = [], [], 0, 0.0
     items = fixtures.render_fixtures()
     if ctx.quick:
         items = items[:1]
@@ -39,7 +73,7 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
     for fixture in items:
         if crashed_in is not None:
             # Each crash costs a search for its input; one crashed render says enough.
-            rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | | | not run: crashed in {crashed_in} |")
+            rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | | | | not run: crashed in {crashed_in} |")
             continue
         image, outcome = render_with_submission(ctx, fixture)
         diagnoses += failure_diagnoses(outcome.failures)
@@ -47,11 +81,12 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
             crashed_in = fixture.name
         expected = display(fixture.load())
         got = display(image)
-        s = ssim(expected, got)
-        f_mean, f_map = flip(expected, got)
-        ok = s >= SSIM_MIN and f_mean <= FLIP_MAX
+        scored = score_render(expected, got)
+        s, f_mean, f_map, ok = scored.ssim, scored.flip_mean, scored.flip_map, scored.passed
         passed += ok
-        rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.5f} | {f_mean:.5f} | {'pass' if ok else 'FAIL'} |")
+        earned += scored.score
+        rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.5f} | {f_mean:.5f} | {scored.matched:.1%} "
+                    f"| {'pass' if ok else 'FAIL'} |")
         result.metrics[f"ssim_{fixture.name}"] = s
         result.metrics[f"flip_mean_{fixture.name}"] = f_mean
         if worst is None or s < worst[0]:
@@ -65,12 +100,14 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
             path = ctx.artifact(f"{name}.png")
             write_image(path, picture, display_referred=True)
             result.artifacts[name] = path
-    result.fraction = passed / len(items) if items else 1.0
+    # A render not run (after a crash) earns nothing.
+    result.fraction = earned / len(items) if items else 1.0
     if passed < len(items):
         result.status = FAILED
         diagnoses.append(Diagnosis("render-mismatch", f"{len(items) - passed} of {len(items)} renders differ visibly from the reference (SSIM below {SSIM_MIN} or FLIP above {FLIP_MAX})."))
     result.diagnoses = unique_diagnoses(diagnoses)
-    header = ["| render | SSIM | FLIP | |", "|---|---:|---:|---|"]
+    header = ["| render | SSIM | FLIP | pixels that match | |", "|---|---:|---:|---:|---|"]
     shown = f"\n\nThe pictures show {worst[2].scene.stem} with {worst[2].map.name}, the render that differs most." if worst else ""
-    result.output = (f"Pass: SSIM >= {SSIM_MIN} and mean FLIP <= {FLIP_MAX} on tone-mapped images.\n\n"
+    result.output = (f"Pass: SSIM >= {SSIM_MIN} and mean FLIP <= {FLIP_MAX} on tone-mapped images. "
+                     f"A render that fails earns the share of its pixels that match (per-pixel FLIP <= {PIXEL_FLIP_MAX}).\n\n"
                      + "\n".join(header + rows) + shown)
