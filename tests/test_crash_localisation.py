@@ -185,3 +185,30 @@ def test_a_hang_is_found_without_waiting_for_a_second_time_limit(stand_in, mode)
     # was not seen spinning, e.g. on a very busy machine).
     assert starts in (2, 3)
     honest_rows_only(outcome, dirs)
+
+
+def test_past_the_failure_budget_the_rest_of_a_failing_batch_counts_as_failed(stand_in):
+    dirs = directions(100, {i: (1, 0, 0) for i in (10, 20, 30, 40, 50)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2, max_failed_runs=3) as runner:
+        outcome = runner.fetch(dirs)
+        # Three failures narrowed down (one start each), the fourth given up:
+        # the inputs before it run once more, nothing after it is tried.
+        assert runner.worker_starts == 5
+        again = runner.fetch(dirs[:25])
+    assert [f.index for f in outcome.failures] == [10, 20, 30, 40]
+    assert "stopped narrowing failures down" in outcome.failures[-1].message
+    assert "59 after it" in outcome.failures[-1].message
+    assert outcome.gave_up
+    assert outcome.evaluated[:40].sum() == 37 and not outcome.evaluated[40:].any()
+    honest_rows_only(outcome, dirs)
+    # Still over budget in the next call: its first failure ends it.
+    assert [f.index for f in again.failures] == [10] and again.evaluated.sum() == 10
+    honest_rows_only(again, dirs[:25])
+
+
+def test_the_failure_budget_is_off_when_none(stand_in):
+    dirs = directions(60, {i: (1, 0, 0) for i in (10, 20, 30, 40, 50)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2, max_failed_runs=None) as runner:
+        outcome = runner.fetch(dirs)
+    assert [f.index for f in outcome.failures] == [10, 20, 30, 40, 50]
+    assert outcome.evaluated.sum() == 55 and not outcome.gave_up

@@ -3,15 +3,21 @@ input that causes it.
 
 SubmissionRunner keeps one Worker with the faces loaded. A batch that fails
 (crash, timeout, exception, forbidden call, the program ending itself,
-corrupted replies) is narrowed down by bisection to its first failing input;
-that input is then run alone, so the failure reported (message and captured
-output) is the one it causes by itself. The inputs before it keep their
-values, and the rest of the batch continues in a fresh worker. The result is
+corrupted replies) is narrowed down to its first failing input. The worker
+evaluates one input per submission call and notes the index of the input it
+is on in a page the grader reads (Worker.progress): that index is a hint
+(the submission can write the page), taken once the inputs before it
+evaluate in a fresh worker (and, for a timeout, once the input was seen
+spinning on, or hangs alone); a hint that does not hold falls back to
+bisection. The inputs before it keep their values, and the rest of the
+batch continues in that worker. The result is
 an Outcome: values (n, 3), NaN rows where nothing could be evaluated, and the
 failures, each with the input in words and a hint. The search is the same
 every time for the same submission, so the report is too. After
-`max_failures` distinct failures, or when the batch has used `budget_s`
-seconds, the rest of the batch is given up cleanly (NaN, `gave_up`).
+`max_failures` failures in one call, `max_timeouts` timeouts, or when the
+batch has used `budget_s` seconds, the rest of the batch is given up cleanly
+(NaN, `gave_up`); after `max_failed_runs` failed worker runs over the
+runner's life, a failing batch is no longer narrowed down (_give_up).
 """
 from __future__ import annotations
 
@@ -26,6 +32,16 @@ import numpy as np
 from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, hint
 from .process import Limits, Worker
 from .sandbox import ISOLATION, resolve_mode
+
+
+# Worker runs that may fail over one submission's grading (one runner)
+# before failing batches are no longer narrowed down (SubmissionRunner._give_up):
+# each costs a worker start (20-50 ms), and a submission that crashes all over
+# would otherwise cost seconds per check. Partial credit: past the budget, the
+# inputs after a batch's first failure count as failed without being tried
+# (tests/submissions/wrong: crash-null 55.84 -> 55.17 points, stability only;
+# out-of-bounds-x1 42.84 -> 42.17; same diagnoses).
+MAX_FAILED_RUNS = 24
 
 
 @dataclass(frozen=True)
@@ -99,7 +115,7 @@ class SubmissionRunner:
     def __init__(self, library: str | Path, faces: np.ndarray, *, sandbox: str = "auto",
                  limits: Limits = Limits(), timeout_s: float = 5.0, per_input_s: float = 1e-4,
                  max_failures: int = 16, budget_s: float = 120.0, preload: tuple[str, ...] = (),
-                 max_timeouts: int = 2, allow_unsafe: bool = False):
+                 max_timeouts: int = 2, allow_unsafe: bool = False, max_failed_runs: int | None = MAX_FAILED_RUNS):
         self.library = Path(library)
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
         self.mode, warning = resolve_mode(sandbox, allow_unsafe)
@@ -109,6 +125,10 @@ class SubmissionRunner:
         # Each timeout costs a whole time limit (and more to narrow it down):
         # after this many in one call, the rest of the batch is given up.
         self.max_timeouts = max_timeouts
+        # Over this runner's (one submission's grading's) life: past this many
+        # worker runs that failed, a failing batch is no longer narrowed down
+        # (_give_up). None: no limit.
+        self.max_failed_runs = max_failed_runs
         self.warnings: list[str] = [warning] if warning else []
         self.worker_starts = 0
         self.failed_runs = 0     # worker runs that ended in a failure, over this runner's life
@@ -258,6 +278,9 @@ class SubmissionRunner:
                 # submission (that input counts as failed, or bisection runs),
                 # never gain it a value.
                 guess = hint[0]
+                if self.max_failed_runs is not None and self.failed_runs > self.max_failed_runs:
+                    self._give_up(outcome, failure, lo, n, guess, attempt, function, describe)
+                    break
                 if guess is not None and 0 <= guess < n - lo:
                     f = lo + guess
                     confirmed = failure
@@ -291,6 +314,25 @@ class SubmissionRunner:
                 outcome.failures.append(self._load_failure)
                 break
         return outcome
+
+    def _give_up(self, outcome: Outcome, failure: SubmissionFailure, lo: int, n: int, guess: int | None,
+                 attempt, function: str, describe: Callable[[int], str]) -> None:
+        """The submission's failed runs are over budget: no more narrowing
+        down. The inputs before the one the progress page names are run once
+        more (their values kept: they evaluate in a fresh worker), and that
+        input and the rest of the batch count as failed, with one failure
+        saying so. Without a usable index the whole rest of the batch fails."""
+        f = lo + guess if guess is not None and 0 <= guess < n - lo else lo
+        if f > lo and attempt(lo, f) is not None:
+            f = lo          # the inputs before it fail too: keep nothing (never trust the index more)
+        reason = (f"{failure.message} (after {self.max_failed_runs} failed runs of this submission the grader "
+                  f"stopped narrowing failures down: this input and the {n - f - 1} after it in the batch "
+                  "count as failed)")
+        told = SubmissionFailure(failure.kind, reason, signal_name=failure.signal_name, crash=failure.crash,
+                                 fatal=failure.fatal, output=failure.output, exit_status=failure.exit_status,
+                                 detail=failure.detail)
+        outcome.failures.append(self._failure(told, function, f, describe(f)))
+        outcome.gave_up = True
 
     def _failure(self, failure: SubmissionFailure, function: str, index: int | None, text: str) -> Failure:
         return Failure(kind=failure.kind, function=function, index=index, input=text, message=failure.message,
