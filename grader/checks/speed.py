@@ -163,5 +163,8 @@ def draw_chart(ctx: CheckContext, point: dict):
     from ..study import STUDY_CSV
     rows = read_csv(STUDY_CSV)
     path = ctx.artifact("speed_accuracy_chart.png")
-    chart.draw(rows, [point], path, panels=chart.PANELS[:1], title="Speed against accuracy", dpi=90)
+    # The chart without the star is the same for every submission: drawn
+    # once into build/, the star painted on a copy (~10 ms instead of ~0.4 s).
+    chart.draw_with_point(rows, point, path, PROJECT_ROOT / "build" / "study_chart", panels=chart.PANELS[:1],
+                          title="Speed against accuracy", dpi=90)
     return path
