@@ -21,6 +21,11 @@ Attacks that worked before (and the fix):
   temporary folder's name too long and the student "ungradable". Now class
   files' names are kept free and temporary names are cut short
   (grader/grade_all.py).
+- asleep_everywhere: correct but asleep 0.3 ms per lookup (no CPU time):
+  every large batch timed out and was narrowed down, each call up to the
+  runner's 120 s, and one grading ran for more than 11 minutes. Now all the
+  lookups of one grading share a wall-clock budget (grader/worker/lookups.py
+  BudgetedRunner, GRADING_BUDGET_S); past it a call fails at once.
 Attacks the grader already handled, kept as regression tests at the worker:
 exit status 73 from a static initialiser, a destructor that never returns,
 an interval timer interrupting the worker, SIGSTOP to itself.
@@ -52,7 +57,7 @@ DIRS = np.array([[0.2, 0.3, -1], [0, 1, 0.1], [-1, 0.2, 0.3], [0.1, -1, 0.5],
 TRIGGER = 5     # DIRS[TRIGGER] is +x, where the hostile acts fire
 
 TESTED = {"warning_flood", "black_on_axes", "terminal_escapes", "exit_as_setup_error", "hang_at_exit",
-          "interval_timer", "stop_itself"}
+          "interval_timer", "stop_itself", "asleep_everywhere"}
 
 
 def test_every_redteam_submission_has_a_test():
@@ -128,7 +133,7 @@ def test_escapes_in_an_exception_reach_no_terminal_and_no_report(tmp_path):
 @pytest.fixture(scope="module")
 def libraries() -> dict[str, Path]:
     out = {}
-    for name in ("exit_as_setup_error", "hang_at_exit", "interval_timer", "stop_itself"):
+    for name in ("exit_as_setup_error", "hang_at_exit", "interval_timer", "stop_itself", "asleep_everywhere"):
         built = build_submission(REDTEAM / f"{name}.cpp")
         assert built.ok, built.log
         out[name] = built.library
@@ -169,6 +174,26 @@ def test_a_worker_that_stops_itself_times_out_at_that_input(libraries):
     keep = [i for i in range(len(DIRS)) if i != TRIGGER]
     assert outcome.evaluated[keep].all()
     np.testing.assert_allclose(outcome.values[keep], CubeMap(FACES).fetch(DIRS)[keep], rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.sandbox
+def test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops(libraries):
+    from grader.worker.lookups import BudgetedRunner
+    dirs = np.random.default_rng(4).normal(size=(4000, 3))     # 1.2 s asleep; 0.25 + 0.4 s allowed
+    with BudgetedRunner(libraries["asleep_everywhere"], FACES, sandbox=MODE, timeout_s=0.25, per_input_s=1e-4,
+                        max_failures=4, max_timeouts=1, total_budget_s=2.0) as r:
+        first = r.fetch(dirs)
+        while r.spent_s < r.total_budget_s:   # each call spends at least one time limit
+            r.fetch(dirs)
+        starts = r.worker_starts
+        later = [r.fetch(dirs), r.read_texture(0, np.full((10, 2), 0.5)), r.time_fetch([dirs])]
+    assert not first.ok and not first.evaluated.all()
+    for outcome in later[:2]:
+        assert outcome.gave_up and not outcome.evaluated.any()
+        assert [(f.kind, f.index) for f in outcome.failures] == [("timeout", None)]
+        assert "used up the 2 s" in outcome.failures[0].message
+    assert later[2].failure.kind == "timeout" and not later[2].cpu_ns
+    assert r.worker_starts == starts          # nothing more was started
 
 
 # ---- grade-all: names a student chooses -------------------------------------------

@@ -6,8 +6,19 @@ from pathlib import Path
 
 import numpy as np
 
+import time
+
+from .failures import TIMEOUT
 from .process import Limits
-from .runner import SubmissionRunner
+from .runner import Failure, Outcome, SubmissionRunner, TimedPasses
+
+# All the lookups of one grading together (wall clock). Past it, every call
+# gives up at once with one timeout failure saying why. A lookup that is
+# slow everywhere (asleep 0.3 ms per call: every large batch timed out and
+# was narrowed down, each call up to the runner's 120 s budget) kept one
+# grading busy for more than 10 minutes, past Gradescope's limit. A correct
+# submission's lookups take about 3 s of it.
+GRADING_BUDGET_S = 150.0
 
 # GradeOptions.sandbox -> SubmissionRunner's mode. False (--no-sandbox) means
 # "not bubblewrap": privilege-drop where possible, otherwise unsafe only when
@@ -21,6 +32,55 @@ def sanitizer_preload() -> tuple[str, ...]:
     import subprocess
     path = subprocess.run(["cc", "-print-file-name=libasan.so"], capture_output=True, text=True).stdout.strip()
     return (path,) if Path(path).is_absolute() else ()
+
+
+class BudgetedRunner(SubmissionRunner):
+    """A SubmissionRunner whose calls share one wall-clock budget
+    (`total_budget_s`): each call's own budget is cut to what is left, and
+    once nothing is left a call evaluates nothing and reports one timeout."""
+
+    def __init__(self, *args, total_budget_s: float = GRADING_BUDGET_S, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.total_budget_s, self.spent_s = total_budget_s, 0.0
+        self._call_budget_s = self.budget_s
+
+    def _left(self) -> float:
+        return self.total_budget_s - self.spent_s
+
+    def _budgeted(self, call):
+        self.budget_s = min(self._call_budget_s, self._left())
+        began = time.monotonic()
+        try:
+            return call()
+        finally:
+            self.spent_s += time.monotonic() - began
+            self.budget_s = self._call_budget_s
+
+    def _used_up(self, function: str) -> Failure:
+        return Failure(kind=TIMEOUT, function=function, index=None, input=f"{function} (the rest of the grading)",
+                       message=f"the lookups used up the {self.total_budget_s:g} s that all checks have together, "
+                               "so this call was not run",
+                       hint="every call took about as long as its time limit allows: make each lookup fast "
+                            "(no sleeping, allocation or searching per call)")
+
+    def _nothing(self, n: int, function: str) -> Outcome:
+        return Outcome(values=np.full((n, 3), np.nan), evaluated=np.zeros(n, bool),
+                       failures=[self._used_up(function)], gave_up=True, warnings=self.warnings)
+
+    def fetch(self, dirs: np.ndarray, placement: str = "end") -> Outcome:
+        if self._left() <= 0:
+            return self._nothing(len(np.reshape(dirs, (-1, 3))), "fetchColor")
+        return self._budgeted(lambda: SubmissionRunner.fetch(self, dirs, placement))
+
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
+        if self._left() <= 0:
+            return self._nothing(len(np.reshape(uv, (-1, 2))), "readTexture")
+        return self._budgeted(lambda: SubmissionRunner.read_texture(self, face, uv, placement))
+
+    def time_fetch(self, passes: list[np.ndarray]) -> TimedPasses:
+        if self._left() <= 0:
+            return TimedPasses(failure=self._used_up("fetchColor"))
+        return self._budgeted(lambda: SubmissionRunner.time_fetch(self, passes))
 
 
 @contextmanager
@@ -40,7 +100,7 @@ def open_lookups(library: Path, sandbox: bool | None = None, timeout_s: float = 
     """
     # AddressSanitizer reserves terabytes of address space: no RLIMIT_AS then.
     limits = Limits(address_space_mb=None) if sanitize else Limits()
-    runner = SubmissionRunner(library, np.zeros((6, 1, 1, 3), np.float32), sandbox=MODES[sandbox],
+    runner = BudgetedRunner(library, np.zeros((6, 1, 1, 3), np.float32), sandbox=MODES[sandbox],
                               limits=limits, timeout_s=timeout_s, max_failures=4, max_timeouts=1,
                               preload=sanitizer_preload() if sanitize else (), allow_unsafe=allow_unsafe)
     # For a second runner in the same mode (the speed check's reference).
