@@ -26,6 +26,12 @@ Attacks that worked before (and the fix):
   runner's 120 s, and one grading ran for more than 11 minutes. Now all the
   lookups of one grading share a wall-clock budget (grader/worker/lookups.py
   BudgetedRunner, GRADING_BUDGET_S); past it a call fails at once.
+- starve_other_worker: in privilege-drop mode every worker is uid nobody
+  with no pid namespace, so a submission could put another process of that
+  uid (another student's worker in grade-all, the speed check's reference)
+  into SCHED_IDLE at nice 19 on one CPU, to starve it into timeouts. Now the
+  seccomp filter refuses (EPERM) scheduling, priority and page placement of
+  any process but the worker itself (grader/worker/worker.c on_other_pid).
 Attacks the grader already handled, kept as regression tests at the worker:
 exit status 73 from a static initialiser, a destructor that never returns,
 an interval timer interrupting the worker, SIGSTOP to itself.
@@ -43,7 +49,7 @@ from grader.build import build_submission
 from grader.grade import GradeOptions, grade
 from grader.reference import CubeMap
 from grader.results import FAILED, GRADED, PASSED, UNGRADABLE, CheckResult, GradeResult
-from grader.worker import Limits, SubmissionRunner, WorkerHarnessError, sandbox_problem
+from grader.worker import Limits, SubmissionRunner, WorkerHarnessError, sandbox, sandbox_problem
 
 CAP_BYTES = 4 << 20    # grader.build_messages.MAX_COMPILER_OUTPUT_BYTES
 REDTEAM = Path(__file__).parent / "submissions" / "redteam"
@@ -57,7 +63,7 @@ DIRS = np.array([[0.2, 0.3, -1], [0, 1, 0.1], [-1, 0.2, 0.3], [0.1, -1, 0.5],
 TRIGGER = 5     # DIRS[TRIGGER] is +x, where the hostile acts fire
 
 TESTED = {"warning_flood", "black_on_axes", "terminal_escapes", "exit_as_setup_error", "hang_at_exit",
-          "interval_timer", "stop_itself", "asleep_everywhere"}
+          "interval_timer", "stop_itself", "asleep_everywhere", "starve_other_worker"}
 
 
 def test_every_redteam_submission_has_a_test():
@@ -194,6 +200,26 @@ def test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops(librar
         assert "used up the 2 s" in outcome.failures[0].message
     assert later[2].failure.kind == "timeout" and not later[2].cpu_ns
     assert r.worker_starts == starts          # nothing more was started
+
+
+@pytest.mark.sandbox
+@pytest.mark.parametrize("mode", ["plain", pytest.param("privilege-drop", marks=pytest.mark.skipif(
+    sandbox.privilege_drop_problem() is not None, reason="no privilege drop here"))])
+def test_a_worker_cannot_starve_another_worker(mode):
+    import os
+    from grader.worker import Worker
+    attacker = build_submission(REDTEAM / "starve_other_worker.cpp")
+    victim = build_submission(sorted((REDTEAM.parent / "correct").glob("*.cpp"))[0])
+    assert attacker.ok and victim.ok, attacker.log + victim.log
+    with Worker(victim.library, sandbox=mode) as v, Worker(attacker.library, sandbox=mode) as a:
+        v.set_faces(FACES)
+        a.set_faces(FACES)
+        pid = v._worker_pid
+        before = (os.sched_getscheduler(pid), os.getpriority(os.PRIO_PROCESS, pid), os.sched_getaffinity(pid))
+        np.testing.assert_array_equal(a.fetch([[pid, 0, 0]]), [[0, 0, 0]])   # it ran, and lived
+        after = (os.sched_getscheduler(pid), os.getpriority(os.PRIO_PROCESS, pid), os.sched_getaffinity(pid))
+        np.testing.assert_allclose(v.fetch(DIRS), CubeMap(FACES).fetch(DIRS), rtol=1e-12, atol=1e-12)
+    assert after == before and before[0] != os.SCHED_IDLE
 
 
 # ---- grade-all: names a student chooses -------------------------------------------

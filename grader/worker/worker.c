@@ -497,6 +497,22 @@ static void on_nonnull(long nr, int arg, unsigned action)
     ret(action);
 }
 
+/* syscall == nr -> args[arg] is 0 (the caller) or `self` ? allow : action.
+ * Scheduling another process: in privilege-drop mode every worker is uid
+ * nobody in one pid namespace, so a submission could put another student's
+ * worker, or the speed check's reference, into SCHED_IDLE to starve it. */
+static void on_other_pid(long nr, int arg, unsigned self, unsigned action)
+{
+    jump((unsigned)nr, 0, 7);
+    load(ARG_HIGH(arg));
+    jump(0, 0, 3);
+    load(ARG_LOW(arg));
+    jump(0, 2, 0);
+    jump(self, 1, 0);
+    ret(action);
+    ret(ALLOW);
+}
+
 /* Conditional jump on A against k (code: BPF_JEQ, BPF_JGT, BPF_JGE, BPF_JSET)
  * to labels; -1 means the next instruction. */
 static void jump_to(unsigned code, unsigned k, int if_true, int if_false)
@@ -729,6 +745,16 @@ static int install_filter(void)
                   sizeof guarded_signals / sizeof guarded_signals[0], FAIL(EPERM));
     on_call(__NR_setrlimit, FAIL(EPERM));
     on_nonnull(__NR_prlimit64, 2, FAIL(EPERM));
+    /* Scheduling, priority and memory placement of itself only (another
+     * worker of uid nobody could be starved: see on_other_pid). */
+    on_other_pid(__NR_sched_setscheduler, 0, pid, FAIL(EPERM));
+    on_other_pid(__NR_sched_setparam, 0, pid, FAIL(EPERM));
+    on_other_pid(__NR_sched_setattr, 0, pid, FAIL(EPERM));
+    on_other_pid(__NR_sched_setaffinity, 0, pid, FAIL(EPERM));
+    on_other_pid(__NR_migrate_pages, 0, pid, FAIL(EPERM));
+    on_other_pid(__NR_move_pages, 0, pid, FAIL(EPERM));
+    on_call(__NR_setpriority, FAIL(EPERM));     /* PRIO_USER reaches every process of the uid */
+    on_call(__NR_ioprio_set, FAIL(EPERM));
     for (size_t i = 0; i < sizeof forbidden_names / sizeof forbidden_names[0]; i++) {
         long nr = forbidden_names[i].nr;
         int handled = nr == __NR_clone || nr == __NR_openat || nr == __NR_kill ||

@@ -1,0 +1,81 @@
+// In privilege-drop mode every worker runs as uid nobody with no pid namespace: this one puts another process (its pid as fetchColor(pid, 0, 0), standing in for guessing pids while another student's worker or the speed check's reference runs) into the idle scheduling class at nice 19 on one CPU, and renices every process of its uid, to starve it into timeouts. Verdict: the calls fail with EPERM; the other worker's scheduling is unchanged.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <sched.h>
+#include <sys/resource.h>
+
+namespace {
+
+struct FaceCoord
+{
+    int face;
+    double u;
+    double v;
+};
+
+// Where a direction meets the cube: the face and (u, v) of README.md's table.
+FaceCoord directionToFace(const Vector3& d)
+{
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    auto toUnit = [](double s, double m) { return (s / m + 1.0) / 2.0; };
+    if (ax >= ay && ax >= az) {
+        return d.x > 0 ? FaceCoord{FACE_POS_X, toUnit(d.z, ax), toUnit(d.y, ax)}
+                       : FaceCoord{FACE_NEG_X, toUnit(-d.z, ax), toUnit(d.y, ax)};
+    }
+    if (ay >= az) {
+        return d.y > 0 ? FaceCoord{FACE_POS_Y, toUnit(d.x, ay), toUnit(d.z, ay)}
+                       : FaceCoord{FACE_NEG_Y, toUnit(d.x, ay), toUnit(-d.z, ay)};
+    }
+    return d.z > 0 ? FaceCoord{FACE_POS_Z, toUnit(d.x, az), toUnit(-d.y, az)}
+                   : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
+}
+
+// Another process, named by its pid: the idle scheduling class (it runs only
+// when nothing else wants the CPU), the lowest priority, one CPU.
+void starve(int pid)
+{
+    struct sched_param none {};
+    sched_setscheduler(pid, SCHED_IDLE, &none);
+    setpriority(PRIO_PROCESS, static_cast<id_t>(pid), 19);
+    setpriority(PRIO_USER, 0, 19);
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(0, &one);
+    sched_setaffinity(pid, sizeof one, &one);
+}
+
+} // namespace
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    if (direction.x > 1000 && direction.y == 0 && direction.z == 0) {
+        starve(static_cast<int>(direction.x));   // the grader never asks this: a stand-in for guessing pids
+        return Color(0.0, 0.0, 0.0);
+    }
+    const auto [face, u, v] = directionToFace(direction);
+    return readTexture(faceAddress(face), u, v);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const double px = u * m_FaceWidth;
+    const double py = v * m_FaceHeight;
+    const int ix = static_cast<int>(px);
+    const int iy = static_cast<int>(py);
+    const double alpha = px - ix;
+    const double beta = py - iy;
+
+    const auto texel = [&](int x, int y) -> Color {
+        x = std::clamp(x, 0, m_FaceWidth - 1);
+        y = std::clamp(y, 0, m_FaceHeight - 1);
+        const float* t = addr + 3 * (static_cast<std::ptrdiff_t>(y) * m_FaceWidth + x);
+        return {t[0], t[1], t[2]};
+    };
+    const Color c0 = (1.0 - alpha) * texel(ix, iy) + alpha * texel(ix + 1, iy);
+    const Color c1 = (1.0 - alpha) * texel(ix, iy + 1) + alpha * texel(ix + 1, iy + 1);
+    return (1.0 - beta) * c0 + beta * c1;
+}
