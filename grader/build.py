@@ -95,6 +95,9 @@ LOADER_REFERENCE_SOURCES = ("cross.c", "error.c", "rgbe.c")
 # Debian and Ubuntu (policy: 65000-65533 reserved).
 BUILD_UID = BUILD_GID = 65533
 MAX_ASSEMBLY_BYTES = 64 << 20
+# The linked library: copied into every worker's folder and kept in the build
+# cache (240 MiB of zeros in .data compiled from a 4 KiB source scored 100).
+MAX_LIBRARY_BYTES = 64 << 20
 MAX_OUTPUT_FILE_BYTES = 256 << 20   # any file a compiler step writes (ulimit -f)
 # Every BuildResult.diagnosis_id a build can give (grader/diagnoses.py has each).
 DIAGNOSIS_IDS = ("build-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive",
@@ -919,9 +922,13 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
                  "libreference.a", *LINK_FLAGS, "-Wl,--version-script=exports.map", "-lm"])
     if done.timed_out or done.returncode != 0:
         return failed(done)
-    library = _take(scratch, LIBRARY_NAME)
+    library = _take(scratch, LIBRARY_NAME, MAX_LIBRARY_BYTES + 1)
     if not library:
         return failed(done)
+    if len(library) > MAX_LIBRARY_BYTES:
+        return _refusal("forbidden-object", f"{SOURCE_NAME} links into a library of more than "
+                                            f"{MAX_LIBRARY_BYTES >> 20} MiB: far more than a lookup needs "
+                                            "(a huge array with an initial value, or in a data section?).")
     problem = inspect_library(library, allowed, sanitize="-fsanitize=address,undefined" in cxxflags)
     if problem:
         return _refusal(*problem)

@@ -7,6 +7,9 @@ Attacks that worked before (and the fix):
   print gigabytes, all held in the grader's memory (4.8 GB RSS for 1 GB) and
   written to the build cache, and the submission still scored 100. Now the
   compiler is stopped at 4 MiB of messages (grader/build.py `_read_capped`).
+- ballast: 240 MiB of zeros in .data (a 4 KiB source) made a 240 MiB
+  library, stored in the build cache and copied into every worker's folder;
+  it scored 100. Now a library over 64 MiB is refused (forbidden-object).
 - black_on_axes: wrong on 6 of ~127,000 sweep directions scored 30 / 30 on
   a *failed* check (rounding to 0.01 point). Now a failed check never shows
   full points (grader/score.py).
@@ -63,7 +66,8 @@ DIRS = np.array([[0.2, 0.3, -1], [0, 1, 0.1], [-1, 0.2, 0.3], [0.1, -1, 0.5],
 TRIGGER = 5     # DIRS[TRIGGER] is +x, where the hostile acts fire
 
 TESTED = {"warning_flood", "black_on_axes", "terminal_escapes", "exit_as_setup_error", "hang_at_exit",
-          "interval_timer", "stop_itself", "asleep_everywhere", "starve_other_worker"}
+          "interval_timer", "stop_itself", "asleep_everywhere", "starve_other_worker",
+          "ballast"}
 
 
 def test_every_redteam_submission_has_a_test():
@@ -84,6 +88,15 @@ def test_a_flood_of_warnings_stops_the_compiler_and_is_a_build_error(tmp_path):
     # The cache holds at most the cap, not what the compiler would have printed.
     records = list(tmp_path.glob("*/build.json"))
     assert records and all(r.stat().st_size < CAP_BYTES * 1.5 for r in records)
+
+
+@pytest.mark.sandbox
+def test_a_huge_library_is_refused_and_not_cached(tmp_path):
+    result = build_submission(REDTEAM / "ballast.cpp", cache_dir=tmp_path)
+    assert not result.ok and result.diagnosis_id == "forbidden-object"
+    assert "more than 64 MiB" in result.log
+    stored = sum(f.stat().st_size for f in tmp_path.rglob("*") if f.is_file())
+    assert stored < 16 << 20
 
 
 # ---- score: a failed check never shows full points --------------------------------
