@@ -105,6 +105,9 @@ def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Pat
     out = {}
     for p in found:
         name = student_name(p) if counts[student_name(p)] == 1 else p.name
+        # A name that is not UTF-8 (a Shift-JIS zip unpacked here) as text:
+        # its undecodable bytes stopped grade-all at the gradebook.
+        name = name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
         # A student's folder in OUT must not take the place of a class file
         # (a "summary.html.zip" made summary.html a folder and stopped the run).
         while name.lower() in CLASS_FILES or name in out:

@@ -23,7 +23,9 @@ Attacks that worked before (and the fix):
   traceback after grading everyone; a name near the 255-byte limit made the
   temporary folder's name too long and the student "ungradable". Now class
   files' names are kept free and temporary names are cut short
-  (grader/grade_all.py).
+  (grader/grade_all.py). A file name that is not UTF-8 (a Shift-JIS zip
+  unpacked on Linux: no malice needed) stopped grade-all at the gradebook
+  (UnicodeEncodeError); names are now made text first.
 - asleep_everywhere: correct but asleep 0.3 ms per lookup (no CPU time):
   every large batch timed out and was narrowed down, each call up to the
   runner's 120 s, and one grading ran for more than 11 minutes. Now all the
@@ -246,11 +248,13 @@ def test_grade_all_survives_names_of_class_files_and_long_names(tmp_path):
     long_name = "b" * 246                               # 250 bytes with .cpp: a legal file name
     for name in ("alice.cpp", "summary.html.cpp", "gradebook.csv.cpp", f"{long_name}.cpp"):
         shutil.copyfile(SYNTAX_ERROR, klass / name)
+    import os
+    shutil.copyfile(SYNTAX_ERROR, klass / os.fsdecode(b"sj\x83e\x83X\x83g.cpp"))   # Shift-JIS, not UTF-8
     (klass / "summary.json").mkdir()                   # a folder, as an unzipped upload would be
     shutil.copyfile(SYNTAX_ERROR, klass / "summary.json" / "EnvironmentMap.cpp")
     out = tmp_path / "out"
     rows = grade_all(klass, out, 1, {"quick": True, "allow_stale": True}, progress=False)
-    assert len(rows) == 5
+    assert len(rows) == 6
     assert all(r.status == "build-error" for r in rows), [(r.student[:20], r.status, r.error) for r in rows]
     assert UNGRADABLE not in (out / "gradebook.csv").read_text()
     for name in ("gradebook.csv", "summary.json", "summary.html", "summary.md"):
@@ -258,3 +262,4 @@ def test_grade_all_survives_names_of_class_files_and_long_names(tmp_path):
     assert json.loads((out / "summary.json").read_text()) is not None
     assert (out / long_name / "results.json").is_file()
     assert (out / "summary.html_" / "results.json").is_file()
+    assert "sj\ufffde\ufffdX\ufffdg" in (out / "gradebook.csv").read_text(encoding="utf-8")
