@@ -10,6 +10,11 @@ Attacks that worked before (and the fix):
 - ballast: 240 MiB of zeros in .data (a 4 KiB source) made a 240 MiB
   library, stored in the build cache and copied into every worker's folder;
   it scored 100. Now a library over 64 MiB is refused (forbidden-object).
+- fast_when_timed: ten times slow, except on the speed check's 256 x 256
+  faces (told by their size) where it took the nearest texel, within the 1%
+  the timed colours were checked to: 5 / 5. Timed colours are now judged
+  as the sweep judges them, through the student's own readTexture
+  (grader/checks/speed.py timed_tolerance).
 - black_on_axes: wrong on 6 of ~127,000 sweep directions scored 30 / 30 on
   a *failed* check (rounding to 0.01 point). Now a failed check never shows
   full points (grader/score.py).
@@ -69,7 +74,7 @@ TRIGGER = 5     # DIRS[TRIGGER] is +x, where the hostile acts fire
 
 TESTED = {"warning_flood", "black_on_axes", "terminal_escapes", "exit_as_setup_error", "hang_at_exit",
           "interval_timer", "stop_itself", "asleep_everywhere", "starve_other_worker",
-          "ballast"}
+          "ballast", "fast_when_timed"}
 
 
 def test_every_redteam_submission_has_a_test():
@@ -123,6 +128,17 @@ def test_black_on_the_axes_is_not_full_marks(tmp_path):
     assert sweep.status == FAILED and sweep.score < sweep.max_score == 30
     assert "axes" in sweep.output and result.score < result.max_score
     assert json.loads((tmp_path / "results.json").read_text())["score"] < 30
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_a_cheaper_path_on_the_timing_faces_fails_the_speed_check(tmp_path):
+    result = grade(REDTEAM / "fast_when_timed.cpp", tmp_path, GradeOptions(allow_stale=True, quick=True,
+                                                                           only=("speed",)))
+    (speed,) = result.checks
+    assert speed.status == FAILED and speed.score == 0
+    assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]
+    assert speed.metrics["timed_match"] < 0.5
 
 
 # ---- reports: no escapes or bidi controls from the submission ----------------------
