@@ -247,7 +247,7 @@ def test_a_worker_cannot_starve_another_worker(mode):
         a.set_faces(FACES)
         pid = v._worker_pid
         before = (os.sched_getscheduler(pid), os.getpriority(os.PRIO_PROCESS, pid), os.sched_getaffinity(pid))
-        np.testing.assert_array_equal(a.fetch([[pid, 0, 0]]), [[0, 0, 0]])   # it ran, and lived
+        np.testing.assert_array_equal(a.fetch([[pid, 0, 12345]]), [[0, 0, 0]])   # it ran, and lived
         after = (os.sched_getscheduler(pid), os.getpriority(os.PRIO_PROCESS, pid), os.sched_getaffinity(pid))
         np.testing.assert_allclose(v.fetch(DIRS), CubeMap(FACES).fetch(DIRS), rtol=1e-12, atol=1e-12)
     assert after == before and before[0] != os.SCHED_IDLE

@@ -1,4 +1,4 @@
-// In privilege-drop mode every worker runs as uid nobody with no pid namespace: this one puts another process (its pid as fetchColor(pid, 0, 0), standing in for guessing pids while another student's worker or the speed check's reference runs) into the idle scheduling class at nice 19 on one CPU, and renices every process of its uid, to starve it into timeouts. Verdict: the calls fail with EPERM; the other worker's scheduling is unchanged.
+// In privilege-drop mode every worker runs as uid nobody with no pid namespace: this one puts another process (its pid as fetchColor(pid, 0, 12345), standing in for guessing pids while another student's worker or the speed check's reference runs) into the idle scheduling class at nice 19 on one CPU, and renices every process of its uid, to starve it into timeouts. Verdict: the calls fail with EPERM; the other worker's scheduling is unchanged.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
@@ -52,7 +52,7 @@ void starve(int pid)
 
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
-    if (direction.x > 1000 && direction.y == 0 && direction.z == 0) {
+    if (direction.y == 0 && direction.z == 12345) {
         starve(static_cast<int>(direction.x));   // the grader never asks this: a stand-in for guessing pids
         return Color(0.0, 0.0, 0.0);
     }
