@@ -43,7 +43,7 @@ def run_seed(secret: str, source_sha256: str) -> int:
 
 def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, write_reports: bool = True) -> GradeResult:
     from .build import HarnessBuildError, build_submission
-    from .grade_all import student_name
+    from .submissions import student_name
     options = options or GradeOptions()
     started = time.monotonic()
     submission = Path(submission)

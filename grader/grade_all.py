@@ -32,17 +32,12 @@ from pathlib import Path
 
 from . import PROJECT_ROOT
 from .results import UNGRADABLE
+from .submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
 
 # grade() imports this module for student_name: what only a class needs
 # (process pools, the class summary's report code) is imported where used.
 
 RECORD_FILE = ".grade.json"
-# Entries graded as submissions besides folders: archives and sources in any
-# format the grader reads or can name (grader/submissions.py sniffs what a
-# file really is; a .rar or .7z gets its own verdict). Longest first, so
-# "alice.tar.gz" is alice.
-SUFFIXES = (".tar.bz2", ".tar.gz", ".tar.xz", ".tbz2", ".tgz", ".txz", ".zip", ".tar", ".tbz", ".gz", ".bz2",
-            ".xz", ".rar", ".7z", ".cpp", ".cc", ".cxx")
 MISSING = "no-submission"     # a roster's student with nothing in the class folder
 SUMMARY_DATA = "summary.json"
 # What grade-all writes beside the students' folders in OUT (lower case).
@@ -58,14 +53,6 @@ KEY_ROOTS = ("grader", "reference/include", "reference/src", "fixtures", "Cubema
 KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")   # fixtures/ holds study.csv
 # Metrics the class summary charts, copied from the checks into the record.
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
-
-
-def student_name(path: Path) -> str:
-    name = path.name
-    for suffix in SUFFIXES:
-        if name.lower().endswith(suffix):
-            return name[: -len(suffix)]
-    return name
 
 
 def _skip_reason(p: Path, exclude: Path | None) -> str:

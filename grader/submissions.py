@@ -529,3 +529,21 @@ def hash_submission(path: Path) -> str:
                 digest.update(block)
         h.update(digest.digest())
     return h.hexdigest()
+
+
+# ---- naming a submission ---------------------------------------------------
+
+# Entries graded as submissions besides folders: archives and sources in any
+# format the grader reads or can name (sniff() above tells what a
+# file really is; a .rar or .7z gets its own verdict). Longest first, so
+# "alice.tar.gz" is alice.
+SUFFIXES = (".tar.bz2", ".tar.gz", ".tar.xz", ".tbz2", ".tgz", ".txz", ".zip", ".tar", ".tbz", ".gz", ".bz2",
+            ".xz", ".rar", ".7z", ".cpp", ".cc", ".cxx")
+
+
+def student_name(path: Path) -> str:
+    name = path.name
+    for suffix in SUFFIXES:
+        if name.lower().endswith(suffix):
+            return name[: -len(suffix)]
+    return name

@@ -59,7 +59,7 @@ def example_submissions() -> list[Path]:
 
 
 def output_folders(submissions: list[Path], out: Path | None) -> list[Path]:
-    from ..grade_all import student_name
+    from ..submissions import student_name
     names = [student_name(s) for s in submissions]
     if len(set(names)) < len(names):   # e.g. a/EnvironmentMap.cpp and b/EnvironmentMap.cpp
         names = [s.name if names.count(student_name(s)) == 1 else f"{s.parent.name}-{s.name}" for s in submissions]
