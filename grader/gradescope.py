@@ -134,10 +134,42 @@ def _add(z: zipfile.ZipFile, arcname: str, data: bytes, executable: bool = False
     z.writestr(info, data)
 
 
+DEFAULT_SECRET = "change-me-per-course"   # grader/rubric.toml as shipped
+RUBRIC = "grader/rubric.toml"
+
+
+def course_secret_problem() -> str | None:
+    """Why the bundle's course secret is unsafe, or None. The shipped rubric's
+    secret is public: with it, a submission that knows its own hash can work
+    out the speed check's timed directions (docs/security.md)."""
+    import os
+    import tomllib
+    if os.environ.get("GRADER_SECRET"):
+        return None
+    secret = tomllib.loads((PROJECT_ROOT / RUBRIC).read_text()).get("grading", {}).get("secret", "")
+    if secret in ("", DEFAULT_SECRET):
+        return ("the course secret is the public default: set GRADER_SECRET (it is written into the "
+                "bundle's rubric) or [grading] secret in grader/rubric.toml before uploading")
+    return None
+
+
+def _with_secret(rubric_text: str, secret: str) -> str:
+    """The rubric with its [grading] secret replaced (as a TOML basic string)."""
+    import json
+    import re
+    line = f"secret = {json.dumps(secret)}"
+    replaced, n = re.subn(r"^secret\s*=.*$", lambda _: line, rubric_text, count=1, flags=re.M)
+    if n != 1:
+        raise ValueError(f"{RUBRIC} has no [grading] secret line to replace")
+    return replaced
+
+
 def build_bundle(out: Path) -> Path:
     """Write autograder.zip: setup.sh and run_autograder at the top, the
     project under source/ (Gradescope unpacks the zip into /autograder/source,
-    so the top-level scripts land there and the project beside them)."""
+    so the top-level scripts land there and the project beside them).
+    GRADER_SECRET, when set, becomes the bundled rubric's course secret."""
+    import os
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = out.with_suffix(".tmp")
     with zipfile.ZipFile(tmp, "w") as z:
@@ -145,6 +177,9 @@ def build_bundle(out: Path) -> Path:
         _add(z, "run_autograder", RUN_AUTOGRADER.encode(), executable=True)
         for f in _files():
             rel = f.relative_to(PROJECT_ROOT).as_posix()
-            _add(z, rel, f.read_bytes(), executable=bool(f.stat().st_mode & 0o111))
+            data = f.read_bytes()
+            if rel == RUBRIC and os.environ.get("GRADER_SECRET"):
+                data = _with_secret(data.decode(), os.environ["GRADER_SECRET"]).encode()
+            _add(z, rel, data, executable=bool(f.stat().st_mode & 0o111))
     tmp.replace(out)
     return out

@@ -15,6 +15,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import zipfile
 from pathlib import Path
 
@@ -156,3 +157,25 @@ def test_setup_sh_installs_like_make_venv_from_the_lock(bundle, tmp_path):
     assert 'bash scripts/make-venv.sh .venv requirements.lock "$python"' in setup
     assert {"scripts/install-system-deps.sh", "scripts/make-venv.sh", "requirements.lock", "packages.txt"} <= names
     assert "pip install --quiet" not in setup     # progress is shown while the image builds
+
+
+def test_the_bundle_carries_grader_secret_and_warns_about_the_public_default(tmp_path, monkeypatch):
+    """The shipped rubric's secret is public (issue 11, red team): GRADER_SECRET
+    set while building goes into the bundled rubric; left unset, the command
+    warns instead of shipping the default silently."""
+    import tomllib
+    from grader.gradescope import DEFAULT_SECRET, course_secret_problem
+    monkeypatch.setenv("GRADER_SECRET", 'per-course "quoted" secret')
+    assert course_secret_problem() is None
+    with zipfile.ZipFile(build_bundle(tmp_path / "secret.zip")) as z:
+        rubric = tomllib.loads(z.read("grader/rubric.toml").decode())
+    assert rubric["grading"]["secret"] == 'per-course "quoted" secret'
+    assert rubric["checks"]          # the rest of the rubric is intact
+    monkeypatch.delenv("GRADER_SECRET")
+    with zipfile.ZipFile(build_bundle(tmp_path / "default.zip")) as z:
+        assert tomllib.loads(z.read("grader/rubric.toml").decode())["grading"]["secret"] == DEFAULT_SECRET
+    assert "GRADER_SECRET" in course_secret_problem()
+    warned = subprocess.run([sys.executable, "-m", "grader", "gradescope", "--out", str(tmp_path / "cli.zip")],
+                            cwd=PROJECT_ROOT, capture_output=True, text=True,
+                            env={k: v for k, v in os.environ.items() if k != "GRADER_SECRET"})
+    assert warned.returncode == 0 and "course secret is the public default" in warned.stderr

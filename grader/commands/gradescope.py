@@ -42,9 +42,12 @@ def run(args) -> int:
     if args.grade is not None:
         return grade_for_gradescope(args.grade, args.results, quick=args.quick,
                                     allow_unsafe=getattr(args, "allow_unsafe", False))
-    from ..gradescope import build_bundle
+    from ..gradescope import build_bundle, course_secret_problem
     path = build_bundle(args.out)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): upload it as the autograder on Gradescope")
+    problem = course_secret_problem()
+    if problem:
+        print(f"warning: {problem}", file=sys.stderr)
     return 0
 
 
