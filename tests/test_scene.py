@@ -7,6 +7,7 @@ escapes" (trace is deterministic, tests/test_render.py)."""
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -276,3 +277,108 @@ def test_envmap_test_cfg_is_the_handouts_scene():
     text = (PROJECT_ROOT / "envmap_test.cfg").read_text()
     for probe in ("beach", "building", "campus", "galileo", "grace", "kitchen", "rnl", "uffizi"):
         assert f'//  filename = "Cubemap/{probe}_cross.hdr";' in text
+
+
+# ---- the key table and the documentation comment ---------------------------------
+# scene.c describes each key once, in a table (name, type, range, default or
+# REQUIRED, field); its top comment lists the blocks, keys and defaults for a
+# reader. These tests hold the two together, and the comment to the parser.
+
+SCENE_C = PROJECT_ROOT / "reference" / "src" / "scene.c"
+BLOCK_TIMES = {"AT_MOST_ONCE": "at most once", "ANY_NUMBER": "any number", "EXACTLY_ONCE": "required"}
+
+
+def numbers(text: str) -> tuple[float, ...]:
+    return tuple(float(x) for x in re.findall(r"-?\d+(?:\.\d*)?", text))
+
+
+def documented_keys() -> dict[str, tuple[str, dict]]:
+    """{block: (times, {key: default numbers, or "required"})} from the
+    listing in scene.c's top comment."""
+    head = SCENE_C.read_text().split("*/", 1)[0]
+    listing = head.split("must agree with", 1)[1].split("Every error", 1)[0]
+    texts: dict[str, str] = {}
+    block = None
+    for line in listing.splitlines():
+        if m := re.match(r"^ \*   (\w+) +(.*)$", line):
+            block = m.group(1)
+            texts[block] = m.group(2)
+        elif (m := re.match(r"^ \* {10,}(.*)$", line)) and block:
+            texts[block] += " " + m.group(1)
+    documented = {}
+    for block, text in texts.items():
+        times = ("any number" if text.startswith("(any number)") else
+                 "required" if text.startswith("(required)") else "at most once")
+        # Remarks in parentheses have letters; tuples of defaults do not.
+        text = re.sub(r"\s*\([^()]*[A-Za-z][^()]*\)", "", text)
+        keys: dict = {}
+        for item in filter(None, (part.strip() for part in text.split(";"))):
+            if item.endswith(" required"):
+                for key in re.split(r",\s*|\s+and\s+", item.removesuffix(" required")):
+                    keys[key.strip()] = "required"
+            else:
+                key, default = item.split("=")
+                keys[key.strip()] = numbers(default)
+        documented[block] = (times, keys)
+    return documented
+
+
+def tabled_keys() -> dict[str, tuple[str, dict]]:
+    """The same, from the key tables in scene.c."""
+    source = SCENE_C.read_text()
+    tables = dict(re.findall(r"static const key_spec (\w+)\[\] = \{(.*?)\n\};", source, re.S))
+    blocks = re.search(r"static const block_spec blocks\[BLOCK_COUNT\] = \{(.*?)\n\};", source, re.S).group(1)
+    tabled = {}
+    for block, table, times in re.findall(r'\{"(\w+)", (\w+), KEY_COUNT\(\w+\), \w+, (\w+)\}', blocks):
+        keys = {}
+        for key, default in re.findall(r'\{"(\w+)",.*?(REQUIRED|DEFAULT\([^)]*\)), \w+\},', tables[table]):
+            keys[key] = "required" if default == "REQUIRED" else numbers(default)
+        tabled[block] = (BLOCK_TIMES[times], keys)
+    # Every row was read: one field macro per key.
+    assert sum(len(keys) for _, keys in tabled.values()) == len(re.findall(r"\b[A-Z0-9]+_IN\(em_", source))
+    return tabled
+
+
+def test_the_comment_lists_the_tables_blocks_keys_and_defaults():
+    tabled = tabled_keys()
+    assert list(tabled) == ["camera", "sampling", "sphere", "environment_light"]
+    assert tabled["sphere"] == ("any number", {"center": "required", "radius": "required",
+                                               "material": "required", "ior": (1.5,), "tint": (1.0, 1.0, 1.0)})
+    assert documented_keys() == tabled
+
+
+def test_the_documented_defaults_and_required_keys_are_the_parsers():
+    """Written out, the comment's defaults give the scene that leaving them
+    out gives; leaving out a key the comment calls required is an error."""
+    fill = {"center": "(0, 0, -3)", "radius": "1", "material": '"glass"', "filename": '"map.hdr"'}
+    documented = documented_keys()
+
+    def text(block_keys: dict[str, dict[str, str]]) -> str:
+        return "".join(f"{block} {{ {' '.join(f'{k} = {v};' for k, v in keys.items())} }}\n"
+                       for block, keys in block_keys.items())
+
+    required = {block: {k: fill[k] for k, d in keys.items() if d == "required"}
+                for block, (_, keys) in documented.items()}
+    written = {block: {**required[block], **{k: "(" + ", ".join(f"{x:g}" for x in d) + ")"
+                                             for k, d in keys.items() if d != "required"}}
+               for block, (_, keys) in documented.items()}
+    explicit, implicit = Scene.parse(text(written), "t.cfg"), Scene.parse(text(required), "t.cfg")
+    assert (explicit.width, explicit.height, explicit.hdr_gamma) == (implicit.width, implicit.height,
+                                                                     implicit.hdr_gamma)
+    assert same_scene(text(written), text(required))
+
+    for line, (block, keys) in enumerate(required.items(), start=1):
+        for key in keys:
+            without = {**required, block: {k: v for k, v in keys.items() if k != key}}
+            with pytest.raises(EnvmapError, match=rf"^t\.cfg:{line}: {block} has no '{key}'$"):
+                Scene.parse(text(without), "t.cfg")
+    for block, (times, _) in documented.items():
+        if times == "required":
+            with pytest.raises(EnvmapError, match=rf"^t\.cfg:\d+: no {block} block$"):
+                Scene.parse(text({b: k for b, k in required.items() if b != block}), "t.cfg")
+        once = text({**required, "extra": {}}).replace("extra {  }", text({block: required[block]}).strip())
+        if times == "any number":
+            Scene.parse(once, "t.cfg")
+        else:
+            with pytest.raises(EnvmapError, match=rf"second {block} block"):
+                Scene.parse(once, "t.cfg")

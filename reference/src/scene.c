@@ -10,15 +10,17 @@
  *           | '(' NUMBER (',' NUMBER)* ')'  (0, 1, -3)
  *
  * STRING runs to the next '"' on the same line (no escapes); NUMBER is a
- * decimal with optional sign, fraction and exponent. Blocks, keys and the
- * defaults of keys left out:
+ * decimal with optional sign, fraction and exponent. Blocks (at most one
+ * of each unless marked), keys and the defaults of keys left out; ranges and
+ * types are in the key table below ("keys"), which this list must agree with
+ * (tests/test_scene.py checks it):
  *
  *   camera            position = (0, 0, 0); look_at = (0, 0, -1) (the
  *                     handout's forward face); up = (0, 1, 0); fov = 45
  *                     (vertical, degrees); width = 512; height = 512;
  *   sampling          samples_per_pixel = 16; max_depth = 32; seed = 0;
- *   sphere            (any number) center, radius and material = "mirror" |
- *                     "glass" required; ior = 1.5 (glass only);
+ *   sphere            (any number) center, radius, material ("mirror" or
+ *                     "glass") required; ior = 1.5 (glass only);
  *                     tint = (1, 1, 1);
  *   environment_light (required) filename required; hdr_gamma = 1;
  *
@@ -32,6 +34,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -298,65 +301,120 @@ static int parse_value(parser *ps, value *v)
 
 /* ---- keys -------------------------------------------------------------------- */
 
-typedef enum key_type { KEY_NUMBER, KEY_INTEGER, KEY_VECTOR, KEY_STRING } key_type;
+/* How a key's value is checked and where it goes: KEY_DOUBLE one number,
+ * KEY_INT and KEY_UINT64 one whole number, KEY_VEC3 three numbers, KEY_STRING
+ * a "string" (always stored by a setter). */
+typedef enum key_type { KEY_DOUBLE, KEY_INT, KEY_UINT64, KEY_VEC3, KEY_STRING } key_type;
+typedef double vec3[3];
 
-/* One key of a block: its type and, for numbers and integers, the range
- * allowed: [min, max], or (min, max) when open. */
-typedef struct key_spec {
+typedef struct key_spec key_spec;
+typedef struct block_spec block_spec;
+
+/* For the few keys a plain store does not fit: check further, convert, and
+ * store at `at` (the key's field). */
+typedef int key_setter(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                       const value *v, const char *base_dir);
+
+/* One key of a block, described once: the parser, the defaults and the
+ * required-key check all read this. */
+struct key_spec {
     const char *name;
     key_type type;
-    double min, max;
+    size_t at;             /* offset of the field: in em_scene, or in em_sphere for sphere keys */
+    double min, max;       /* KEY_DOUBLE and the integers: [min, max], or (min, max) when open */
     int open;
-} key_spec;
+    int required;          /* else `def` is stored when the key is left out */
+    double def[3];
+    key_setter *set;       /* NULL: stored as its type says */
+};
 
-typedef struct block_spec {
+/* Where a block's keys go and how many of the block a file may have. */
+typedef enum block_into { INTO_SCENE, INTO_SPHERE } block_into;
+typedef enum block_times { AT_MOST_ONCE, ANY_NUMBER, EXACTLY_ONCE } block_times;
+
+struct block_spec {
     const char *name;
     const key_spec *keys;
     int key_count;
-    int repeatable;
-} block_spec;
+    block_into into;       /* INTO_SPHERE: a new sphere per block, added at its '}' */
+    block_times times;
+};
 
-enum { CAM_POSITION, CAM_LOOK_AT, CAM_UP, CAM_FOV, CAM_WIDTH, CAM_HEIGHT };
+static int set_material(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                        const value *v, const char *base_dir);
+static int set_filename(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                        const value *v, const char *base_dir);
+static int set_not_negative(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                            const value *v, const char *base_dir);
+
+/* The table's columns. A field's offset is checked at compile time to have the
+ * C type of the key's type (_Generic has no default). */
+#define FIELD(in, field, ctype) _Generic(&((in *)0)->field, ctype *: offsetof(in, field))
+#define DOUBLE_IN(in, field) KEY_DOUBLE, FIELD(in, field, double)
+#define INT_IN(in, field) KEY_INT, FIELD(in, field, int)
+#define UINT64_IN(in, field) KEY_UINT64, FIELD(in, field, uint64_t)
+#define VEC3_IN(in, field) KEY_VEC3, FIELD(in, field, vec3)
+#define STRING_IN(in, field, ctype) KEY_STRING, FIELD(in, field, ctype)
+#define ANY 0, 0, 0
+#define CLOSED(lo, hi) lo, hi, 0
+#define OPEN(lo, hi) lo, hi, 1
+#define REQUIRED 1, {0}
+#define DEFAULT(...) 0, {__VA_ARGS__}
+
+/* Each key, once. Columns: name; type and the field it is stored in; range;
+ * default, or REQUIRED; setter (NULL: stored as its type says). The comment
+ * at the top of this file lists the same keys and defaults
+ * (tests/test_scene.py checks that they agree). */
 static const key_spec camera_keys[] = {
-    {"position", KEY_VECTOR, 0, 0, 0},
-    {"look_at", KEY_VECTOR, 0, 0, 0},
-    {"up", KEY_VECTOR, 0, 0, 0},
-    {"fov", KEY_NUMBER, 0, 180, 1},
-    {"width", KEY_INTEGER, 1, EM_SCENE_MAX_SIDE, 0},
-    {"height", KEY_INTEGER, 1, EM_SCENE_MAX_SIDE, 0},
+    {"position", VEC3_IN(em_scene, camera.position), ANY, DEFAULT(0, 0, 0), NULL},
+    /* The handout's forward face is -z (OpenGL): look down -z from the origin. */
+    {"look_at", VEC3_IN(em_scene, camera.look_at), ANY, DEFAULT(0, 0, -1), NULL},
+    {"up", VEC3_IN(em_scene, camera.up), ANY, DEFAULT(0, 1, 0), NULL},
+    {"fov", DOUBLE_IN(em_scene, camera.fov_degrees), OPEN(0, 180), DEFAULT(45), NULL},
+    {"width", INT_IN(em_scene, width), CLOSED(1, EM_SCENE_MAX_SIDE), DEFAULT(512), NULL},
+    {"height", INT_IN(em_scene, height), CLOSED(1, EM_SCENE_MAX_SIDE), DEFAULT(512), NULL},
 };
-enum { SMP_SPP, SMP_DEPTH, SMP_SEED };
 static const key_spec sampling_keys[] = {
-    {"samples_per_pixel", KEY_INTEGER, 1, EM_SCENE_MAX_SPP, 0},
-    {"max_depth", KEY_INTEGER, 0, EM_SCENE_MAX_DEPTH, 0},
-    {"seed", KEY_INTEGER, 0, 9007199254740992.0 /* 2^53: exact in a double */, 0},
+    {"samples_per_pixel", INT_IN(em_scene, samples_per_pixel), CLOSED(1, EM_SCENE_MAX_SPP), DEFAULT(16), NULL},
+    {"max_depth", INT_IN(em_scene, max_depth), CLOSED(0, EM_SCENE_MAX_DEPTH), DEFAULT(32), NULL},
+    /* 2^53: every whole number up to it is exact in a double */
+    {"seed", UINT64_IN(em_scene, seed), CLOSED(0, 9007199254740992.0), DEFAULT(0), NULL},
 };
-enum { SPH_CENTER, SPH_RADIUS, SPH_MATERIAL, SPH_IOR, SPH_TINT };
 static const key_spec sphere_keys[] = {
-    {"center", KEY_VECTOR, 0, 0, 0},
-    {"radius", KEY_NUMBER, 0, HUGE_VAL, 1},
-    {"material", KEY_STRING, 0, 0, 0},
-    {"ior", KEY_NUMBER, 0, HUGE_VAL, 1},
-    {"tint", KEY_VECTOR, 0, 0, 0},
+    {"center", VEC3_IN(em_sphere, center), ANY, REQUIRED, NULL},
+    {"radius", DOUBLE_IN(em_sphere, radius), OPEN(0, HUGE_VAL), REQUIRED, NULL},
+    {"material", STRING_IN(em_sphere, material, em_material), ANY, REQUIRED, set_material},
+    {"ior", DOUBLE_IN(em_sphere, ior), OPEN(0, HUGE_VAL), DEFAULT(1.5), NULL},
+    {"tint", VEC3_IN(em_sphere, tint), ANY, DEFAULT(1, 1, 1), set_not_negative},
 };
-enum { ENV_FILENAME, ENV_HDR_GAMMA };
 static const key_spec environment_keys[] = {
-    {"filename", KEY_STRING, 0, 0, 0},
-    {"hdr_gamma", KEY_NUMBER, 0, HUGE_VAL, 1},
+    {"filename", STRING_IN(em_scene, environment_path, char *), ANY, REQUIRED, set_filename},
+    {"hdr_gamma", DOUBLE_IN(em_scene, hdr_gamma), OPEN(0, HUGE_VAL), DEFAULT(1), NULL},
 };
 
 enum { BLOCK_CAMERA, BLOCK_SAMPLING, BLOCK_SPHERE, BLOCK_ENVIRONMENT, BLOCK_COUNT };
-#define KEYS(a) a, (int)(sizeof a / sizeof a[0])
+#define KEY_COUNT(a) (int)(sizeof a / sizeof a[0])
 /* The most keys a block has (parse_block keeps one line number per key). */
 #define BLOCK_MAX_KEYS 6
-_Static_assert(sizeof camera_keys / sizeof camera_keys[0] <= BLOCK_MAX_KEYS, "camera keys");
-_Static_assert(sizeof sphere_keys / sizeof sphere_keys[0] <= BLOCK_MAX_KEYS, "sphere keys");
+_Static_assert(KEY_COUNT(camera_keys) <= BLOCK_MAX_KEYS, "camera keys");
+_Static_assert(KEY_COUNT(sampling_keys) <= BLOCK_MAX_KEYS, "sampling keys");
+_Static_assert(KEY_COUNT(sphere_keys) <= BLOCK_MAX_KEYS, "sphere keys");
+_Static_assert(KEY_COUNT(environment_keys) <= BLOCK_MAX_KEYS, "environment keys");
 static const block_spec blocks[BLOCK_COUNT] = {
-    {"camera", KEYS(camera_keys), 0},
-    {"sampling", KEYS(sampling_keys), 0},
-    {"sphere", KEYS(sphere_keys), 1},
-    {"environment_light", KEYS(environment_keys), 0},
+    {"camera", camera_keys, KEY_COUNT(camera_keys), INTO_SCENE, AT_MOST_ONCE},
+    {"sampling", sampling_keys, KEY_COUNT(sampling_keys), INTO_SCENE, AT_MOST_ONCE},
+    {"sphere", sphere_keys, KEY_COUNT(sphere_keys), INTO_SPHERE, ANY_NUMBER},
+    {"environment_light", environment_keys, KEY_COUNT(environment_keys), INTO_SCENE, EXACTLY_ONCE},
 };
+
+/* The key of block named text[0, length), or -1. */
+static int key_index(const block_spec *block, const char *text, size_t length)
+{
+    for (int i = 0; i < block->key_count; i++)
+        if (strlen(block->keys[i].name) == length && memcmp(block->keys[i].name, text, length) == 0)
+            return i;
+    return -1;
+}
 
 /* Check a value against its key's type and range. */
 static int check_value(parser *ps, const block_spec *block, const key_spec *key, const value *v)
@@ -367,17 +425,17 @@ static int check_value(parser *ps, const block_spec *block, const key_spec *key,
             return parse_error(ps, v->line, "'%s' in %s expects a \"string\"", k, b);
         return EM_OK;
     }
-    int want = key->type == KEY_VECTOR ? 3 : 1;
+    int want = key->type == KEY_VEC3 ? 3 : 1;
     if (v->count == 0)
         return parse_error(ps, v->line, "'%s' in %s expects %s, not a string", k, b,
                            want == 3 ? "3 numbers" : "a number");
     if (v->count != want)
         return parse_error(ps, v->line, "'%s' in %s expects %d number%s, got %d", k, b,
                            want, want == 1 ? "" : "s", v->count);
-    if (key->type == KEY_VECTOR)
+    if (key->type == KEY_VEC3)
         return EM_OK;
     double x = v->numbers[0];
-    if (key->type == KEY_INTEGER && x != floor(x))
+    if (key->type != KEY_DOUBLE && x != floor(x))
         return parse_error(ps, v->line, "'%s' in %s must be a whole number, got %g", k, b, x);
     if (x < key->min || x > key->max || (key->open && (x == key->min || x == key->max))) {
         if (key->max == HUGE_VAL)
@@ -391,16 +449,31 @@ static int check_value(parser *ps, const block_spec *block, const key_spec *key,
 
 /* ---- the scene ---------------------------------------------------------------- */
 
+/* A number or vector key's value (a checked value, or its default). */
+static void store_numbers(const key_spec *key, void *at, const double *x)
+{
+    switch (key->type) {
+    case KEY_DOUBLE: *(double *)at = x[0]; break;
+    case KEY_INT: *(int *)at = (int)x[0]; break;
+    case KEY_UINT64: *(uint64_t *)at = (uint64_t)x[0]; break;
+    case KEY_VEC3: memcpy(at, x, sizeof(vec3)); break;
+    case KEY_STRING: break;    /* always required, always a setter */
+    }
+}
+
+/* The defaults of a block's keys, into the scene or a new sphere. */
+static void block_defaults(const block_spec *block, void *into)
+{
+    for (int i = 0; i < block->key_count; i++)
+        if (!block->keys[i].required)
+            store_numbers(&block->keys[i], (char *)into + block->keys[i].at, block->keys[i].def);
+}
+
 static void scene_defaults(em_scene *s)
 {
-    /* The handout's forward face is -z (OpenGL): look down -z from the origin. */
-    em_camera cam = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 45.0};
-    s->camera = cam;
-    s->width = s->height = 512;
-    s->samples_per_pixel = 16;
-    s->max_depth = 32;
-    s->seed = 0;
-    s->hdr_gamma = 1.0;
+    for (int i = 0; i < BLOCK_COUNT; i++)
+        if (blocks[i].into == INTO_SCENE)
+            block_defaults(&blocks[i], s);
 }
 
 static char *copy_text(const char *text, size_t length)
@@ -431,70 +504,53 @@ static char *resolve_path(const char *base_dir, const char *file, size_t length)
     return out;
 }
 
-static void set_vector(double dst[3], const value *v)
+/* Store one checked key's value in the scene (sphere blocks: the block's sphere). */
+static int store(parser *ps, em_scene *s, const block_spec *block, const key_spec *key, const value *v,
+                 em_sphere *sphere, const char *base_dir)
 {
-    dst[0] = v->numbers[0];
-    dst[1] = v->numbers[1];
-    dst[2] = v->numbers[2];
+    void *at = (block->into == INTO_SPHERE ? (char *)sphere : (char *)s) + key->at;
+    if (key->set)
+        return key->set(ps, block, key, at, v, base_dir);
+    store_numbers(key, at, v->numbers);
+    return EM_OK;
 }
 
-/* Store one checked key's value in the scene (sphere: the block's sphere). */
-static int store(parser *ps, em_scene *s, int block, int key, const value *v, em_sphere *sphere,
-                 const char *base_dir)
+static int set_material(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                        const value *v, const char *base_dir)
 {
-    switch (block) {
-    case BLOCK_CAMERA:
-        switch (key) {
-        case CAM_POSITION: set_vector(s->camera.position, v); break;
-        case CAM_LOOK_AT: set_vector(s->camera.look_at, v); break;
-        case CAM_UP: set_vector(s->camera.up, v); break;
-        case CAM_FOV: s->camera.fov_degrees = v->numbers[0]; break;
-        case CAM_WIDTH: s->width = (int)v->numbers[0]; break;
-        case CAM_HEIGHT: s->height = (int)v->numbers[0]; break;
-        }
-        break;
-    case BLOCK_SAMPLING:
-        switch (key) {
-        case SMP_SPP: s->samples_per_pixel = (int)v->numbers[0]; break;
-        case SMP_DEPTH: s->max_depth = (int)v->numbers[0]; break;
-        case SMP_SEED: s->seed = (uint64_t)v->numbers[0]; break;
-        }
-        break;
-    case BLOCK_SPHERE:
-        switch (key) {
-        case SPH_CENTER: set_vector(sphere->center, v); break;
-        case SPH_RADIUS: sphere->radius = v->numbers[0]; break;
-        case SPH_IOR: sphere->ior = v->numbers[0]; break;
-        case SPH_TINT:
-            if (v->numbers[0] < 0 || v->numbers[1] < 0 || v->numbers[2] < 0)
-                return parse_error(ps, v->line, "'tint' in sphere must not be negative");
-            set_vector(sphere->tint, v);
-            break;
-        case SPH_MATERIAL:
-            if (v->length == 6 && memcmp(v->text, "mirror", 6) == 0)
-                sphere->material = EM_MATERIAL_MIRROR;
-            else if (v->length == 5 && memcmp(v->text, "glass", 5) == 0)
-                sphere->material = EM_MATERIAL_GLASS;
-            else
-                return parse_error(ps, v->line, "unknown material \"%.*s\" (expected \"mirror\" or \"glass\")",
-                                   (int)(v->length > 64 ? 64 : v->length), v->text);
-            break;
-        }
-        break;
-    case BLOCK_ENVIRONMENT:
-        switch (key) {
-        case ENV_FILENAME:
-            if (v->length == 0)
-                return parse_error(ps, v->line, "'filename' in environment_light is empty");
-            free(s->environment_path);
-            s->environment_path = resolve_path(base_dir, v->text, v->length);
-            if (!s->environment_path)
-                return em_fail(ps->err, EM_ERR_NOMEM, ps->name, "out of memory");
-            break;
-        case ENV_HDR_GAMMA: s->hdr_gamma = v->numbers[0]; break;
-        }
-        break;
-    }
+    (void)block, (void)key, (void)base_dir;
+    if (v->length == 6 && memcmp(v->text, "mirror", 6) == 0)
+        *(em_material *)at = EM_MATERIAL_MIRROR;
+    else if (v->length == 5 && memcmp(v->text, "glass", 5) == 0)
+        *(em_material *)at = EM_MATERIAL_GLASS;
+    else
+        return parse_error(ps, v->line, "unknown material \"%.*s\" (expected \"mirror\" or \"glass\")",
+                           (int)(v->length > 64 ? 64 : v->length), v->text);
+    return EM_OK;
+}
+
+/* A file name, resolved against base_dir (the scene file's folder). */
+static int set_filename(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                        const value *v, const char *base_dir)
+{
+    char **path = at;
+    if (v->length == 0)
+        return parse_error(ps, v->line, "'%s' in %s is empty", key->name, block->name);
+    free(*path);
+    *path = resolve_path(base_dir, v->text, v->length);
+    if (!*path)
+        return em_fail(ps->err, EM_ERR_NOMEM, ps->name, "out of memory");
+    return EM_OK;
+}
+
+/* A vector whose numbers must all be >= 0 (a tint). */
+static int set_not_negative(parser *ps, const block_spec *block, const key_spec *key, void *at,
+                            const value *v, const char *base_dir)
+{
+    (void)base_dir;
+    if (v->numbers[0] < 0 || v->numbers[1] < 0 || v->numbers[2] < 0)
+        return parse_error(ps, v->line, "'%s' in %s must not be negative", key->name, block->name);
+    store_numbers(key, at, v->numbers);
     return EM_OK;
 }
 
@@ -502,14 +558,14 @@ static int store(parser *ps, em_scene *s, int block, int key, const value *v, em
 static int finish_block(parser *ps, int block, const int *key_lines, int open_line,
                         const em_scene *s, const em_sphere *sphere)
 {
-    static const char *const sphere_required[] = {"center", "radius", "material"};
-    static const int sphere_required_keys[] = {SPH_CENTER, SPH_RADIUS, SPH_MATERIAL};
+    const block_spec *spec = &blocks[block];
+    for (int i = 0; i < spec->key_count; i++)
+        if (spec->keys[i].required && !key_lines[i])
+            return parse_error(ps, open_line, "%s has no '%s'", spec->name, spec->keys[i].name);
     if (block == BLOCK_SPHERE) {
-        for (int i = 0; i < 3; i++)
-            if (!key_lines[sphere_required_keys[i]])
-                return parse_error(ps, open_line, "sphere has no '%s'", sphere_required[i]);
-        if (key_lines[SPH_IOR] && sphere->material != EM_MATERIAL_GLASS)
-            return parse_error(ps, key_lines[SPH_IOR], "'ior' applies to material \"glass\" only");
+        int ior = key_index(spec, "ior", strlen("ior"));
+        if (ior >= 0 && key_lines[ior] && sphere->material != EM_MATERIAL_GLASS)
+            return parse_error(ps, key_lines[ior], "'ior' applies to material \"glass\" only");
     }
     if (block == BLOCK_CAMERA) {
         const em_camera *c = &s->camera;
@@ -524,8 +580,6 @@ static int finish_block(parser *ps, int block, const int *key_lines, int open_li
         if (side[0] == 0 && side[1] == 0 && side[2] == 0)
             return parse_error(ps, open_line, "camera up is zero or parallel to the view direction");
     }
-    if (block == BLOCK_ENVIRONMENT && !key_lines[ENV_FILENAME])
-        return parse_error(ps, open_line, "environment_light has no 'filename'");
     return EM_OK;
 }
 
@@ -554,14 +608,17 @@ static int parse_block(parser *ps, em_scene *s, int *block_lines, const char *ba
         return parse_error(ps, open_line, "unknown block %s", got);
     }
     const block_spec *spec = &blocks[block];
-    if (block_lines[block] && !spec->repeatable)
+    if (block_lines[block] && spec->times != ANY_NUMBER)
         return parse_error(ps, open_line, "second %s block (the first is at line %d)",
                            spec->name, block_lines[block]);
     block_lines[block] = open_line;
     if ((status = next_token(ps)) || (status = expect_punct(ps, '{')))
         return status;
 
-    em_sphere sphere = {{0, 0, 0}, 0, EM_MATERIAL_MIRROR, 1.5, {1, 1, 1}};
+    em_sphere sphere;
+    memset(&sphere, 0, sizeof sphere);
+    if (spec->into == INTO_SPHERE)
+        block_defaults(spec, &sphere);
     int key_lines[BLOCK_MAX_KEYS] = {0};    /* line each key was set at, 0 = not set */
     while (!is_punct(&ps->tok, '}')) {
         if (ps->tok.kind == TOKEN_END)
@@ -569,10 +626,7 @@ static int parse_block(parser *ps, em_scene *s, int *block_lines, const char *ba
                                spec->name, open_line);
         if (ps->tok.kind != TOKEN_NAME)
             return expected(ps, "a key or '}'");
-        int key = -1;
-        for (int i = 0; i < spec->key_count; i++)
-            if (name_is(&ps->tok, spec->keys[i].name))
-                key = i;
+        int key = key_index(spec, ps->tok.text, ps->tok.length);
         if (key < 0)
             return parse_error(ps, ps->tok.line, "unknown key '%.*s' in %s",
                                (int)(ps->tok.length > 64 ? 64 : ps->tok.length), ps->tok.text, spec->name);
@@ -585,12 +639,12 @@ static int parse_block(parser *ps, em_scene *s, int *block_lines, const char *ba
         if ((status = next_token(ps)) || (status = expect_punct(ps, '=')) ||
             (status = parse_value(ps, &v)) ||
             (status = check_value(ps, spec, &spec->keys[key], &v)) ||
-            (status = store(ps, s, block, key, &v, &sphere, base_dir)))
+            (status = store(ps, s, spec, &spec->keys[key], &v, &sphere, base_dir)))
             return status;
     }
     if ((status = finish_block(ps, block, key_lines, open_line, s, &sphere)))
         return status;
-    if (block == BLOCK_SPHERE && (status = add_sphere(ps, s, &sphere, open_line)))
+    if (spec->into == INTO_SPHERE && (status = add_sphere(ps, s, &sphere, open_line)))
         return status;
     return next_token(ps);
 }
@@ -619,8 +673,9 @@ int em_scene_parse(const char *text, size_t size, const char *name,
         else
             status = parse_block(&ps, s, block_lines, base_dir);
     }
-    if (!status && !block_lines[BLOCK_ENVIRONMENT])
-        status = parse_error(&ps, ps.line, "no environment_light block");
+    for (int i = 0; i < BLOCK_COUNT && !status; i++)
+        if (blocks[i].times == EXACTLY_ONCE && !block_lines[i])
+            status = parse_error(&ps, ps.line, "no %s block", blocks[i].name);
     if (status) {
         em_scene_free(s);
         return status;
