@@ -148,7 +148,6 @@ _TOKEN = re.compile(r"""
 """, re.X)
 _SPLICE = re.compile(r"\\[ \t\f\v]*\r?\n")
 _DIRECTIVE = re.compile(r"^[ \t\f\v]*(?:#|%:)[ \t\f\v]*(\w*)(.*)$", re.M)
-_INCLUDES = ("include", "include_next", "import", "embed")
 # A header named plainly: letters, digits, _ . + - and / between them.
 # (What follows the name is ignored by GCC, with a warning: "#include <cmath>;" is harmless.)
 _PLAIN_HEADER = re.compile(r'^(<[\w.+-]+(?:/[\w.+-]+)*>|"[\w.+-]+(?:/[\w.+-]+)*")')
