@@ -127,11 +127,10 @@ def drop_consequences(result: GradeResult) -> None:
 
 
 def _environment_warnings() -> list[str]:
-    """Versions that differ from those the fixtures were made with (H7's
-    grader.fixtures.environment_warnings, where it exists)."""
+    """Versions that differ from those the fixtures were made with
+    (grader.fixtures.environment_warnings)."""
     from . import fixtures
-    warn = getattr(fixtures, "environment_warnings", None)
-    return list(warn()) if warn else []
+    return list(fixtures.environment_warnings())
 
 
 def _open_lookups(library: Path, options: GradeOptions):
