@@ -18,7 +18,6 @@ from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
-from .. import PROJECT_ROOT
 from ..results import UNGRADABLE
 from .text import clean, md_code, md_escape, md_fence
 
@@ -78,10 +77,8 @@ def _speed_chart(rows, path: Path) -> int:
     import matplotlib
     from ..study import chart
     from ..study.run import read_csv
-    from .. import study as study_package
-    # fixtures/study.csv (STUDY_CSV); docs/study/ in versions before it.
-    study = getattr(study_package, "STUDY_CSV", PROJECT_ROOT / "docs" / "study" / "study.csv")
-    methods = read_csv(study) if study.is_file() else []
+    from ..study import STUDY_CSV
+    methods = read_csv(STUDY_CSV) if STUDY_CSV.is_file() else []
     top = max([r.max_score for r in rows] + [1.0])
     points = [{"label": plain_label(r.student), chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
                "uniform_smooth_rms": r.metrics["uniform_smooth_rms"], "color": _score_colour(r.score, top)}
