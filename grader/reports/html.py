@@ -302,8 +302,8 @@ def chart_reading(view: ReportView) -> str:
     if ratio is not None:
         speed.append(f"{figure(ratio)} times the reference's time")
     yours = f"Your lookup ({', '.join(speed)}) is the marked point" if speed else "Your lookup is the marked point"
-    return (f"{yours}; the lines are the handout's methods at several face sizes. "
-            "Further left is faster, lower is more accurate.")
+    return (f"{yours}; the lines are the study's lookup methods (the handout's and others, named in the "
+            "legend) at several face sizes. Further left is faster, lower is more accurate.")
 
 
 def _is_placed(name: str) -> bool:
