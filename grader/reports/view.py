@@ -37,8 +37,8 @@ STATUS_TEXT = {
 STATUS_EXPLANATION = {
     BUILD_ERROR: "Your code did not compile, so the checks could not run. "
                  "The compiler's messages are below.",
-    TIMEOUT: "Grading your submission took longer than the time allowed and "
-             "was stopped; checks that did not finish score nothing.",
+    TIMEOUT: "Your code took longer than the time allowed on some calls: they were "
+             "stopped (or, once the grading's time was used up, not run) and count as wrong.",
     UNGRADABLE: "This submission could not be graded because of a problem in "
                 "the grader, not in your code. The score shown is not final: "
                 "please tell your instructor.",
