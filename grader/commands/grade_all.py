@@ -55,6 +55,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args) -> int:
     from ..fixtures import StaleFixtures
     from ..grade_all import Interrupted, find_submissions, grade_all, skipped_entries
+    from ..reports.text import clean
     from ..roster import RosterError
     from ..similarity import SimilarityUnavailable
     if not args.submissions.is_dir():
@@ -102,9 +103,10 @@ def run(args) -> int:
           + ", ".join(f"{n} {s}" for s, n in sorted(by_status.items())))
     for r in rows:
         if r.error:
-            print(f"  {r.student}: ungradable: {r.error}", file=sys.stderr)
+            print(f"  {clean(r.student)}: ungradable: {clean(r.error)}", file=sys.stderr)
     for entry in skipped_entries(args.submissions, exclude=out):
-        print(f"  skipped {entry['entry']}: {entry['reason']}")
+        # Names a student chose: no escapes to the terminal, no undecodable bytes to print.
+        print(f"  skipped {clean(entry['entry'])}: {clean(entry['reason'])}")
     print(f"gradebook: {out / 'gradebook.csv'}")
     print(f"summary:   {out / 'summary.html'} (and summary.md)")
     print(f"reports:   {out}/<student>/report.html")
