@@ -547,3 +547,22 @@ def test_no_scratch_folder_outlives_its_build(cache, tmp_path, monkeypatch):
     refused = build_submission(SUBMISSIONS / "attacks" / "incbin_split.cpp", cache_dir=cache / "again")
     assert refused.diagnosis_id == "forbidden-object"
     assert list(scratch.iterdir()) == []
+
+
+def test_a_refused_submission_is_not_reported_as_a_compile_error(tmp_path):
+    """A refusal (here: calling the reference) compiled fine: every report says it was
+    refused and names the cause, not "did not compile" (which sends the student to
+    look for a syntax error that is not there)."""
+    import json
+    import xml.etree.ElementTree as ET
+    from grader.grade import GradeOptions, grade
+    result = grade(SUBMISSIONS / "attacks" / "calls_reference.cpp", tmp_path / "out", GradeOptions(quick=True))
+    assert [d.id for d in result.diagnoses][:1] == ["calls-reference"]
+    md = (tmp_path / "out" / "report.md").read_text()
+    html = (tmp_path / "out" / "report.html").read_text()
+    output = json.loads((tmp_path / "out" / "results.json").read_text())["output"]
+    for text in (md, html, output):
+        assert "did not compile" not in text
+        assert "refused before it could be built or run" in text
+    junit = ET.parse(tmp_path / "out" / "junit.xml").getroot()
+    assert junit.findall(".//failure") and "did not compile" not in ET.tostring(junit, encoding="unicode")

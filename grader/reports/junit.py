@@ -85,7 +85,7 @@ def render(view: ReportView) -> str:
         if view.status == BUILD_ERROR:
             tc = case("build", f"{SUITE_NAME}.build", 0.0)
             counts["failures"] += 1
-            ET.SubElement(tc, "failure", message="did not compile",
+            ET.SubElement(tc, "failure", message=view.status_text,
                           type="build-error").text = truncate_middle(view.build_log)
         else:
             tc = case("grading", f"{SUITE_NAME}.grading", 0.0)

@@ -190,11 +190,21 @@ class ReportView:
         return f"{passed} of {len(scored)} checks passed" if scored else ""
 
     @property
+    def refused(self) -> bool:
+        """Not built because the build refused the submission (an include, a call
+        into the reference, an unreadable upload...), not because it failed to compile."""
+        return self.status == BUILD_ERROR and any(
+            g.info.kind == "build" and g.info.id != "build-error" for g in self.diagnoses)
+
+    @property
     def status_text(self) -> str:
-        return STATUS_TEXT.get(self.status, self.status)
+        return "not built" if self.refused else STATUS_TEXT.get(self.status, self.status)
 
     @property
     def status_explanation(self) -> str:
+        if self.refused:
+            return ("Your submission was refused before it could be built or run, so the checks "
+                    "could not run: the diagnosis below says why and what to do.")
         return STATUS_EXPLANATION.get(self.status, "")
 
     def counts(self) -> dict[str, int]:
