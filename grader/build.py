@@ -61,7 +61,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import PROJECT_ROOT
+from . import PROJECT_ROOT, source_policy
 from .build_messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED, describe
 from .submissions import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
                           SubmissionError, select_source as _select_source)
@@ -84,6 +84,7 @@ LINK_FLAGS = ["-fno-lto", "-fno-use-linker-plugin", "-Wl,--no-undefined", "-Wl,-
 LIBRARY_NAME = "submission.so"
 STUDENT_OBJECT = "EnvironmentMap.o"
 STUDENT_ASSEMBLY = "EnvironmentMap.s"
+STUDENT_PREPROCESSED = "EnvironmentMap.ii"
 # The only headers a submission sees (copies in the scratch folder's include/).
 API_HEADERS = ("EnvironmentMap.h", "Vector3.h", "Color.h")
 # The reference sources EnvironmentMapLoader.cpp needs (reading a .hdr
@@ -101,14 +102,15 @@ MAX_LIBRARY_BYTES = 64 << 20
 MAX_OUTPUT_FILE_BYTES = 256 << 20   # any file a compiler step writes (ulimit -f)
 # Every BuildResult.diagnosis_id a build can give (grader/diagnoses.py has each).
 DIAGNOSIS_IDS = ("build-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive",
-                 "refused-include", "calls-reference", "forbidden-object")
+                 "refused-include", "refused-source", "calls-reference", "forbidden-object")
 
 # Re-exported for older callers.
 select_source = functools.partial(_select_source, template=TEMPLATE)
 
 
 class HarnessBuildError(RuntimeError):
-    """Our own sources (template, shim, reference) did not compile: not the student's fault."""
+    """Our own sources (template, shim, reference) did not compile, or (BuildConfinementError) the
+    compiler could not be confined: not the student's fault."""
 
 
 @dataclass
@@ -237,6 +239,62 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
         found.append((line_of(match.start()), "assembler .incbin (it reads a file into the program: "
                                               "not allowed)"))
     return found
+
+
+# The directives a submission may use (an allow-list; the source policy's
+# text half, grader/source_policy.py): no #line or GNU linemarker ("# 12
+# "file" 1 3"), which would make the compiler quote or attribute lines to
+# another file, no #ident, #assert, #include_next, #import, #embed.
+_DIRECTIVES = frozenset({"", "include", "define", "undef", "if", "ifdef", "ifndef", "elif", "elifdef",
+                         "elifndef", "else", "endif", "error", "warning", "pragma"})
+
+
+def _constructs_in(text: str) -> list[tuple[int, str]]:
+    logical, cuts, removed = _logical(text.replace("\r\n", "\n").replace("\r", "\n"))
+    cleaned = _blank(_blank_strings(logical))
+    newlines = [m.start() for m in re.finditer("\n", cleaned)]
+
+    def line_of(offset: int) -> int:
+        at = bisect_right(cuts, offset)
+        return bisect_right(newlines, offset - 1) + (removed[at - 1] if at else 0) + 1
+
+    found = []
+    for match in _DIRECTIVE.finditer(cleaned):
+        name, rest = match.group(1), match.group(2).strip()
+        shown = f"#{name} {rest}".strip()[:120]
+        if name not in _DIRECTIVES:
+            found.append((line_of(match.start()), f"{shown} (the directive #{name or rest.split()[0]} is not "
+                                                  "allowed in a submission)"))
+        elif name == "pragma" and not source_policy.pragma_allowed(rest):
+            found.append((line_of(match.start()), f"{shown} (this pragma is not allowed in a submission)"))
+    for match in re.finditer(r"\b_Pragma\b", cleaned):
+        found.append((line_of(match.start()), "_Pragma (not allowed in a submission)"))
+    return found
+
+
+def _blank_strings(text: str) -> str:
+    """String and character literals become spaces, so that "_Pragma" in a
+    string is not taken for the operator (comments: _blank)."""
+    pieces = []
+    for match in _TOKEN.finditer(text):
+        piece = match.group(0)
+        pieces.append(re.sub(r"[^\n]", " ", piece) if match.lastgroup in ("string", "char") else piece)
+    return "".join(pieces)
+
+
+def refused_constructs(text: bytes) -> list[tuple[int, str]]:
+    """(line, what) for each directive outside the allow-list (#line, GNU
+    linemarkers, #ident, ...), pragma outside source_policy.PRAGMAS and
+    _Pragma in a source, read as the compiler reads it (with trigraphs
+    replaced too). The compiler's tokens are judged as well, after -E
+    (source_policy.refusals): this half sees what -E does not show."""
+    source = text.decode("latin-1")
+    found = dict.fromkeys(_constructs_in(source))
+    if "??" in source:
+        for trigraph, replacement in _TRIGRAPHS.items():
+            source = source.replace(trigraph, replacement)
+        found.update(dict.fromkeys(_constructs_in(source)))
+    return sorted(found)
 
 
 def refused_directives(text: bytes) -> list[tuple[int, str]]:
@@ -646,7 +704,6 @@ _ORDINARY_SECTION = re.compile(r"""^(
 # Assembler directives that read files or build other directives out of
 # text (which would get past any check of the source).
 _ASSEMBLER_FORBIDDEN = re.compile(r"\.(incbin|include|macro|irpc?|rept|altmacro|purgem|exitm)\b", re.I)
-_ASSEMBLER_STRING = re.compile(r'"(?:\\.|[^"\\\n])*"')
 
 
 def _listed(names, limit: int = 5) -> str:
@@ -863,19 +920,19 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     def failed(done: _Step) -> dict:
         return {"ok": False, "timed_out": done.timed_out, "output": neutral("".join(outputs))}
 
-    # 1. Compile to assembly, listing the files the compiler actually read
-    # (-MD): each must be an API header or a system header, whatever the
-    # compile's outcome.
-    done = step([CXX, *cxxflags, *extra_flags, *include, "-MD", "-MF", "deps.txt", "-S", SOURCE_NAME,
-                 "-o", STUDENT_ASSEMBLY])
+    # 1. Preprocess, listing the files the preprocessor actually read (-MD):
+    # each must be an API header or a system header, whatever the outcome.
+    # (-fno-working-directory: with -g, GCC would name the scratch folder in a marker.)
+    done = step([CXX, *cxxflags, *extra_flags, *include, "-E", "-fno-working-directory", "-MD", "-MF",
+                 "deps.txt", SOURCE_NAME, "-o", STUDENT_PREPROCESSED])
     if done.timed_out:
         return failed(done)
     listed = _take(scratch, "deps.txt", 1 << 20)
     (scratch / "deps.txt").unlink(missing_ok=True)
     if listed is None and done.returncode != 0:
-        # A fatal error (or -fmax-errors) left no list: ask the preprocessor
-        # alone (-MG: missing headers are listed, not fatal) before any of
-        # the compiler's messages is shown.
+        # A fatal error left no list: ask the preprocessor alone (-MG:
+        # missing headers are listed, not fatal) before any of its messages
+        # is shown.
         again = _run([CXX, *cxxflags, *extra_flags, *include, "-M", "-MG", "-MF", "deps.txt", SOURCE_NAME],
                      scratch, deadline, isolation)
         listed = _take(scratch, "deps.txt", 1 << 20)
@@ -891,14 +948,32 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
                                                "headers (EnvironmentMap.h, Vector3.h, Color.h).")
     if done.returncode != 0:
         return failed(done)
-    # 2. The assembly may not read files or build directives; assemble it.
+    # 2. The source policy, on the compiler's own tokens (no asm, #line,
+    # pragmas beyond the allow-list...); then compile the source itself, not
+    # the -E output: a '#' a macro puts at the start of an output line can
+    # read as a line marker there (hiding what follows from the policy as
+    # from the compiler), but in the source it is a stray '#', an error.
+    preprocessed = _take(scratch, STUDENT_PREPROCESSED, MAX_ASSEMBLY_BYTES + 1) or b""
+    if len(preprocessed) > MAX_ASSEMBLY_BYTES:
+        return _refusal("forbidden-object", f"{SOURCE_NAME} preprocesses to more than "
+                                            f"{MAX_ASSEMBLY_BYTES >> 20} MiB: far more than a lookup needs.")
+    refused = source_policy.refusals(preprocessed.decode("utf-8", "surrogateescape"), SOURCE_NAME)
+    if refused:
+        line, what = refused[0]
+        more = f" (and {len(refused) - 1} more)" if len(refused) > 1 else ""
+        return _refusal("refused-source", f"{SOURCE_NAME} line {line}: {what}{more}.", line)
+    (scratch / STUDENT_PREPROCESSED).unlink(missing_ok=True)
+    done = step([CXX, *cxxflags, *extra_flags, *include, "-S", SOURCE_NAME, "-o", STUDENT_ASSEMBLY])
+    if done.timed_out or done.returncode != 0:
+        return failed(done)
+    # 3. The assembly may not read files or build directives (a second wall:
+    # searched as raw text, strings included, so no quoting can hide one).
     assembly = _take(scratch, STUDENT_ASSEMBLY, MAX_ASSEMBLY_BYTES + 1) or b""
     if len(assembly) > MAX_ASSEMBLY_BYTES:
         return _refusal("forbidden-object", f"{SOURCE_NAME} compiles to more than "
                                             f"{MAX_ASSEMBLY_BYTES >> 20} MiB of assembly: far more than "
                                             "a lookup needs (a huge table?).")
-    text = _ASSEMBLER_STRING.sub('""', assembly.decode("utf-8", "surrogateescape"))
-    directive = _ASSEMBLER_FORBIDDEN.search(text)
+    directive = _ASSEMBLER_FORBIDDEN.search(assembly.decode("utf-8", "surrogateescape"))
     if directive:
         return _refusal("forbidden-object", f"{SOURCE_NAME} contains the assembler directive "
                                             f"{directive.group(0)}, which reads a file or builds "
@@ -906,13 +981,13 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     done = step([CXX, *cxxflags, "-c", STUDENT_ASSEMBLY, "-o", STUDENT_OBJECT])
     if done.timed_out or done.returncode != 0:
         return failed(done)
-    # 3. What the object holds and calls.
+    # 4. What the object holds and calls.
     allowed = set((common_dir / "allowed-symbols.txt").read_text().split())
     loader_names = frozenset((common_dir / "reference-symbols.txt").read_text().split())
     problem = inspect_object(_take(scratch, STUDENT_OBJECT) or b"", allowed, loader_names)
     if problem:
         return _refusal(*problem)
-    # 4. Link with our objects only, as we made them.
+    # 5. Link with our objects only, as we made them.
     for name in COMMON_FILES:
         if _take(scratch, name) != (common_dir / name).read_bytes():
             return _refusal("forbidden-object", f"The build of {SOURCE_NAME} changed the grader's own "
@@ -963,11 +1038,21 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
         result.errors = [{"file": chosen.name, "line": refused[0][0], "message": message}]
         result.diagnosis_id = "refused-include"
         return result
+    refused = refused_constructs(chosen.text)
+    if refused:
+        lines = "; ".join(f"line {line}: {what}" for line, what in refused[:3])
+        message = (f"{chosen.name} uses what a submission may not (no inline assembly, #line, _Pragma or "
+                   f"pragmas beyond {', '.join(' '.join(p) for p in source_policy.PRAGMAS[:3])}, ...). "
+                   f"Refused: {lines}")
+        result.log = message
+        result.errors = [{"file": chosen.name, "line": refused[0][0], "message": message}]
+        result.diagnosis_id = "refused-source"
+        return result
 
     common = _common_objects(cache_dir, sanitize)
     cxxflags, _ = _flags(sanitize)
     here = Path(__file__).parent
-    key = _fingerprint([Path(__file__), here / "submissions.py"], sha, common.name, *cxxflags,
+    key = _fingerprint([Path(__file__), here / "submissions.py", here / "source_policy.py"], sha, common.name, *cxxflags,
                        *extra_flags)
     final = cache_dir / key[:32]
     record_path = final / "build.json"
@@ -976,6 +1061,10 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
         result.cached = True
     else:
         isolation = result.isolation = build_isolation()
+        if isolation == "privilege-drop":
+            # Nothing of ours readable by the compiler's uid, or nothing built.
+            from .build_confinement import ensure_confined
+            ensure_confined(path, cache_dir)
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=cache_dir))
         (tmp / SOURCE_NAME).write_bytes(chosen.text)
         record = _compile_and_link(chosen.text, common, tmp, sanitize, time.monotonic() + timeout_s,

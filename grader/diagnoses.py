@@ -564,6 +564,20 @@ _ENTRIES = [
         "number of directions: no shortcuts for large batches or large faces, "
         "no results kept from earlier calls.",
     ),
+    DiagnosisInfo(
+        "refused-source", "build",
+        "Your code uses something a submission may not",
+        "A submission needs no inline assembly (asm, __asm__), no #line or "
+        "line markers, no _Pragma and no pragmas beyond a few harmless ones "
+        "(GCC diagnostic, GCC unroll, GCC ivdep, pack, omp, STDC), and no "
+        "attributes that write into the assembly or change code generation "
+        "(section, alias, weakref, symver, ifunc, target_clones, optimize). "
+        "The grader decides on the compiler's own preprocessed tokens, so "
+        "macros, digraphs or strings split in pieces do not change the "
+        "verdict. The message names the line.",
+        "Write fetchColor and readTexture in plain C++: remove the asm, #line, "
+        "_Pragma, pragma or attribute on that line.",
+    ),
 ]
 
 CATALOGUE: dict[str, DiagnosisInfo] = {e.id: e for e in _ENTRIES}

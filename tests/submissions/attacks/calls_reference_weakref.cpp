@@ -1,4 +1,4 @@
-// EXPECT: calls-reference
+// EXPECT: refused-source
 // Attack: reach the reference through an assembler alias, so that the
 // source never names em_fetch as a function.
 #include "EnvironmentMap.h"

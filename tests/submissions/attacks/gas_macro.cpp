@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: an assembler macro that builds the .incbin directive from two
 // arguments, so no text the grader checks ever holds the directive's name.
 #include "EnvironmentMap.h"

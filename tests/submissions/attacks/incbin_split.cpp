@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: .incbin spelled across two string literals (no "incbin" in the
 // text), to read a file into the program at assembly time.
 #include "EnvironmentMap.h"

@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: flood the report through the refusal message: hundreds of
 // undefined symbols with very long names, one with a newline in it.
 #include "EnvironmentMap.h"

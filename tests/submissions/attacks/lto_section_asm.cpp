@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: link-time code injection. The visible code is wrong; top-level
 // asm adds .gnu.lto_* sections, which an LTO-enabled link would compile
 // (outside any sandbox) in place of what the source shows.

@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: LTO bytes placed with a section attribute instead of asm.
 #include "EnvironmentMap.h"
 

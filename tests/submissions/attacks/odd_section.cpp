@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: data in a section no C++ compiler makes (here one the dynamic
 // loader reads), to steer the linker or the loader.
 #include "EnvironmentMap.h"

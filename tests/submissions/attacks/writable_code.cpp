@@ -1,4 +1,4 @@
-// EXPECT: forbidden-object
+// EXPECT: refused-source
 // Attack: make the ordinary .text section writable as well as executable
 // (code that rewrites itself while it runs, e.g. after the checks looked).
 #include "EnvironmentMap.h"

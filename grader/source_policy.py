@@ -1,0 +1,152 @@
+"""What a submission's code may say, decided on the compiler's own tokens.
+
+The build preprocesses the student's file with g++ -E (in the confined
+build, grader/build.py) and this module reads that output: every macro
+expanded, every string concatenated by nothing yet, every digraph, splice
+and trigraph already read by GCC itself, every `_Pragma` turned into a
+`#pragma` line. So splitting a word across strings or macros, digraphs
+(`%:`) or quoting tricks cannot hide what the compiler will compile.
+
+Only the tokens of the student's file are judged. The linemarkers GCC writes
+(`# 12 "EnvironmentMap.cpp" 2`) say which file each line comes from: a
+marker with flag 1 enters an included header (the system's or our API
+headers: trusted, they may use asm), flag 2 returns. A marker without flags
+that names another file is a `#line` (or a GNU linemarker) written by the
+student: it would make GCC quote a line of any file it can read in its
+diagnostics, and is refused. (A forged marker *with* flags, `# 1 "x" 1 3`,
+is refused from the text before the compiler runs:
+build.refused_directives.)
+
+Refused in the student's tokens (an allow-list: a lookup needs none of it):
+- inline assembly: `asm`, `__asm`, `__asm__` (with volatile, goto, labels);
+- attributes that write their argument into the assembly or the symbol
+  table, or set code-generation options: section, alias, weakref, symver,
+  ifunc, target_clones, optimize (any spelling: __section__, gnu::);
+- `#pragma` beyond PRAGMAS (GCC writes the pragmas the compiler acts on
+  into -E output; those the preprocessor acts on itself, such as
+  `GCC warning`, are refused from the text, and cannot name another file
+  once #line is refused);
+- `#ident` / `#sccs` (a string into the assembly).
+"""
+from __future__ import annotations
+
+import re
+
+ASM_KEYWORDS = frozenset({"asm", "__asm", "__asm__"})
+# Attribute names (without the __x__ spelling) whose argument reaches the
+# assembler or the linker as text, or which change how code is generated.
+ASSEMBLY_ATTRIBUTES = frozenset({"section", "alias", "weakref", "symver", "ifunc", "target_clones",
+                                 "optimize"})
+# The pragmas a submission may use: diagnostics and loop hints, packing,
+# OpenMP (ignored: the grader builds without -fopenmp) and the standard's
+# floating-point pragmas. Each is the pragma's first words.
+PRAGMAS = (("GCC", "diagnostic"), ("GCC", "unroll"), ("GCC", "ivdep"), ("GCC", "novector"),
+           ("pack",), ("omp",), ("STDC",), ("once",), ("region",), ("endregion",))
+
+_LINEMARKER = re.compile(r'#[ \t]*(\d+)[ \t]+"((?:\\.|[^"\\\n])*)"([ \t\d]*)$')
+# GCC writes its linemarkers and pragmas at the start of a line; a '#' token
+# of the program at the start of a line gets a space before it (and GCC
+# reading the -E output does not take it for a directive either).
+_DIRECTIVE_LINE = re.compile(r"#[^\n]*")
+# One token of preprocessed C++; raw strings first (they may span lines).
+_TOKEN = re.compile(r"""
+    (?P<raw>(?:u8|u|U|L)?R"(?P<delim>[^()\\\s"]{0,16})\((?:.|\n)*?\)(?P=delim)")
+  | (?P<ident>[A-Za-z_$][\w$]*)
+  | (?P<number>\.?[0-9](?:[eEpP][+-]|'[0-9A-Za-z_]|[0-9A-Za-z_.])*)
+  | (?P<string>"(?:\\.|[^"\\\n])*"?)
+  | (?P<char>'(?:\\.|[^'\\\n])*'?)
+  | (?P<digraph><:|:>|<%|%>|%:)
+  | (?P<newline>\n)
+  | (?P<space>[ \t\f\v\r]+)
+  | (?P<other>.)
+""", re.X)
+_DIGRAPHS = {"<:": "[", ":>": "]", "<%": "{", "%>": "}", "%:": "#"}
+
+
+def pragma_allowed(text: str) -> bool:
+    """Whether a pragma's text (what follows `#pragma`) is on the allow-list."""
+    words = re.findall(r"[A-Za-z_]\w*", text)
+    return any(tuple(words[:len(allowed)]) == allowed for allowed in PRAGMAS)
+
+
+def _attribute_name(name: str) -> str:
+    return name[2:-2] if name.startswith("__") and name.endswith("__") and len(name) > 4 else name
+
+
+def refusals(preprocessed: str, main: str) -> list[tuple[int, str]]:
+    """(line of the student's file, what) for each thing the policy refuses
+    in g++ -E output `preprocessed` of the file named `main`."""
+    found: list[tuple[int, str]] = []
+    stack: list[str] = []          # the included files we are in (empty: the student's own text)
+    current, line = main, 1
+    at_line_start = True
+    position = 0
+    # Attribute context: ("gnu", paren depth) after __attribute__, ("std", 0) inside [[ ]].
+    attribute: tuple[str, int] | None = None
+    previous = ""
+    end = len(preprocessed)
+
+    def refuse(what: str) -> None:
+        found.append((line, what))
+
+    while position < end:
+        if at_line_start:
+            directive = _DIRECTIVE_LINE.match(preprocessed, position)
+            if directive:
+                text = directive.group(0).strip()
+                position = directive.end()
+                marker = _LINEMARKER.match(text)
+                if marker:
+                    number, name, flags = int(marker.group(1)), marker.group(2), marker.group(3).split()
+                    if "1" in flags:
+                        stack.append(name)
+                    elif "2" in flags:
+                        if stack:
+                            stack.pop()
+                        else:
+                            refuse(f'a line marker returning to "{name[:80]}" that was never entered')
+                    elif not stack and name not in (current, main, "<built-in>", "<command-line>"):
+                        refuse(f'#line naming another file ("{name[:80]}"): not allowed')
+                    current, line = name, number - 1
+                elif not stack:
+                    body = text[1:].strip()
+                    if body.startswith("pragma"):
+                        pragma = body[len("pragma"):].strip()
+                        if not pragma_allowed(pragma):
+                            refuse(f"#pragma {pragma[:80]} (not allowed in a submission; allowed: "
+                                   f"{', '.join(' '.join(p) for p in PRAGMAS[:4])}, ...)")
+                    elif body.split(None, 1)[:1] in (["ident"], ["sccs"]):
+                        refuse(f"#{body[:80]} (puts text into the assembly: not allowed)")
+                at_line_start = False
+                continue
+        match = _TOKEN.match(preprocessed, position)
+        position = match.end()
+        kind = match.lastgroup
+        token = match.group(0)
+        if kind == "newline":
+            line += 1
+            at_line_start = True
+            continue
+        if kind == "raw":
+            line += token.count("\n")
+        if kind == "space" or stack:
+            continue
+        if kind == "digraph":
+            token = _DIGRAPHS[token]
+        if kind == "ident":
+            if token in ASM_KEYWORDS:
+                refuse(f"{token}: inline assembly is not allowed in a submission")
+            elif token in ("__attribute__", "__attribute"):
+                attribute = ("gnu", 0)
+            elif attribute and _attribute_name(token) in ASSEMBLY_ATTRIBUTES:
+                refuse(f"the attribute {token} (it writes into the assembly or changes code generation: "
+                       "not allowed)")
+        elif token == "[" and previous == "[" and attribute is None:
+            attribute = ("std", 0)
+        elif attribute and attribute[0] == "gnu" and token in "()":
+            depth = attribute[1] + (1 if token == "(" else -1)
+            attribute = None if depth <= 0 else ("gnu", depth)
+        elif attribute and attribute[0] == "std" and token == "]" and previous == "]":
+            attribute = None
+        previous = token
+    return found
