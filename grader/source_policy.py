@@ -119,6 +119,14 @@ def refusals(preprocessed: str, main: str) -> list[tuple[int, str]]:
                         refuse(f"#{body[:80]} (puts text into the assembly: not allowed)")
                 at_line_start = False
                 continue
+        if stack:
+            # Inside a header (trusted text): straight to the next line GCC
+            # begins with '#' (a marker, a pragma); its lines are not counted,
+            # the next marker sets the line.
+            found_at = preprocessed.find("\n#", position)
+            position = end if found_at < 0 else found_at + 1
+            at_line_start = True
+            continue
         match = _TOKEN.match(preprocessed, position)
         position = match.end()
         kind = match.lastgroup
