@@ -59,7 +59,7 @@ def confined_roots(upload: Path | None, cache_dir: Path | None) -> list[Path]:
     """The folders (and upload) the build uid must not enter, that exist."""
     roots = [PROJECT_ROOT, *platform_roots()]
     roots += [p for p in (cache_dir, upload) if p is not None]
-    return [Path(os.path.abspath(r)) for r in dict.fromkeys(roots) if os.path.lexists(r)]
+    return [Path(os.path.realpath(r)) for r in dict.fromkeys(roots) if os.path.lexists(r)]
 
 
 def sentinels(upload: Path | None, cache_dir: Path | None) -> list[Path]:
@@ -93,7 +93,10 @@ def _close(root: Path) -> None:
     mode = stat.S_IMODE(info.st_mode) & ~0o007
     if info.st_gid == BUILD_GID:
         mode &= ~0o070
-    os.chmod(root, mode)
+    try:
+        os.chmod(root, mode)
+    except OSError:
+        pass  # e.g. a read-only file system: the second probe says what is still readable
 
 
 @functools.lru_cache(maxsize=None)
