@@ -7,13 +7,19 @@ refuse the submission with its own diagnosis id:
 
 1. include policy, read from the text (refused-include): a submission may
    include the three API headers and the standard library, by name only;
-2. the compiler lists the files it actually read (-MD, sandboxed): each
-   must be one of our API headers or under the compiler's own system
-   include folders (refused-include);
-3. the student's file is compiled ALONE to assembly with ONLY the template's
+   and the text half of the source policy (refused-source): directives on
+   an allow-list (no #line, no line markers, no #ident), pragmas on an
+   allow-list, no _Pragma;
+2. the student's file is preprocessed (g++ -E) with ONLY the template's
    three API headers visible (a private copy in the build folder; never
-   the reference's headers), no LTO; the assembly may not read files or
-   build directives (.incbin, .include, .macro, ...);
+   the reference's headers): the files it read (-MD) must be our API
+   headers or under the compiler's own system include folders
+   (refused-include), and the source policy judges GCC's own tokens
+   (grader/source_policy.py: no asm, no #line, no pragma or assembly
+   attribute off the list: refused-source);
+3. it is compiled ALONE to assembly, no LTO; the assembly, read as raw
+   text, may not read files or build directives (.incbin, .include,
+   .macro, ...);
 4. the object is inspected (our own ELF reader, no tool parses it): only
    ordinary sections (no .gnu.lto_*), and undefined symbols only from
    libc/libm/libstdc++/libgcc and the template's EnvironmentMap members
@@ -24,9 +30,11 @@ refuse the submission with its own diagnosis id:
 
 Steps 2-5 run in a scratch folder outside the project holding copies of
 everything they read, under bubblewrap where it works; where it does not
-but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop");
-otherwise as ourselves ("none"). Always with stdin /dev/null, a scrubbed
-environment, CPU/memory limits and a wall-clock deadline.
+but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop"),
+once grader/build_confinement.py has made sure that uid can read none of
+the grader's, the course's or the uploads' files; otherwise as ourselves
+("none"). Always with stdin /dev/null, a scrubbed environment, CPU/memory
+limits and a wall-clock deadline.
 
 Builds are cached by content hash under build/submissions/<key>/: the key
 covers the student's source, every file of ours that goes into the library,
