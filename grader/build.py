@@ -210,8 +210,9 @@ def _blank(text: str) -> str:
 
 
 def _refusals_in(text: str) -> list[tuple[int, str]]:
-    # GCC ends a line at \n, \r\n and a lone \r alike.
-    logical, cuts, removed = _logical(text.replace("\r\n", "\n").replace("\r", "\n"))
+    # GCC ends a line at \n, \r\n and a lone \r alike, and reads a NUL as
+    # a space ("\0#include" and "#\0line" are directives to it).
+    logical, cuts, removed = _logical(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
     cleaned = _blank(logical)
 
     newlines = [m.start() for m in re.finditer("\n", cleaned)]
@@ -258,7 +259,7 @@ _DIRECTIVES = frozenset({"", "include", "define", "undef", "if", "ifdef", "ifnde
 
 
 def _constructs_in(text: str) -> list[tuple[int, str]]:
-    logical, cuts, removed = _logical(text.replace("\r\n", "\n").replace("\r", "\n"))
+    logical, cuts, removed = _logical(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
     cleaned = _blank(_blank_strings(logical))
     newlines = [m.start() for m in re.finditer("\n", cleaned)]
 

@@ -571,7 +571,8 @@ _ENTRIES = [
         "line markers, no _Pragma and no pragmas beyond a few harmless ones "
         "(GCC diagnostic, GCC unroll, GCC ivdep, pack, omp, STDC), and no "
         "attributes that write into the assembly or change code generation "
-        "(section, alias, weakref, symver, ifunc, target_clones, optimize). "
+        "(section, alias, weakref, symver, ifunc, target, target_clones, "
+        "optimize, fentry_name, fentry_section, patchable_function_entry). "
         "The grader decides on the compiler's own preprocessed tokens, so "
         "macros, digraphs or strings split in pieces do not change the "
         "verdict. The message names the line.",

@@ -21,7 +21,8 @@ Refused in the student's tokens (an allow-list: a lookup needs none of it):
 - inline assembly: `asm`, `__asm`, `__asm__` (with volatile, goto, labels);
 - attributes that write their argument into the assembly or the symbol
   table, or set code-generation options: section, alias, weakref, symver,
-  ifunc, target_clones, optimize (any spelling: __section__, gnu::);
+  ifunc, target_clones, optimize, target, fentry_name, fentry_section,
+  patchable_function_entry (any spelling: __section__, gnu::);
 - `#pragma` beyond PRAGMAS (GCC writes the pragmas the compiler acts on
   into -E output; those the preprocessor acts on itself, such as
   `GCC warning`, are refused from the text, and cannot name another file
@@ -36,7 +37,8 @@ ASM_KEYWORDS = frozenset({"asm", "__asm", "__asm__"})
 # Attribute names (without the __x__ spelling) whose argument reaches the
 # assembler or the linker as text, or which change how code is generated.
 ASSEMBLY_ATTRIBUTES = frozenset({"section", "alias", "weakref", "symver", "ifunc", "target_clones",
-                                 "optimize"})
+                                 "optimize", "target", "fentry_name", "fentry_section",
+                                 "patchable_function_entry"})
 # The pragmas a submission may use: diagnostics and loop hints, packing,
 # OpenMP (ignored: the grader builds without -fopenmp) and the standard's
 # floating-point pragmas. Each is the pragma's first words.

@@ -89,6 +89,8 @@ def test_ordinary_code_passes_both_halves(tmp_path, text):
     (b"??=line 3\n", "#line"), (b"#li\\\nne 3\n", "#line"), (b'#ident "x"\n', "#ident"),
     (b"#pragma GCC warning \"x\"\n", "pragma"), (b"#pragma GCC dependency \"/etc/x\"\n", "pragma"),
     (b'_Pragma("GCC diagnostic push")\n', "_Pragma"), (b"#assert machine(x)\n", "#assert"),
+    # GCC reads a NUL as a space: both are directives to it.
+    (b'\0# 5 "/usr/include/stdio.h" 1 3\n', "#5"), (b'#\0line 5 "/etc/x"\n', "#line"),
 ])
 def test_the_text_half_refuses_directives_off_the_list(text, what):
     found = refused_constructs(text)
