@@ -107,13 +107,23 @@ def environment(top: Path, mode: str) -> dict:
     return env
 
 
-def grade_on_gradescope(top: Path, name: str, mode: str, suffix: str = "") -> tuple[dict, str]:
+def grade_on_gradescope_file(top: Path, source: Path) -> tuple[dict, str]:
+    return grade_on_gradescope(top, None, "privilege-drop", text=source.read_text())
+
+
+def grade_on_prairielearn_file(top: Path, source: Path) -> tuple[dict, str]:
+    return grade_on_prairielearn(top, None, "privilege-drop", text=source.read_text())
+
+
+def grade_on_gradescope(top: Path, name: str | None, mode: str, suffix: str = "",
+                        text: str | None = None) -> tuple[dict, str]:
     root = top / "autograder"
     for folder in ("submission", "results"):
         shutil.rmtree(root / folder, ignore_errors=True)
         (root / folder).mkdir()
         (root / folder).chmod(0o755)
-    (root / "submission" / "EnvironmentMap.cpp").write_text(attack_text(name, top) + suffix)
+    (root / "submission" / "EnvironmentMap.cpp").write_text(text if text is not None
+                                                           else attack_text(name, top) + suffix)
     shutil.copy(root / "source" / "build" / "libenvmap.so", root / "submission" / "lookup.bin")
     for path in (root / "submission").iterdir():
         path.chmod(0o644)
@@ -124,12 +134,12 @@ def grade_on_gradescope(top: Path, name: str, mode: str, suffix: str = "") -> tu
     return json.loads((root / "results" / "results.json").read_text()), seen
 
 
-def grade_on_prairielearn(top: Path, name: str, mode: str) -> tuple[dict, str]:
+def grade_on_prairielearn(top: Path, name: str | None, mode: str, text: str | None = None) -> tuple[dict, str]:
     root = top / "grade"
     shutil.rmtree(root / "results", ignore_errors=True)
     for path in (root / "student").iterdir():
         path.unlink()
-    (root / "student" / "EnvironmentMap.cpp").write_text(attack_text(name, top))
+    (root / "student" / "EnvironmentMap.cpp").write_text(text if text is not None else attack_text(name, top))
     (root / "student" / "EnvironmentMap.cpp").chmod(0o644)
     entry = root / "serverFilesCourse" / "envmap" / "grader" / "prairielearn.sh"
     run = subprocess.run([str(entry)], capture_output=True, text=True, timeout=600, env=environment(top, mode))
@@ -196,3 +206,18 @@ def test_a_pasted_has_include_finds_no_course_file(layout):
     assert "FOUND the course file" not in log, log
     assert "NOTFOUND" in log or "Permission denied" in log, log
     assert_nothing_leaked(layout, log)
+
+
+@pytest.mark.parametrize("platform", ["gradescope", "prairielearn"])
+def test_a_correct_submission_still_gets_full_marks_once_our_files_are_closed(layout, platform):
+    # The confinement must not cost an honest student anything: the worker
+    # enters its chroot as root, and root still reads the closed tree.
+    correct = PROJECT_ROOT / "tests" / "submissions" / "correct" / "idiomatic.cpp"
+    shutil.copy(correct, layout / "correct.cpp")
+    if platform == "gradescope":
+        data, _ = grade_on_gradescope_file(layout, layout / "correct.cpp")
+        assert data["score"] == sum(t["max_score"] for t in data["tests"]) > 0, data["output"][:2000]
+    else:
+        data, _ = grade_on_prairielearn_file(layout, layout / "correct.cpp")
+        assert data["gradable"] is True and data["score"] == 1.0, data["message"]
+    assert readable_tree(BUILD_UID, BUILD_GID, [layout / "autograder"]) == []
