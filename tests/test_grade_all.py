@@ -26,7 +26,7 @@ import jsonschema
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.grade_all import RECORD_FILE, Row, find_submissions, skipped_entries, write_gradebook
+from grader.course.grade_all import RECORD_FILE, Row, find_submissions, skipped_entries, write_gradebook
 from grader.score import RUBRIC, load_rubric
 from grader.reports.gradescope_json import load_schema
 
@@ -258,7 +258,7 @@ def test_similarity_finds_the_near_copy_among_independent_solutions(tmp_path):
     (klass / "copycat" / "EnvironmentMap.cpp").write_text(near_copy((SUBMISSIONS / "correct" / "if_chain.cpp").read_text()))
     with zipfile.ZipFile(klass / "untouched.zip", "w") as z:     # the template as handed out: nothing of its own
         z.write(PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp", "EnvironmentMap.cpp")
-    from grader.grade_all import find_submissions as found
+    from grader.course.grade_all import find_submissions as found
     from grader.similarity import class_similarity
     data = class_similarity(found(klass))
     assert data["tool"].startswith("copydetect ") and data["boilerplate"] == "student_template/EnvironmentMap.cpp"
@@ -302,7 +302,7 @@ def test_missing_folder_is_a_clear_error(tmp_path):
 def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeypatch):
     import builtins
 
-    import grader.grade_all
+    import grader.course.grade_all
     from grader.similarity import SimilarityUnavailable
     real_import = builtins.__import__
 
@@ -315,5 +315,5 @@ def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeyp
     klass.mkdir()
     shutil.copy(SUBMISSIONS / "build" / "syntax_error.cpp", klass / "alice.cpp")
     with pytest.raises(SimilarityUnavailable, match="make venv"):
-        grader.grade_all.grade_all(klass, tmp_path / "out", 1, {"quick": True}, progress=False, similarity=True)
+        grader.course.grade_all.grade_all(klass, tmp_path / "out", 1, {"quick": True}, progress=False, similarity=True)
     assert not (tmp_path / "out" / "alice").exists()

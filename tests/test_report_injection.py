@@ -21,7 +21,7 @@ from html.parser import HTMLParser
 import pytest
 from markdown_it import MarkdownIt
 
-from grader.grade_all import Row
+from grader.course.grade_all import Row
 from grader.reports import render_all, terminal
 from grader.reports.class_summary import write_summary
 from grader.reports.text import clean, inert_markdown, markdown_is_inert, md_escape
@@ -347,7 +347,7 @@ def test_class_summary_is_deterministic(tmp_path):
 def test_grade_all_progress_bar_shows_names_as_text(capsys):
     """rich reads "[...]" in a string as markup: a folder named "[/x]" raised
     MarkupError in grade-all's progress bar, before the gradebook was written."""
-    from grader.grade_all import _Progress
+    from grader.course.grade_all import _Progress
     with _Progress(True, 3, 0) as advance:
         for name in ("[/oops]", "[bold red]x[/]", "[link=http://evil]y"):
             advance(name)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from grader.grade_all import MISSING, Row, write_gradebook
+from grader.course.grade_all import MISSING, Row, write_gradebook
 from grader.roster import RosterError, Student, load_roster
 
 GRADESCOPE = ("First Name,Last Name,SID,Email,Role\n"

@@ -54,7 +54,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args) -> int:
     from ..fixtures import StaleFixtures
-    from ..grade_all import Interrupted, find_submissions, grade_all, skipped_entries
+    from ..course.grade_all import Interrupted, find_submissions, grade_all, skipped_entries
     from ..reports.text import clean
     from ..roster import RosterError
     from ..similarity import SimilarityUnavailable

@@ -30,9 +30,9 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import PROJECT_ROOT
-from .results import UNGRADABLE
-from .submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
+from .. import PROJECT_ROOT
+from ..results import UNGRADABLE
+from ..submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
 
 # grade() imports this module for student_name: what only a class needs
 # (process pools, the class summary's report code) is imported where used.
@@ -106,7 +106,7 @@ def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Pat
 def _hash_tree(path: Path) -> str:
     # Links and special files are never followed or read (one link to
     # /proc/self/mem in one folder stopped the whole class); bounded in files.
-    from .submissions import hash_submission
+    from ..submissions import hash_submission
     return hash_submission(path)
 
 
@@ -161,7 +161,7 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
     The record is written inside the new folder before it is renamed, so a
     folder with a record is always complete; an interruption leaves at most
     a .tmp- folder, which the next run removes."""
-    from .grade import GradeOptions, grade
+    from ..grade import GradeOptions, grade
     final = Path(out)
     work = Path(tempfile.mkdtemp(prefix=f".tmp-{student[:TMP_NAME_CHARS]}-", dir=final.parent))
     try:
@@ -247,14 +247,14 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     when --similarity cannot run (both before anything is graded)."""
     options = dict(options or {})
     if similarity:   # before grading: a missing tool must not cost a class's grading time
-        from .similarity import require_tool
+        from ..similarity import require_tool
         require_tool()
     class_roster = None
     if roster is not None:
-        from .roster import load_roster
+        from ..roster import load_roster
         class_roster = load_roster(roster)
     if not options.get("allow_stale"):
-        from .fixtures import check_stale
+        from ..fixtures import check_stale
         check_stale()   # once, here: raises StaleFixtures for the instructor to read
     options["allow_stale"] = True
     jobs = max(1, jobs or os.cpu_count() or 1)
@@ -284,7 +284,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     if class_roster is not None:
         data["roster"], missing = _apply_roster(class_roster, Path(roster), ordered)
     if similarity:
-        from .similarity import class_similarity
+        from ..similarity import class_similarity
         data["similarity"] = class_similarity(submissions, out)
     write_gradebook(ordered + missing, out / "gradebook.csv", roster_columns=class_roster is not None)
     _write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
@@ -313,7 +313,7 @@ def _summary(rows: list[Row], out: Path, data: dict) -> None:
     data when it takes it."""
     import inspect
 
-    from .reports.class_summary import write_summary
+    from ..reports.class_summary import write_summary
     if "data" in inspect.signature(write_summary).parameters:
         write_summary(rows, out, data=data)
     else:
@@ -372,7 +372,7 @@ def write_gradebook(rows: list[Row], path: Path, roster_columns: bool = False) -
     With a roster: student_id, name and email after the student column (an
     LMS imports by them), and students who handed in nothing with a blank
     score (an import leaves their grade alone)."""
-    from .reports.class_summary import check_names
+    from ..reports.class_summary import check_names
     names = check_names(rows)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
