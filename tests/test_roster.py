@@ -1,11 +1,11 @@
-"""grader/roster.py: class rosters from Gradescope and Canvas exports (and
+"""grader/course/roster.py: class rosters from Gradescope and Canvas exports (and
 plain CSVs), matched to the names of the class folder's entries."""
 from __future__ import annotations
 
 import pytest
 
 from grader.course.grade_all import MISSING, Row, write_gradebook
-from grader.roster import RosterError, Student, load_roster
+from grader.course.roster import RosterError, Student, load_roster
 
 GRADESCOPE = ("First Name,Last Name,SID,Email,Role\n"
               "Jane,Doe,1001,jdoe@uni.edu,Student\n"

@@ -14,7 +14,7 @@ the results folder) are skipped and listed with the reason in the summary
 data (OUT/summary.json, "skipped"). An entry that looks like an archive or
 a source file in any format is graded, so that a .rar gets its own
 verdict ("unknown-format") instead of vanishing. With a roster (--roster
-CSV, grader/roster.py) the gradebook gains student_id, name and email
+CSV, grader/course/roster.py) the gradebook gains student_id, name and email
 columns and a row for every student who handed nothing in.
 """
 from __future__ import annotations
@@ -251,7 +251,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         require_tool()
     class_roster = None
     if roster is not None:
-        from ..roster import load_roster
+        from .roster import load_roster
         class_roster = load_roster(roster)
     if not options.get("allow_stale"):
         from ..fixtures import check_stale
