@@ -259,7 +259,7 @@ def test_similarity_finds_the_near_copy_among_independent_solutions(tmp_path):
     with zipfile.ZipFile(klass / "untouched.zip", "w") as z:     # the template as handed out: nothing of its own
         z.write(PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp", "EnvironmentMap.cpp")
     from grader.course.grade_all import find_submissions as found
-    from grader.similarity import class_similarity
+    from grader.course.similarity import class_similarity
     data = class_similarity(found(klass))
     assert data["tool"].startswith("copydetect ") and data["boilerplate"] == "student_template/EnvironmentMap.cpp"
     top = data["pairs"][0]
@@ -303,7 +303,7 @@ def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeyp
     import builtins
 
     import grader.course.grade_all
-    from grader.similarity import SimilarityUnavailable
+    from grader.course.similarity import SimilarityUnavailable
     real_import = builtins.__import__
 
     def no_copydetect(name, *args, **kwargs):

@@ -57,7 +57,7 @@ def run(args) -> int:
     from ..course.grade_all import Interrupted, find_submissions, grade_all, skipped_entries
     from ..reports.text import clean
     from ..course.roster import RosterError
-    from ..similarity import SimilarityUnavailable
+    from ..course.similarity import SimilarityUnavailable
     if not args.submissions.is_dir():
         print(f"grade-all: {args.submissions} is not a folder (expected one sub-folder or archive per student)",
               file=sys.stderr)

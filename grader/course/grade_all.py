@@ -247,7 +247,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     when --similarity cannot run (both before anything is graded)."""
     options = dict(options or {})
     if similarity:   # before grading: a missing tool must not cost a class's grading time
-        from ..similarity import require_tool
+        from .similarity import require_tool
         require_tool()
     class_roster = None
     if roster is not None:
@@ -284,7 +284,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     if class_roster is not None:
         data["roster"], missing = _apply_roster(class_roster, Path(roster), ordered)
     if similarity:
-        from ..similarity import class_similarity
+        from .similarity import class_similarity
         data["similarity"] = class_similarity(submissions, out)
     write_gradebook(ordered + missing, out / "gradebook.csv", roster_columns=class_roster is not None)
     _write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
