@@ -317,3 +317,68 @@ def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeyp
     with pytest.raises(SimilarityUnavailable, match="make venv"):
         grader.course.grade_all.grade_all(klass, tmp_path / "out", 1, {"quick": True}, progress=False, similarity=True)
     assert not (tmp_path / "out" / "alice").exists()
+
+
+# ---- a class that survives one student ------------------------------------------------
+
+
+def grading_that_breaks_for_aaron_and_zed(student, submission, out, key, options):
+    """grade-all's grading of one student (run in its grading processes),
+    broken for two of them as a hostile classmate breaks it: aaron's grading
+    process dies (SIGKILL, as a process ended by the kernel for its memory or
+    by a thread bomb's effects) as soon as bob's grading starts beside it;
+    zed's cannot start a thread. Every attempt is logged beside the results."""
+    from grader.course.grade_all import _grade_one
+    with open(Path(out).parent / f"attempts-{student}.log", "a") as log:
+        log.write(f"{os.getpid()}\n")
+    if student == "aaron":
+        deadline = time.monotonic() + 120
+        while not (Path(out).parent / "attempts-bob.log").exists() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGKILL)
+    if student == "zed":
+        raise RuntimeError("can't start new thread")
+    return _grade_one(student, submission, out, key, options)
+
+
+def test_a_grading_process_that_dies_costs_only_its_own_student(tmp_path):
+    from grader.course.grade_all import grade_all
+    klass, out = tmp_path / "class", tmp_path / "out"
+    klass.mkdir()
+    for student in ("aaron", "alice", "bob", "carol", "zed"):
+        shutil.copy(SUBMISSIONS / "correct" / "if_chain.cpp", klass / f"{student}.cpp")
+    rows = {r.student: r for r in grade_all(klass, out, 2, {"quick": True}, progress=False,
+                                            grade_one=grading_that_breaks_for_aaron_and_zed)}
+    for student in ("alice", "bob", "carol"):
+        r = rows[student]
+        assert (r.status, r.error) == ("graded", "") and r.score == r.max_score > 0, r
+    # bob was being graded when aaron's process died: graded again, alone.
+    assert len((out / "attempts-bob.log").read_text().split()) == 2
+    for student, why in (("aaron", "its grading process was killed by SIGKILL"),
+                         ("zed", "RuntimeError: can't start new thread")):
+        r = rows[student]
+        assert r.status == "ungradable" and r.error.startswith(why + " (graded alone"), r
+        assert len((out / f"attempts-{student}.log").read_text().split()) == 2   # retried once, not more
+    with open(out / "gradebook.csv", newline="") as f:
+        assert {r["student"]: r["status"] for r in csv.DictReader(f)} == {
+            "aaron": "ungradable", "alice": "graded", "bob": "graded", "carol": "graded", "zed": "ungradable"}
+    assert not list(out.glob(".tmp-*")), "a killed grading's folder was left behind"
+
+
+def test_a_resume_grades_again_what_another_process_may_have_disturbed(tmp_path):
+    """A timeout can be a classmate's doing (a worker stopped or starved from
+    outside): a resumed run grades it again; an unchanged good result is kept."""
+    from grader.course.grade_all import grade_all
+    klass, out = tmp_path / "class", tmp_path / "out"
+    klass.mkdir()
+    shutil.copy(SUBMISSIONS / "correct" / "if_chain.cpp", klass / "alice.cpp")
+    shutil.copy(SUBMISSIONS / "hostile" / "spin.cpp", klass / "spinner.cpp")   # loops forever near +x
+    options = {"quick": True, "only": ["fetch_sweep"]}
+    first = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
+    assert first["alice"].status == "graded" and first["alice"].score == first["alice"].max_score > 0
+    assert first["spinner"].status == "timeout"
+    mtimes = {s: (out / s / "results.json").stat().st_mtime_ns for s in first}
+    second = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
+    assert second["alice"].skipped and (out / "alice" / "results.json").stat().st_mtime_ns == mtimes["alice"]
+    assert not second["spinner"].skipped and second["spinner"].status == "timeout"
+    assert (out / "spinner" / "results.json").stat().st_mtime_ns != mtimes["spinner"]

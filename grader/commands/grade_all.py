@@ -54,7 +54,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args) -> int:
     from ..fixtures import StaleFixtures
-    from ..course.grade_all import Interrupted, find_submissions, grade_all, skipped_entries
+    from ..course.grade_all import DISTURBED, Interrupted, find_submissions, grade_all, skipped_entries
     from ..reports.text import clean
     from ..course.roster import RosterError
     from ..course.similarity import SimilarityUnavailable
@@ -104,6 +104,11 @@ def run(args) -> int:
     for r in rows:
         if r.error:
             print(f"  {clean(r.student)}: ungradable: {clean(r.error)}", file=sys.stderr)
+    disturbed = [r for r in rows if r.status in DISTURBED]
+    if disturbed:
+        print(f"  {len(disturbed)} {'result says' if len(disturbed) == 1 else 'results say'} "
+              f"{' or '.join(DISTURBED)}, which another process can cause: running the same command again "
+              "grades them again (and keeps the rest).")
     for entry in skipped_entries(args.submissions, exclude=out):
         # Names a student chose: no escapes to the terminal, no undecodable bytes to print.
         print(f"  skipped {clean(entry['entry'])}: {clean(entry['reason'])}")
