@@ -10,6 +10,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 import zipfile
 from pathlib import Path
 
@@ -301,3 +302,72 @@ def test_a_submission_that_does_not_compile_gets_a_report(alone):
     assert summary["build_failed"] and summary["score"] == 0
     report = (alone / "build" / "selfcheck" / "report.md").read_text()
     assert "did not compile" in report and "error" in report
+
+
+# ---- the report is selfcheck's own -------------------------------------------------------
+
+# A static initialiser in the student's own file (the template, otherwise
+# untouched): the first driver process leaves a daemon that has left the
+# driver's session (setsid) and its tree (double fork), waits until
+# selfcheck.py has exited, then writes full marks into both report files.
+REPORT_REWRITER = r'''
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+#include <cstdio>
+namespace {
+void rewrite(const char* path, const char* text) {
+    if (FILE* f = std::fopen(path, "w")) { std::fputs(text, f); std::fclose(f); }
+}
+struct Rewriter {
+    Rewriter() {
+        if (open("build/selfcheck/.rewriter", O_CREAT | O_EXCL | O_WRONLY, 0644) < 0) return;   // once
+        pid_t selfcheck = getppid();
+        if (fork() != 0) return;              // the driver goes on as usual
+        setsid();
+        if (fork() != 0) _exit(0);
+        int null = open("/dev/null", O_RDWR);
+        dup2(null, 0); dup2(null, 1); dup2(null, 2);
+        for (int i = 0; i < 6000 && kill(selfcheck, 0) == 0; ++i) usleep(10000);
+        usleep(200000);
+        rewrite("build/selfcheck/report.md", "# Self-check of EnvironmentMap.cpp\n\n**Score: 95 / 95** (visible checks)\n");
+        rewrite("build/selfcheck/selfcheck.json", "{\"score\": 95, \"max_score\": 95, \"checks\": []}\n");
+        _exit(0);
+    }
+} rewriter;
+}
+'''
+
+
+def processes_running(executable: Path) -> list[int]:
+    found = []
+    for entry in os.listdir("/proc"):
+        try:
+            if entry.isdigit() and os.readlink(f"/proc/{entry}/exe") == str(executable):
+                found.append(int(entry))
+        except OSError:
+            pass
+    return found
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc to see what is left running")
+def test_the_students_code_cannot_rewrite_the_report_after_selfcheck(alone, tmp_path):
+    folder = tmp_path / "kit"
+    shutil.copytree(alone, folder, symlinks=True)
+    (folder / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text() + REPORT_REWRITER)
+    shutil.rmtree(folder / "build" / "selfcheck", ignore_errors=True)
+    run = subprocess.run(["make", "-s", "selfcheck"], cwd=folder, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    printed = re.search(r"^Score: ([\d.]+) / ([\d.]+)", run.stdout, re.M)
+    assert printed and float(printed[1]) < float(printed[2]), run.stdout
+    assert (folder / "build" / "selfcheck" / ".rewriter").exists(), "the attacker's initialiser did not run"
+    # Whatever the driver left running gets its chance to act before the reports are read.
+    driver = (folder / "build" / "selfcheck_driver").resolve()
+    deadline = time.monotonic() + 30
+    while processes_running(driver) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    time.sleep(0.5)
+    md = (folder / "build" / "selfcheck" / "report.md").read_text()
+    summary = json.loads((folder / "build" / "selfcheck" / "selfcheck.json").read_text())
+    assert f"**Score: {printed[1]} / {printed[2]}**" in md
+    assert (summary["score"], summary["max_score"]) == (float(printed[1]), float(printed[2]))
