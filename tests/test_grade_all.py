@@ -163,9 +163,9 @@ def test_class_summary_written(resumed):
         assert f"({image})" in summary
     page = (out / "summary.html").read_text()
     assert page.count("data:image/png;base64,") == 2
-    for student in CLASS:   # every student's report is one click away
-        assert f'<td><a href="{student}/report.html">{student}</a></td>' in page
-        assert f"[{student}](<{student}/report.html>)" in summary
+    for student in CLASS:   # every student's report is one click away, beside their score
+        assert f'<td class="who"><a href="{student}/report.html">{student}</a></td>' in page
+        assert f"| [{student}](<{student}/report.html>) | " in summary
 
 
 def test_student_names_come_from_folders_and_archives(tmp_path):
@@ -222,6 +222,38 @@ def test_roster_adds_id_name_email_and_the_students_who_handed_in_nothing(resume
     summary = json.loads((out / "summary.json").read_text())["roster"]
     assert summary["matched"] == len(CLASS) and summary["unmatched"] == []
     assert summary["missing"] == [{"id": "S999", "name": "Absent, Zed", "email": "zed@uni.example"}]
+    assert "  handed in nothing: Absent, Zed (S999, zed@uni.example)\n" in run.stdout
+    # Canvas's import file fills the assignment the export named, the absent student left blank.
+    with open(out / "grades_canvas.csv", newline="") as f:
+        canvas = list(csv.reader(f))
+    assert canvas[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Environment map (1234)"]
+    assert canvas[1] == ["    Points Possible", "", "", "", "", "100"]
+    assert canvas[2] == ["Aliceson, Alice", "900", "S000", "alice@uni.example", "A", by_student["alice"]["score"]]
+    assert canvas[-1] == ["Absent, Zed", "999", "S999", "zed@uni.example", "A", ""]
+    for name in ("grades_canvas.csv", "grades_moodle.csv", "grades_gradescope.csv"):
+        assert f"LMS import: {out / name}" in run.stdout
+
+
+def test_unmatched_students_and_canvas_test_student_are_printed(resumed, tmp_path):
+    out = tmp_path / "out"
+    shutil.copytree(resumed["out"], out)
+    roster = tmp_path / "canvas.csv"
+    lines = ["Student,ID,SIS User ID,SIS Login ID,Section"]
+    lines += [f'"{s.title()}son, {s.title()}",{900 + i},S{i:03d},{s}@uni.example,A' for i, s in enumerate(CLASS)
+              if s != "alice"]
+    lines.append('"Student, Test",999,,,A')
+    roster.write_text("\n".join(lines) + "\n")
+    run = subprocess.run(grade_all_cmd(resumed["class_dir"], out, 2) + ["--roster", str(roster)],
+                         cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "  matches no one on the roster (not in the LMS files): alice\n" in run.stdout
+    assert "  left out of the roster: Student, Test: Canvas's test student (Student View), not a student\n" in run.stdout
+    assert "handed in nothing" not in run.stdout
+    with open(out / "gradebook.csv", newline="") as f:
+        assert "Student, Test" not in f.read()
+    with open(out / "grades_moodle.csv", newline="") as f:
+        moodle = list(csv.DictReader(f))
+    assert [r["Email address"] for r in moodle] == [f"{s}@uni.example" for s in CLASS if s != "alice"]
 
 
 def test_an_unreadable_roster_is_a_usage_error(resumed, tmp_path):

@@ -323,7 +323,10 @@ def test_class_summary_data_sections_stay_text(tmp_path):
     md = (tmp_path / "summary.md").read_text()
     for page, where in ((Page((tmp_path / "summary.html").read_text()), "summary.html"),
                         (gfm(md), "summary.md on GitHub"), (commonmark(md), "summary.md")):
-        assert not page.tags() & {"script", "b", "h4", "details"}, (where, page.tags())
+        # summary.html collapses its own sections: the points table, the one cluster, its one passage.
+        ours = 3 if where == "summary.html" else 0
+        assert not page.tags() & {"script", "b", "h4"}, (where, page.tags())
+        assert len([t for t, _ in page.elements if t == "details"]) == ours, where
         assert [a for t, a in page.elements if t == "a"] == [], where      # no report folders here
         assert not [a for _, attrs in page.elements for a in attrs if a.startswith("on")], where
         assert not [h for h in page.headings if "Regraded" in h], where

@@ -153,6 +153,7 @@ class Row:
     student_id: str = ""                                     # from the roster (--roster)
     name: str = ""
     email: str = ""
+    first_diagnosis: str = ""                                # the id the report names first (its cause)
 
 
 def _chart_metrics(result) -> dict[str, float]:
@@ -220,10 +221,11 @@ def read_row(student: str, out_dir: Path) -> Row:
     tests = data.get("tests", [])
     checks = {t.get("extra_data", {}).get("check", t["name"]): float(t.get("score", 0.0)) for t in tests}
     record = read_record(out_dir) or {}
+    found = [d["id"] for d in extra.get("diagnoses", [])]
     return Row(student, extra.get("status", "graded"), float(data.get("score", 0.0)),
                float(extra.get("max_score", sum(t.get("max_score", 0) for t in tests))),
-               checks, sorted({d["id"] for d in extra.get("diagnoses", [])}),
-               dict(record.get("metrics", {})), float(data.get("execution_time", 0.0)))
+               checks, sorted(set(found)), dict(record.get("metrics", {})), float(data.get("execution_time", 0.0)),
+               first_diagnosis=found[0] if found else "")
 
 
 def _clean_leftovers(out: Path) -> None:
@@ -249,11 +251,13 @@ class Interrupted(Exception):
 
 def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | None = None,
               progress: bool = True, force: bool = False, roster: Path | None = None,
-              similarity: bool = False, grade_one=None) -> list[Row]:
+              similarity: bool = False, grade_one=None, assignment: str | None = None) -> list[Row]:
     """Grade every submission in `folder` into `out`; returns the gradebook rows.
     Raises Interrupted on Ctrl-C (what finished is kept: run again to go on),
     RosterError when the roster cannot be read and SimilarityUnavailable
-    when --similarity cannot run (both before anything is graded).
+    when --similarity cannot run (both before anything is graded). With a
+    roster, the grade files for Canvas, Moodle and Gradescope are written
+    too (grader/course/lms_csv.py), the LMS's column named `assignment`.
     `grade_one` (a module-level function with _grade_one's signature, run in
     the grading processes) replaces _grade_one: tests use it to break a
     grading process."""
@@ -295,10 +299,16 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
                 raise Interrupted(len(rows), len(submissions)) from None
     _clean_leftovers(out)   # what a broken pool's processes left half-written
     ordered = [rows[s] for s in submissions]
-    data = {"skipped": skipped_entries(folder, exclude=out), "roster": None, "similarity": None}
+    data = {"skipped": skipped_entries(folder, exclude=out), "roster": None, "similarity": None,
+            "grade_again": {"statuses": list(DISTURBED), "students": [r.student for r in ordered if r.status in DISTURBED]}}
     missing: list[Row] = []
     if class_roster is not None:
-        data["roster"], missing = _apply_roster(class_roster, Path(roster), ordered)
+        data["roster"], missing, entries = _apply_roster(class_roster, Path(roster), ordered)
+        from .lms_csv import DEFAULT_ASSIGNMENT, write_lms_files
+        # A Canvas export with one assignment names the column that fills it.
+        exported = class_roster.assignments[0] if len(class_roster.assignments) == 1 else None
+        data["roster"]["lms_files"] = [p.name for p in write_lms_files(entries, out,
+                                                                       assignment or exported or DEFAULT_ASSIGNMENT)]
     if similarity:
         from .similarity import class_similarity
         data["similarity"] = class_similarity(submissions, out)
@@ -308,9 +318,10 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     return ordered
 
 
-def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list[Row]]:
+def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list[Row], list]:
     """Fill the rows' id, name and email; rows for students who handed in
-    nothing; the summary's "roster" entry."""
+    nothing; the summary's "roster" entry; (row, student) for every student
+    on the roster, in gradebook order."""
     matched, unmatched, absent = class_roster.match([r.student for r in rows])
     for r in rows:
         if r.student in matched:
@@ -318,10 +329,12 @@ def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list
             r.student_id, r.name, r.email = st.id, st.name, st.email
     missing = [Row(st.name or st.id or st.email, MISSING, 0.0, 0.0, student_id=st.id, name=st.name, email=st.email)
                for st in absent]
+    entries = [(r, matched[r.student]) for r in rows if r.student in matched] + list(zip(missing, absent))
     summary = {"file": path.name, "columns": class_roster.columns, "students": len(class_roster.students),
                "matched": len(matched), "unmatched": unmatched,
-               "missing": [{"id": st.id, "name": st.name, "email": st.email} for st in absent]}
-    return summary, missing
+               "missing": [{"id": st.id, "name": st.name, "email": st.email} for st in absent],
+               "left_out": class_roster.left_out}
+    return summary, missing, entries
 
 
 def _summary(rows: list[Row], out: Path, data: dict) -> None:
