@@ -262,8 +262,9 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: d
              f"{len(rows)} submissions: " + ", ".join(f"{n} {md_escape(s)}" for s, n in sorted(statuses.items())) + "."]
     if graded:
         top = max(r.max_score for r in rows)
+        full = sum(s >= top for s in graded)
         lines.append(f"Median score {median(graded):g} / {top:g}; "
-                     f"{sum(s >= top for s in graded)} full marks, {sum(s == 0 for s in graded)} at zero.")
+                     f"{full} full mark{'' if full == 1 else 's'}, {sum(s == 0 for s in graded)} at zero.")
     failed = [r for r in rows if r.error]
     if failed:
         lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
@@ -332,7 +333,8 @@ def _hero(rows) -> str:
     mid = median(graded) if graded else 0.0
     pct = 0.0 if top <= 0 else max(0.0, min(100.0, 100 * mid / top))
     counts = ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
-    marks = (f" · median {points(mid)} of {points(top)}, {sum(s >= top for s in graded)} full marks, "
+    full = sum(s >= top for s in graded)
+    marks = (f" · median {points(mid)} of {points(top)}, {full} full mark{'' if full == 1 else 's'}, "
              f"{sum(s == 0 for s in graded)} at zero" if graded and top > 0 else "")
     return f"""
 <header class="hero">
@@ -385,7 +387,7 @@ def _students_table(rows, linked: set[str]) -> str:
     for r in rows:
         cls = _status_class(r)
         pct = 0.0 if r.max_score <= 0 else max(0.0, min(100.0, 100 * r.score / r.max_score))
-        bar = f'<span class="bar {cls}"><span style="width:{pct:.1f}%"></span></span>'
+        bar = f'<span class="bar {cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
         d = first_diagnosis(r)
         more = len(set(r.diagnoses) - {d})
         diagnosis = (f'<strong>{e(_diagnosis_title(d))}</strong> <span class="id">{e(d)}</span>'
@@ -397,7 +399,7 @@ def _students_table(rows, linked: set[str]) -> str:
         body.append(f'<tr><td class="who">{_student_link(r, linked)}</td>'
                     + "".join(f'<td class="nowrap">{e(getattr(r, k, ""))}</td>' if k != "name"
                               else f"<td>{e(getattr(r, k, ''))}</td>" for k in who)
-                    + f'<td class="pts">{bar}{e(_score_cell(r))}</td>'
+                    + f'<td class="pts">{bar}{e(_score_cell(r)) if r.max_score > 0 else "–"}</td>'
                     f'<td><span class="pill {cls}">{mark} {e(r.status)}</span></td>'
                     f'<td class="diag">{diagnosis}</td></tr>')
     return f"""
