@@ -445,7 +445,7 @@ def run_workflow(repo: Path) -> dict:
     return {"outputs": outputs, "points": points, "summary": summary.read_text()}
 
 
-@pytest.mark.parametrize("layout", ["kit-is-the-root", "kit-in-a-folder"])
+@pytest.mark.parametrize("layout", ["kit-is-the-root", pytest.param("kit-in-a-folder", marks=pytest.mark.slow)])
 def test_the_workflow_runs_in_a_repository_made_from_the_kit(alone, tmp_path, layout):
     workflow()   # skips here, not half-way, without PyYAML
     repo = tmp_path / "repo"
