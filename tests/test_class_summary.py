@@ -153,3 +153,10 @@ def test_a_canvas_export_names_its_assignment_column(tmp_path):
     assert load_roster(path).assignments == ["Environment map (1234)", "Quiz 1 (77)"]
     path.write_text("First Name,Last Name,SID,Email\nJane,Doe,1001,jdoe@uni.edu\n")
     assert load_roster(path).assignments == []
+
+
+def test_a_submission_named_like_an_lms_file_does_not_take_its_place(tmp_path):
+    from grader.course.grade_all import find_submissions
+    for name in ("grades_canvas.csv.zip", "grades_moodle.csv.cpp", "grades_gradescope.csv"):
+        (tmp_path / name).mkdir() if "." not in name.rsplit(".csv", 1)[1] else (tmp_path / name).write_text("")
+    assert sorted(find_submissions(tmp_path)) == ["grades_canvas.csv_", "grades_gradescope.csv_", "grades_moodle.csv_"]

@@ -38,6 +38,7 @@ from pathlib import Path
 from .. import PROJECT_ROOT
 from ..results import TIMEOUT, UNGRADABLE
 from ..submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
+from .lms_csv import FILES as LMS_FILES
 
 # grade() imports this module for student_name: what only a class needs
 # (process pools, the class summary's report code) is imported where used.
@@ -47,7 +48,7 @@ MISSING = "no-submission"     # a roster's student with nothing in the class fol
 SUMMARY_DATA = "summary.json"
 # What grade-all writes beside the students' folders in OUT (lower case).
 CLASS_FILES = ("gradebook.csv", SUMMARY_DATA, "summary.md", "summary.html", "summary_histogram.png",
-               "summary_speed_accuracy.png")
+               "summary_speed_accuracy.png", *LMS_FILES)
 # Temporary folders are named after the student, cut short: a student name
 # near the 255-byte limit made mkdtemp fail ("ungradable", the grader blamed).
 TMP_NAME_CHARS = 40
