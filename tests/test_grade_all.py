@@ -26,7 +26,7 @@ import jsonschema
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.grade_all import RECORD_FILE, Row, find_submissions, skipped_entries, write_gradebook
+from grader.course.grade_all import RECORD_FILE, Row, find_submissions, skipped_entries, write_gradebook
 from grader.score import RUBRIC, load_rubric
 from grader.reports.gradescope_json import load_schema
 
@@ -163,9 +163,9 @@ def test_class_summary_written(resumed):
         assert f"({image})" in summary
     page = (out / "summary.html").read_text()
     assert page.count("data:image/png;base64,") == 2
-    for student in CLASS:   # every student's report is one click away
-        assert f'<td><a href="{student}/report.html">{student}</a></td>' in page
-        assert f"[{student}](<{student}/report.html>)" in summary
+    for student in CLASS:   # every student's report is one click away, beside their score
+        assert f'<td class="who"><a href="{student}/report.html">{student}</a></td>' in page
+        assert f"| [{student}](<{student}/report.html>) | " in summary
 
 
 def test_student_names_come_from_folders_and_archives(tmp_path):
@@ -222,6 +222,38 @@ def test_roster_adds_id_name_email_and_the_students_who_handed_in_nothing(resume
     summary = json.loads((out / "summary.json").read_text())["roster"]
     assert summary["matched"] == len(CLASS) and summary["unmatched"] == []
     assert summary["missing"] == [{"id": "S999", "name": "Absent, Zed", "email": "zed@uni.example"}]
+    assert "  handed in nothing: Absent, Zed (S999, zed@uni.example)\n" in run.stdout
+    # Canvas's import file fills the assignment the export named, the absent student left blank.
+    with open(out / "grades_canvas.csv", newline="") as f:
+        canvas = list(csv.reader(f))
+    assert canvas[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Environment map (1234)"]
+    assert canvas[1] == ["    Points Possible", "", "", "", "", "100"]
+    assert canvas[2] == ["Aliceson, Alice", "900", "S000", "alice@uni.example", "A", by_student["alice"]["score"]]
+    assert canvas[-1] == ["Absent, Zed", "999", "S999", "zed@uni.example", "A", ""]
+    for name in ("grades_canvas.csv", "grades_moodle.csv", "grades_gradescope.csv"):
+        assert f"LMS import: {out / name}" in run.stdout
+
+
+def test_unmatched_students_and_canvas_test_student_are_printed(resumed, tmp_path):
+    out = tmp_path / "out"
+    shutil.copytree(resumed["out"], out)
+    roster = tmp_path / "canvas.csv"
+    lines = ["Student,ID,SIS User ID,SIS Login ID,Section"]
+    lines += [f'"{s.title()}son, {s.title()}",{900 + i},S{i:03d},{s}@uni.example,A' for i, s in enumerate(CLASS)
+              if s != "alice"]
+    lines.append('"Student, Test",999,,,A')
+    roster.write_text("\n".join(lines) + "\n")
+    run = subprocess.run(grade_all_cmd(resumed["class_dir"], out, 2) + ["--roster", str(roster)],
+                         cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "  matches no one on the roster (not in the LMS files): alice\n" in run.stdout
+    assert "  left out of the roster: Student, Test: Canvas's test student (Student View), not a student\n" in run.stdout
+    assert "handed in nothing" not in run.stdout
+    with open(out / "gradebook.csv", newline="") as f:
+        assert "Student, Test" not in f.read()
+    with open(out / "grades_moodle.csv", newline="") as f:
+        moodle = list(csv.DictReader(f))
+    assert [r["Email address"] for r in moodle] == [f"{s}@uni.example" for s in CLASS if s != "alice"]
 
 
 def test_an_unreadable_roster_is_a_usage_error(resumed, tmp_path):
@@ -258,8 +290,8 @@ def test_similarity_finds_the_near_copy_among_independent_solutions(tmp_path):
     (klass / "copycat" / "EnvironmentMap.cpp").write_text(near_copy((SUBMISSIONS / "correct" / "if_chain.cpp").read_text()))
     with zipfile.ZipFile(klass / "untouched.zip", "w") as z:     # the template as handed out: nothing of its own
         z.write(PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp", "EnvironmentMap.cpp")
-    from grader.grade_all import find_submissions as found
-    from grader.similarity import class_similarity
+    from grader.course.grade_all import find_submissions as found
+    from grader.course.similarity import class_similarity
     data = class_similarity(found(klass))
     assert data["tool"].startswith("copydetect ") and data["boilerplate"] == "student_template/EnvironmentMap.cpp"
     top = data["pairs"][0]
@@ -302,8 +334,8 @@ def test_missing_folder_is_a_clear_error(tmp_path):
 def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeypatch):
     import builtins
 
-    import grader.grade_all
-    from grader.similarity import SimilarityUnavailable
+    import grader.course.grade_all
+    from grader.course.similarity import SimilarityUnavailable
     real_import = builtins.__import__
 
     def no_copydetect(name, *args, **kwargs):
@@ -315,5 +347,70 @@ def test_similarity_without_its_tool_is_refused_before_grading(tmp_path, monkeyp
     klass.mkdir()
     shutil.copy(SUBMISSIONS / "build" / "syntax_error.cpp", klass / "alice.cpp")
     with pytest.raises(SimilarityUnavailable, match="make venv"):
-        grader.grade_all.grade_all(klass, tmp_path / "out", 1, {"quick": True}, progress=False, similarity=True)
+        grader.course.grade_all.grade_all(klass, tmp_path / "out", 1, {"quick": True}, progress=False, similarity=True)
     assert not (tmp_path / "out" / "alice").exists()
+
+
+# ---- a class that survives one student ------------------------------------------------
+
+
+def grading_that_breaks_for_aaron_and_zed(student, submission, out, key, options):
+    """grade-all's grading of one student (run in its grading processes),
+    broken for two of them as a hostile classmate breaks it: aaron's grading
+    process dies (SIGKILL, as a process ended by the kernel for its memory or
+    by a thread bomb's effects) as soon as bob's grading starts beside it;
+    zed's cannot start a thread. Every attempt is logged beside the results."""
+    from grader.course.grade_all import _grade_one
+    with open(Path(out).parent / f"attempts-{student}.log", "a") as log:
+        log.write(f"{os.getpid()}\n")
+    if student == "aaron":
+        deadline = time.monotonic() + 120
+        while not (Path(out).parent / "attempts-bob.log").exists() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGKILL)
+    if student == "zed":
+        raise RuntimeError("can't start new thread")
+    return _grade_one(student, submission, out, key, options)
+
+
+def test_a_grading_process_that_dies_costs_only_its_own_student(tmp_path):
+    from grader.course.grade_all import grade_all
+    klass, out = tmp_path / "class", tmp_path / "out"
+    klass.mkdir()
+    for student in ("aaron", "alice", "bob", "carol", "zed"):
+        shutil.copy(SUBMISSIONS / "correct" / "if_chain.cpp", klass / f"{student}.cpp")
+    rows = {r.student: r for r in grade_all(klass, out, 2, {"quick": True}, progress=False,
+                                            grade_one=grading_that_breaks_for_aaron_and_zed)}
+    for student in ("alice", "bob", "carol"):
+        r = rows[student]
+        assert (r.status, r.error) == ("graded", "") and r.score == r.max_score > 0, r
+    # bob was being graded when aaron's process died: graded again, alone.
+    assert len((out / "attempts-bob.log").read_text().split()) == 2
+    for student, why in (("aaron", "its grading process was killed by SIGKILL"),
+                         ("zed", "RuntimeError: can't start new thread")):
+        r = rows[student]
+        assert r.status == "ungradable" and r.error.startswith(why + " (graded alone"), r
+        assert len((out / f"attempts-{student}.log").read_text().split()) == 2   # retried once, not more
+    with open(out / "gradebook.csv", newline="") as f:
+        assert {r["student"]: r["status"] for r in csv.DictReader(f)} == {
+            "aaron": "ungradable", "alice": "graded", "bob": "graded", "carol": "graded", "zed": "ungradable"}
+    assert not list(out.glob(".tmp-*")), "a killed grading's folder was left behind"
+
+
+def test_a_resume_grades_again_what_another_process_may_have_disturbed(tmp_path):
+    """A timeout can be a classmate's doing (a worker stopped or starved from
+    outside): a resumed run grades it again; an unchanged good result is kept."""
+    from grader.course.grade_all import grade_all
+    klass, out = tmp_path / "class", tmp_path / "out"
+    klass.mkdir()
+    shutil.copy(SUBMISSIONS / "correct" / "if_chain.cpp", klass / "alice.cpp")
+    shutil.copy(SUBMISSIONS / "hostile" / "spin.cpp", klass / "spinner.cpp")   # loops forever near +x
+    options = {"quick": True, "only": ["fetch_sweep"]}
+    first = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
+    assert first["alice"].status == "graded" and first["alice"].score == first["alice"].max_score > 0
+    assert first["spinner"].status == "timeout"
+    mtimes = {s: (out / s / "results.json").stat().st_mtime_ns for s in first}
+    second = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
+    assert second["alice"].skipped and (out / "alice" / "results.json").stat().st_mtime_ns == mtimes["alice"]
+    assert not second["spinner"].skipped and second["spinner"].status == "timeout"
+    assert (out / "spinner" / "results.json").stat().st_mtime_ns != mtimes["spinner"]

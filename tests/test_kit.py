@@ -3,6 +3,7 @@ no hidden check and no secret; builds and self-checks on its own (make and
 CMake); and its self-check agrees with the grader's visible checks."""
 from __future__ import annotations
 
+import base64
 import hashlib
 import json
 import os
@@ -10,6 +11,7 @@ import re
 import shutil
 import subprocess
 import sys
+import time
 import zipfile
 from pathlib import Path
 
@@ -301,3 +303,161 @@ def test_a_submission_that_does_not_compile_gets_a_report(alone):
     assert summary["build_failed"] and summary["score"] == 0
     report = (alone / "build" / "selfcheck" / "report.md").read_text()
     assert "did not compile" in report and "error" in report
+
+
+# ---- the report is selfcheck's own -------------------------------------------------------
+
+# A static initialiser in the student's own file (the template, otherwise
+# untouched): the first driver process leaves a daemon that has left the
+# driver's session (setsid) and its tree (double fork), waits until
+# selfcheck.py has exited, then writes full marks into both report files.
+REPORT_REWRITER = r'''
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+#include <cstdio>
+namespace {
+void rewrite(const char* path, const char* text) {
+    if (FILE* f = std::fopen(path, "w")) { std::fputs(text, f); std::fclose(f); }
+}
+struct Rewriter {
+    Rewriter() {
+        if (open("build/selfcheck/.rewriter", O_CREAT | O_EXCL | O_WRONLY, 0644) < 0) return;   // once
+        pid_t selfcheck = getppid();
+        if (fork() != 0) return;              // the driver goes on as usual
+        setsid();
+        if (fork() != 0) _exit(0);
+        int null = open("/dev/null", O_RDWR);
+        dup2(null, 0); dup2(null, 1); dup2(null, 2);
+        for (int i = 0; i < 6000 && kill(selfcheck, 0) == 0; ++i) usleep(10000);
+        usleep(200000);
+        rewrite("build/selfcheck/report.md", "# Self-check of EnvironmentMap.cpp\n\n**Score: 95 / 95** (visible checks)\n");
+        rewrite("build/selfcheck/selfcheck.json", "{\"score\": 95, \"max_score\": 95, \"checks\": []}\n");
+        _exit(0);
+    }
+} rewriter;
+}
+'''
+
+
+def processes_running(executable: Path) -> list[int]:
+    found = []
+    for entry in os.listdir("/proc"):
+        try:
+            if entry.isdigit() and os.readlink(f"/proc/{entry}/exe") == str(executable):
+                found.append(int(entry))
+        except OSError:
+            pass
+    return found
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc to see what is left running")
+def test_the_students_code_cannot_rewrite_the_report_after_selfcheck(alone, tmp_path):
+    folder = tmp_path / "kit"
+    shutil.copytree(alone, folder, symlinks=True)
+    (folder / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text() + REPORT_REWRITER)
+    shutil.rmtree(folder / "build" / "selfcheck", ignore_errors=True)
+    run = subprocess.run(["make", "-s", "selfcheck"], cwd=folder, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    printed = re.search(r"^Score: ([\d.]+) / ([\d.]+)", run.stdout, re.M)
+    assert printed and float(printed[1]) < float(printed[2]), run.stdout
+    assert (folder / "build" / "selfcheck" / ".rewriter").exists(), "the attacker's initialiser did not run"
+    # Whatever the driver left running gets its chance to act before the reports are read.
+    driver = (folder / "build" / "selfcheck_driver").resolve()
+    deadline = time.monotonic() + 30
+    while processes_running(driver) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    time.sleep(0.5)
+    md = (folder / "build" / "selfcheck" / "report.md").read_text()
+    summary = json.loads((folder / "build" / "selfcheck" / "selfcheck.json").read_text())
+    assert f"**Score: {printed[1]} / {printed[2]}**" in md
+    assert (summary["score"], summary["max_score"]) == (float(printed[1]), float(printed[2]))
+
+
+# ---- GitHub Classroom -----------------------------------------------------------------
+
+WORKFLOW = PROJECT_ROOT / "student_template" / ".github" / "workflows" / "grade.yml"
+REPORTER = "classroom-resources/autograding-grading-reporter@v1"
+EXPRESSION = re.compile(r"\$\{\{\s*([^}]*?)\s*\}\}")
+
+
+def workflow() -> dict:
+    yaml = pytest.importorskip("yaml", reason="PyYAML reads the workflow (not in requirements.lock yet)")
+    return yaml.safe_load(WORKFLOW.read_text())
+
+
+def test_the_workflow_reports_points_through_classrooms_reporter():
+    flow = workflow()
+    assert flow["name"] == "Autograding Tests"
+    job = flow["jobs"]["run-autograding-tests"]
+    assert job["name"] == "Autograding Tests" and "github-classroom[bot]" in job["if"]
+    steps = {s.get("id") or s["name"]: s for s in job["steps"]}
+    reporter = [s for s in job["steps"] if s.get("uses") == REPORTER]
+    assert len(reporter) == 1
+    # The reporter reads <RUNNER>_RESULTS for each runner id (letters and digits only, as it checks).
+    runners = reporter[0]["with"]["runners"].split(",")
+    assert all(re.fullmatch(r"[A-Za-z0-9]+", r) for r in runners)
+    for runner in runners:
+        assert reporter[0]["env"][f"{runner.upper()}_RESULTS"] == f"${{{{ steps.{runner}.outputs.result }}}}"
+        assert runner in steps and "run" in steps[runner]
+    assert [s["uses"].split("@")[0] for s in job["steps"] if "uses" in s] == [
+        "actions/checkout", "classroom-resources/autograding-grading-reporter", "actions/upload-artifact"]
+
+
+def run_workflow(repo: Path) -> dict:
+    """The workflow's steps as GitHub runs them, in `repo`: each `run` in bash
+    (-e, as GitHub's default shell), ${{ }} filled in (step outputs, no
+    repository variables), GITHUB_OUTPUT and GITHUB_STEP_SUMMARY as files.
+    The reporter is done as it does it: base64 JSON from <RUNNER>_RESULTS,
+    points = the sum of its tests' scores over the sum of max_score."""
+    outputs: dict[str, dict[str, str]] = {}
+    summary = repo.parent / f"{repo.name}-summary.md"
+    points = None
+
+    def fill(text: str) -> str:
+        def value(m):
+            expr = m.group(1)
+            found = re.fullmatch(r"steps\.([\w-]+)\.outputs\.(\w+)", expr)
+            if found:
+                return outputs.get(found[1], {}).get(found[2], "")
+            assert expr.startswith("vars."), f"an expression this test cannot fill: {expr}"
+            return ""
+        return EXPRESSION.sub(value, str(text))
+
+    for step in workflow()["jobs"]["run-autograding-tests"]["steps"]:
+        if step.get("uses") == REPORTER:
+            env = {k: fill(v) for k, v in step["env"].items()}
+            results = [json.loads(base64.b64decode(env[f"{r.upper()}_RESULTS"]))
+                       for r in step["with"]["runners"].split(",")]
+            points = (sum(t["score"] for r in results for t in r["tests"]), sum(r["max_score"] for r in results))
+            continue
+        if "run" not in step:
+            continue
+        output = repo.parent / f"{repo.name}-output-{len(outputs)}"
+        output.write_text("")
+        cwd = repo / fill(step.get("working-directory", "."))
+        run = subprocess.run(["bash", "--noprofile", "--norc", "-eo", "pipefail", "-c", fill(step["run"])], cwd=cwd,
+                             capture_output=True, text=True, timeout=300,
+                             env=dict(os.environ, GITHUB_OUTPUT=str(output), GITHUB_STEP_SUMMARY=str(summary)))
+        assert run.returncode == 0, (step["name"], run.stdout + run.stderr)
+        outputs[step.get("id", step["name"])] = dict(
+            line.split("=", 1) for line in output.read_text().splitlines() if "=" in line)
+    return {"outputs": outputs, "points": points, "summary": summary.read_text()}
+
+
+@pytest.mark.parametrize("layout", ["kit-is-the-root", pytest.param("kit-in-a-folder", marks=pytest.mark.slow)])
+def test_the_workflow_runs_in_a_repository_made_from_the_kit(alone, tmp_path, layout):
+    workflow()   # skips here, not half-way, without PyYAML
+    repo = tmp_path / "repo"
+    kit = repo if layout == "kit-is-the-root" else repo / "student-kit"
+    shutil.copytree(alone, kit, symlinks=True)
+    shutil.rmtree(kit / "build" / "selfcheck", ignore_errors=True)
+    (kit / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text())   # partial credit: 7.33 / 95
+    assert (kit / ".github" / "workflows" / "grade.yml").read_text() == WORKFLOW.read_text()   # the kit's own
+    ran = run_workflow(repo)
+    assert ran["outputs"]["kit"]["dir"] == ("." if layout == "kit-is-the-root" else "./student-kit")
+    summary = json.loads((kit / "build" / "selfcheck" / "selfcheck.json").read_text())
+    # Classroom gets the score the self-check printed, partial credit included.
+    assert ran["points"] == (pytest.approx(summary["score"]), summary["max_score"])
+    assert 0 < summary["score"] < summary["max_score"]
+    assert f"**Score: {summary['score']:g} / {summary['max_score']:g}**" in ran["summary"]

@@ -28,7 +28,7 @@ Attacks that worked before (and the fix):
   traceback after grading everyone; a name near the 255-byte limit made the
   temporary folder's name too long and the student "ungradable". Now class
   files' names are kept free and temporary names are cut short
-  (grader/grade_all.py). A file name that is not UTF-8 (a Shift-JIS zip
+  (grader/course/grade_all.py). A file name that is not UTF-8 (a Shift-JIS zip
   unpacked on Linux: no malice needed) stopped grade-all at the gradebook
   (UnicodeEncodeError); names are now made text first.
 - asleep_everywhere: correct but asleep 0.3 ms per lookup (no CPU time):
@@ -258,7 +258,7 @@ def test_a_worker_cannot_starve_another_worker(mode):
 @pytest.mark.slow
 @pytest.mark.sandbox
 def test_grade_all_survives_names_of_class_files_and_long_names(tmp_path):
-    from grader.grade_all import grade_all
+    from grader.course.grade_all import grade_all
     klass = tmp_path / "class"
     klass.mkdir()
     long_name = "b" * 246                               # 250 bytes with .cpp: a legal file name

@@ -1,11 +1,11 @@
-"""grader/roster.py: class rosters from Gradescope and Canvas exports (and
+"""grader/course/roster.py: class rosters from Gradescope and Canvas exports (and
 plain CSVs), matched to the names of the class folder's entries."""
 from __future__ import annotations
 
 import pytest
 
-from grader.grade_all import MISSING, Row, write_gradebook
-from grader.roster import RosterError, Student, load_roster
+from grader.course.grade_all import MISSING, Row, write_gradebook
+from grader.course.roster import RosterError, Student, load_roster
 
 GRADESCOPE = ("First Name,Last Name,SID,Email,Role\n"
               "Jane,Doe,1001,jdoe@uni.edu,Student\n"
@@ -33,7 +33,18 @@ def test_gradescope_roster_columns(tmp_path):
 def test_canvas_gradebook_export_skips_points_possible_and_the_test_student(tmp_path):
     r = roster(tmp_path, CANVAS)
     assert r.columns == {"id": "SIS User ID", "name": "Student", "email": "SIS Login ID"}
-    assert r.students == [Student("1001", "Doe, Jane", "jdoe", "555"), Student("1002", "Smith, John", "jsmith", "556")]
+    assert r.students == [Student("1001", "Doe, Jane", "jdoe", "555", "S1"),
+                          Student("1002", "Smith, John", "jsmith", "556", "S1")]
+    assert r.left_out == ["Test Student: Canvas's test student (Student View), not a student"]
+
+
+def test_canvas_names_its_test_student_last_name_first(tmp_path):
+    """Today's Canvas exports call the Student View user "Student, Test"."""
+    r = roster(tmp_path, CANVAS.replace("Test Student,999", '"Student, Test",999'))
+    assert [s.name for s in r.students] == ["Doe, Jane", "Smith, John"]
+    assert r.left_out == ["Student, Test: Canvas's test student (Student View), not a student"]
+    _, _, missing = r.match(["jdoe", "jsmith"])
+    assert missing == []
 
 
 @pytest.mark.parametrize("folder, sid", [

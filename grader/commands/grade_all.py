@@ -11,8 +11,12 @@ summary (OUT/summary.html, summary.md) are written at the end. Interrupted
     python -m grader grade-all submissions/ --roster roster.csv --similarity
 
 --roster adds student_id, name and email columns to the gradebook (a
-Gradescope or Canvas export, or any CSV with id, name and email columns) and
-a row for each student who handed nothing in. --similarity compares every
+Gradescope or Canvas export, or any CSV with id, name and email columns), a
+row for each student who handed nothing in, and grade files that Canvas,
+Moodle and Gradescope import as they are (grades_canvas.csv,
+grades_moodle.csv, grades_gradescope.csv; --assignment names their column).
+Canvas's test student is left out. Unmatched and missing students are
+printed. --similarity compares every
 pair of submissions (copydetect, the template's starter code left out) and
 lists the most similar pairs with their shared passages in the summary.
 Entries of SUBMISSIONS that are not submissions are listed with the reason.
@@ -47,6 +51,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--roster", type=Path, metavar="CSV",
                    help="class roster (student id, name, email; Gradescope or Canvas export): adds those "
                         "columns to gradebook.csv")
+    p.add_argument("--assignment", metavar="NAME",
+                   help="the assignment's column in the LMS grade files (default: 'Environment map'; for "
+                        "Canvas, its export's name, e.g. 'Environment map (1234)', fills that assignment)")
     p.add_argument("--similarity", action="store_true",
                    help="compare the submissions with each other (starter code excluded) and list the most "
                         "similar pairs in the summary")
@@ -54,10 +61,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args) -> int:
     from ..fixtures import StaleFixtures
-    from ..grade_all import Interrupted, find_submissions, grade_all, skipped_entries
+    from ..course.grade_all import DISTURBED, Interrupted, find_submissions, grade_all, skipped_entries
+    from ..reports.class_summary import entry_text
     from ..reports.text import clean
-    from ..roster import RosterError
-    from ..similarity import SimilarityUnavailable
+    from ..course.roster import RosterError
+    from ..course.similarity import SimilarityUnavailable
     if not args.submissions.is_dir():
         print(f"grade-all: {args.submissions} is not a folder (expected one sub-folder or archive per student)",
               file=sys.stderr)
@@ -81,7 +89,7 @@ def run(args) -> int:
                "allow_unsafe": args.allow_unsafe}
     try:
         rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force,
-                         roster=args.roster, similarity=args.similarity)
+                         roster=args.roster, similarity=args.similarity, assignment=args.assignment)
     except RosterError as e:
         print(f"grade-all: roster: {e}", file=sys.stderr)
         return 2
@@ -104,10 +112,32 @@ def run(args) -> int:
     for r in rows:
         if r.error:
             print(f"  {clean(r.student)}: ungradable: {clean(r.error)}", file=sys.stderr)
+    disturbed = [r for r in rows if r.status in DISTURBED]
+    if disturbed:
+        print(f"  {len(disturbed)} {'result says' if len(disturbed) == 1 else 'results say'} "
+              f"{' or '.join(DISTURBED)}, which another process can cause: running the same command again "
+              "grades them again (and keeps the rest).")
     for entry in skipped_entries(args.submissions, exclude=out):
         # Names a student chose: no escapes to the terminal, no undecodable bytes to print.
         print(f"  skipped {clean(entry['entry'])}: {clean(entry['reason'])}")
+    roster = _summary_data(out).get("roster") or {}
+    for key, what in (("unmatched", "matches no one on the roster (not in the LMS files)"),
+                      ("missing", "handed in nothing"), ("left_out", "left out of the roster")):
+        for entry in roster.get(key) or []:
+            print(f"  {what}: {clean(entry_text(entry))}")
+    for name in roster.get("lms_files") or []:
+        print(f"LMS import: {out / name}")
     print(f"gradebook: {out / 'gradebook.csv'}")
     print(f"summary:   {out / 'summary.html'} (and summary.md)")
     print(f"reports:   {out}/<student>/report.html")
     return 0
+
+
+def _summary_data(out: Path) -> dict:
+    import json
+    from ..course.grade_all import SUMMARY_DATA
+    try:
+        return json.loads((out / SUMMARY_DATA).read_text())
+    except (OSError, ValueError):
+        return {}
+

@@ -1,6 +1,12 @@
 """The class summary grade-all writes beside the gradebook: summary.md,
-summary.html (self-contained, charts embedded, a link to every student's
-report) and the two charts (score histogram, speed against accuracy).
+summary.html and the two charts (score histogram, speed against accuracy).
+
+summary.html is the page an instructor reads: the class at a glance, what
+needs their attention (ungradable students, results worth grading again,
+roster mismatches), a table of students with score, status and first
+diagnosis (each linking to its report), the charts, and similar submissions
+grouped into clusters, each collapsed. It is styled by report.html's own
+stylesheet (grader/reports/html.py), self-contained (charts embedded).
 
 Student names are folder and archive names chosen by students, and the
 error of an ungradable row can quote them: hostile text. So summary.md
@@ -12,14 +18,12 @@ never reach matplotlib's mathtext ($...$ in a name once crashed grade-all).
 """
 from __future__ import annotations
 
-import base64
-import html
 from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
-from ..results import UNGRADABLE
-from .text import clean, md_code, md_escape, md_fence
+from ..results import GRADED, UNGRADABLE
+from .text import clean, md_code, md_escape, md_fence, points
 
 HISTOGRAM = "summary_histogram.png"
 SPEED_CHART = "summary_speed_accuracy.png"
@@ -28,6 +32,31 @@ STUDENT_REPORT = "report.html"
 # no request anywhere (a student's report is a relative link, which
 # default-src does not govern).
 CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; base-uri 'none'; form-action 'none'"
+# What the class page adds to report.html's stylesheet.
+CLASS_CSS = """
+table.students td { vertical-align: top; }
+/* Words stay whole (report.html breaks anywhere, which squeezed the columns);
+   a name too long for any column still breaks rather than widen the page. */
+table.checks.students th, table.checks.students td { overflow-wrap: normal; }
+table.students th { white-space: nowrap; }
+table.checks.students td.who { overflow-wrap: break-word; min-width: 7em; }
+.students .id, .students .nowrap { white-space: nowrap; }
+table.checks.points th, table.checks.points td { overflow-wrap: normal; }
+.students .who { font-weight: 600; }
+.students .diag { color: var(--muted); }
+.students .diag strong { color: var(--text); font-weight: 500; }
+.wide { overflow-x: auto; }
+.wide table.checks { width: auto; min-width: 100%; }
+.cluster { background: var(--card); border: 1px solid var(--border); border-left: 5px solid var(--partial);
+  border-radius: 12px; padding: 12px 18px; margin: 12px 0; }
+.cluster > summary { cursor: pointer; font-weight: 600; }
+.cluster .pair-title { margin: 1em 0 .3em; font-weight: 600; }
+.passage { margin: .4em 0 .8em; }
+.passage > summary { cursor: pointer; color: var(--muted); }
+.side-by-side { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 12px; }
+.side-by-side pre { max-height: 24em; overflow: auto; }
+ul.plain { padding-left: 1.2em; margin: .4em 0; }
+"""
 
 
 def check_names(rows) -> list[str]:
@@ -91,15 +120,8 @@ def _speed_chart(rows, path: Path) -> int:
 
 
 def _diagnosis_counts(rows) -> list[tuple[str, str, int]]:
-    from ..diagnoses import describe
     counts = Counter(d for r in rows for d in r.diagnoses)
-
-    def title(d: str) -> str:
-        try:
-            return describe(d).title
-        except KeyError:   # an id from an older grader's results.json
-            return d
-    return [(d, title(d), n) for d, n in counts.most_common()]
+    return [(d, _diagnosis_title(d), n) for d, n in counts.most_common()]
 
 
 def report_link(student: str) -> str:
@@ -108,11 +130,50 @@ def report_link(student: str) -> str:
     return f"{quote(student, safe='')}/{STUDENT_REPORT}"
 
 
-def _item(value) -> str:
-    """One entry of grade-all's summary data (a name, or a small record) as plain text."""
+def entry_text(value) -> str:
+    """One entry of grade-all's summary data (a name, or a student: "name (id, email)") as plain text."""
     if isinstance(value, dict):
-        return ", ".join(f"{k} {v}" for k, v in value.items() if v not in (None, ""))
+        extra = ", ".join(str(value[k]) for k in ("id", "email") if value.get(k) not in (None, ""))
+        return str(value.get("name") or "(no name)") + (f" ({extra})" if extra else "")
     return str(value)
+
+
+def first_diagnosis(row) -> str:
+    """The id of the first thing the report names (its cause comes first), or ""."""
+    return getattr(row, "first_diagnosis", "") or (row.diagnoses[0] if row.diagnoses else "")
+
+
+def _diagnosis_title(d: str) -> str:
+    from ..diagnoses import describe
+    try:
+        return describe(d).title
+    except KeyError:   # an id from an older grader's results.json
+        return d
+
+
+def similarity_clusters(pairs: list[dict]) -> list[dict]:
+    """The listed pairs grouped into clusters of students (connected by any
+    listed pair), the most similar cluster first: a copy passed around a
+    group shows as one group, not as every pair in it."""
+    parent: dict[str, str] = {}
+
+    def root(x: str) -> str:
+        while parent.setdefault(x, x) != x:
+            x = parent[x]
+        return x
+    for p in pairs:
+        a, b = root(str(p.get("a", ""))), root(str(p.get("b", "")))
+        if a != b:
+            parent[max(a, b)] = min(a, b)
+    groups: dict[str, dict] = {}
+    for p in pairs:
+        g = groups.setdefault(root(str(p.get("a", ""))), {"students": set(), "pairs": []})
+        g["students"] |= {str(p.get("a", "")), str(p.get("b", ""))}
+        g["pairs"].append(p)
+    out = [{"students": sorted(g["students"]), "similarity": max(float(p.get("similarity", 0)) for p in g["pairs"]),
+            "pairs": sorted(g["pairs"], key=lambda p: (-float(p.get("similarity", 0)), str(p.get("a")), str(p.get("b"))))}
+           for g in groups.values()]
+    return sorted(out, key=lambda c: (-c["similarity"], c["students"]))
 
 
 def _skipped_section(skipped) -> list[str]:
@@ -130,46 +191,63 @@ def _roster_section(roster) -> list[str]:
     lines = ["", "## Roster", "",
              f"{md_code(str(roster.get('file', '')))}: {int(roster.get('students', 0))} students, "
              f"{int(roster.get('matched', 0))} matched to a submission."]
-    for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster")):
+    for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster"),
+                       ("left_out", "Left out of the roster")):
         entries = roster.get(key) or []
         if entries:
             lines += ["", f"**{title}:**", ""]
-            lines += [f"- {md_escape(_item(e), line_start=True)}" for e in entries]
+            lines += [f"- {md_escape(entry_text(e), line_start=True)}" for e in entries]
     return lines
 
 
 def _similarity_section(similarity) -> list[str]:
-    """The most similar pairs and their shared passages. Passages are the
-    students' code: fenced, never rendered."""
+    """The clusters of similar submissions, each pair's shares and shared
+    passages (at most MAX_PASSAGES per pair, cut to a length: never whole
+    files). Passages are the students' code: fenced, never rendered."""
     if not similarity:
         return []
     pairs = similarity.get("pairs") or []
-    lines = ["", "## Most similar pairs", "",
-             f"{int(similarity.get('compared', 0))} submissions compared with "
-             f"{md_escape(str(similarity.get('tool', 'a similarity tool')))}"
-             + (f", the template ({md_code(str(similarity['boilerplate']))}) not counted"
-                if similarity.get("boilerplate") else "")
-             + f"; pairs sharing at least {float(similarity.get('min_listed', 0)):.0%} are listed. "
-             "A high share is a reason to look, not a verdict.", ""]
+    lines = ["", "## Most similar pairs", "", _similarity_intro(similarity), ""]
     if not pairs:
         lines.append("No pair reaches that share.")
-    for p in pairs:
-        a, b = str(p.get("a", "")), str(p.get("b", ""))
-        lines += ["", f"### {md_escape(a)} and {md_escape(b)}: {float(p.get('similarity', 0)):.0%}", "",
-                  f"{float(p.get('share_a', 0)):.0%} of {md_escape(a)}'s code and "
-                  f"{float(p.get('share_b', 0)):.0%} of {md_escape(b)}'s, "
-                  f"{int(p.get('shared_tokens', 0))} tokens in common.", ""]
-        for passage in p.get("passages") or []:
-            for side, name in (("a", a), ("b", b)):
-                first, last = (list(passage.get(f"{side}_lines") or [0, 0]) + [0, 0])[:2]
-                lines += [f"{md_escape(name)}, lines {int(first)}-{int(last)}:", "",
-                          md_fence(str(passage.get(f"{side}_text", "")), "cpp"), ""]
+    for n, cluster in enumerate(similarity_clusters(pairs), 1):
+        lines += ["", f"### Cluster {n}: {', '.join(md_escape(s) for s in cluster['students'])} "
+                      f"(up to {cluster['similarity']:.0%})", ""]
+        for p in cluster["pairs"]:
+            a, b = str(p.get("a", "")), str(p.get("b", ""))
+            lines += [f"**{md_escape(a)} and {md_escape(b)}: {float(p.get('similarity', 0)):.0%}**: "
+                      f"{float(p.get('share_a', 0)):.0%} of {md_escape(a)}'s code and "
+                      f"{float(p.get('share_b', 0)):.0%} of {md_escape(b)}'s, "
+                      f"{int(p.get('shared_tokens', 0))} tokens in common.", ""]
+            for passage in p.get("passages") or []:
+                for side, name in (("a", a), ("b", b)):
+                    first, last = _lines(passage, side)
+                    lines += [f"{md_escape(name)}, lines {first}-{last}:", "",
+                              md_fence(str(passage.get(f"{side}_text", "")), "cpp"), ""]
     not_compared = similarity.get("not_compared") or []
     if not_compared:
         lines += ["", "**Not compared:**", ""]
         lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: {md_escape(str(e.get('reason', '')))}"
                   for e in not_compared]
     return lines
+
+
+def _similarity_intro(similarity) -> str:
+    return (f"{int(similarity.get('compared', 0))} submissions compared with "
+            f"{md_escape(str(similarity.get('tool', 'a similarity tool')))}"
+            + (f", the template ({md_code(str(similarity['boilerplate']))}) not counted"
+               if similarity.get("boilerplate") else "")
+            + f"; pairs sharing at least {float(similarity.get('min_listed', 0)):.0%} are listed, "
+            "grouped into clusters of students. A high share is a reason to look, not a verdict.")
+
+
+def _lines(passage: dict, side: str) -> tuple[int, int]:
+    first, last = (list(passage.get(f"{side}_lines") or [0, 0]) + [0, 0])[:2]
+    return int(first), int(last)
+
+
+def _score_cell(r) -> str:
+    return f"{points(r.score)} / {points(r.max_score)}"
 
 
 def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: dict | None = None) -> str:
@@ -183,11 +261,21 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: d
     lines = ["# Class summary", "",
              f"{len(rows)} submissions: " + ", ".join(f"{n} {md_escape(s)}" for s, n in sorted(statuses.items())) + "."]
     if graded:
-        ordered = sorted(graded)
-        median = (ordered[(len(ordered) - 1) // 2] + ordered[len(ordered) // 2]) / 2
         top = max(r.max_score for r in rows)
-        lines.append(f"Median score {median:g} / {top:g}; "
-                     f"{sum(s >= top for s in graded)} full marks, {sum(s == 0 for s in graded)} at zero.")
+        full = sum(s >= top for s in graded)
+        lines.append(f"Median score {median(graded):g} / {top:g}; "
+                     f"{full} full mark{'' if full == 1 else 's'}, {sum(s == 0 for s in graded)} at zero.")
+    failed = [r for r in rows if r.error]
+    if failed:
+        lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
+        lines += [f"- {md_escape(r.student, line_start=True)}: {md_escape(r.error)}" for r in failed]
+    lines += ["", "## Students", "", "| student | score | status | first diagnosis |", "|---|---:|---|---|"]
+    for r in rows:
+        name = (f"[{md_escape(r.student)}](<{report_link(r.student)}>)" if r.student in linked
+                else f"{md_escape(r.student)} (no report)")
+        d = first_diagnosis(r)
+        diagnosis = f"{md_escape(_diagnosis_title(d))} ({md_code(d)})" if d else ""
+        lines.append(f"| {name} | {_score_cell(r)} | {md_escape(r.status)} | {diagnosis} |")
     lines += ["", f"![score histogram]({HISTOGRAM})", "", "## Most common diagnoses", ""]
     counted = _diagnosis_counts(rows)
     if counted:
@@ -195,72 +283,290 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: d
         lines += [f"| {md_code(d)} | {md_escape(title)} | {n} |" for d, title, n in counted]
     else:
         lines.append("None: no submission was found at fault.")
-    lines += ["", "## Speed against accuracy", "",
-              f"{charted} submissions measured by the speed check (stars: green full marks, amber half "
-              "or more, red less), on the study's chart of the lookup methods (docs/study/). "
-              "Submissions that crashed or did not build have no point.", "",
+    lines += ["", "## Speed against accuracy", "", _speed_caption(charted), "",
               f"![speed against accuracy]({SPEED_CHART})"]
-    failed = [r for r in rows if r.error]
-    if failed:
-        lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
-        lines += [f"- {md_escape(r.student, line_start=True)}: {md_escape(r.error)}" for r in failed]
-    lines += ["", "## Students' reports", ""]
-    for r in rows:
-        if r.student in linked:
-            lines.append(f"- [{md_escape(r.student)}](<{report_link(r.student)}>)")
-        else:
-            lines.append(f"- {md_escape(r.student, line_start=True)} (no report)")
     lines += _skipped_section(data.get("skipped"))
     lines += _roster_section(data.get("roster"))
     lines += _similarity_section(data.get("similarity"))
     return "\n".join(lines) + "\n"
 
 
-def summary_html(rows, markdown_text: str, out: Path, linked: set[str] | None = None) -> str:
-    """summary.md as one self-contained page (charts embedded), and the
-    gradebook as a table whose student names link to their reports."""
-    from markdown_it import MarkdownIt
-    linked = linked or set()
-    # Raw HTML off: whatever escaping summary.md missed still shows as text.
-    body = MarkdownIt("commonmark", {"html": False}).enable("table").render(markdown_text)
-    for name in (HISTOGRAM, SPEED_CHART):
-        data = base64.b64encode((out / name).read_bytes()).decode()
-        body = body.replace(f'src="{name}"', f'src="data:image/png;base64,{data}"')
-    names = check_names(rows)
+def median(values: list[float]) -> float:
+    ordered = sorted(values)
+    return (ordered[(len(ordered) - 1) // 2] + ordered[len(ordered) // 2]) / 2
+
+
+def _speed_caption(charted: int) -> str:
+    return (f"{charted} submissions measured by the speed check (stars: green full marks, amber half "
+            "or more, red less), on the study's chart of the lookup methods (docs/study/). "
+            "Submissions that crashed or did not build have no point.")
+
+
+# ---- summary.html -----------------------------------------------------------------
+
+
+def _status_class(r) -> str:
+    if r.status == UNGRADABLE:
+        return "skipped"
+    if r.status != GRADED:
+        return "failed"
+    fraction = r.score / r.max_score if r.max_score > 0 else 0.0
+    return "passed" if fraction >= 0.999 else "partial" if fraction >= 0.5 else "failed"
+
+
+def _who_columns(rows) -> list[str]:
     # A roster (grade-all --roster) adds who each student is.
-    who = [k for k in ("student_id", "name", "email") if any(getattr(r, k, "") for r in rows)]
-    head = "".join(f"<th>{html.escape(h.replace('_', ' '))}</th>"
-                   for h in ["student", *who, "score", "status", *names, "diagnoses"])
-    lines = []
+    return [k for k in ("student_id", "name", "email") if any(getattr(r, k, "") for r in rows)]
+
+
+def _student_link(r, linked: set[str]) -> str:
+    from .html import e
+    name = e(r.student)
+    return f'<a href="{e(report_link(r.student))}">{name}</a>' if r.student in linked else name
+
+
+def _hero(rows) -> str:
+    from .html import _score_class, e
+    statuses = Counter(r.status for r in rows)
+    graded = [r.score for r in rows if r.status != UNGRADABLE]
+    top = max([r.max_score for r in rows] + [0.0])
+    mid = median(graded) if graded else 0.0
+    pct = 0.0 if top <= 0 else max(0.0, min(100.0, 100 * mid / top))
+    counts = ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
+    full = sum(s >= top for s in graded)
+    marks = (f" · median {points(mid)} of {points(top)}, {full} full mark{'' if full == 1 else 's'}, "
+             f"{sum(s == 0 for s in graded)} at zero" if graded and top > 0 else "")
+    return f"""
+<header class="hero">
+  <div class="who">
+    <p class="eyebrow">Cube-map environment mapping · class summary</p>
+    <h1>{len(rows)} submissions</h1>
+    <p class="meta">{e(counts)}{e(marks)}</p>
+  </div>
+  <div class="ring {_score_class(mid, top, GRADED)}" style="--p:{pct:.1f}" role="img"
+       aria-label="median score {e(points(mid))} of {e(points(top))}">
+    <div><strong>{e(points(mid))}</strong><span>of {e(points(top))}</span></div>
+  </div>
+</header>"""
+
+
+def _attention(rows, data: dict) -> str:
+    """Callouts for what needs the instructor: ungradable students, results
+    worth grading again, roster mismatches."""
+    from .html import e
+    out = []
+    failed = [r for r in rows if r.error]
+    if failed:
+        items = "".join(f"<li><strong>{e(r.student)}</strong>: {e(r.error)}</li>" for r in failed)
+        out.append(f'<div class="callout failed"><strong>Could not be graded (the grader failed, not the '
+                   f'student).</strong><ul class="plain">{items}</ul></div>')
+    again = data.get("grade_again") or {}
+    if again.get("students"):
+        n = len(again["students"])
+        out.append(f'<div class="callout partial"><strong>{n} {"result says" if n == 1 else "results say"} '
+                   f'{e(" or ".join(again.get("statuses", [])))}</strong>, which another process can cause: '
+                   f'running grade-all again grades {"it" if n == 1 else "them"} again: '
+                   f'{e(", ".join(again["students"]))}.</div>')
+    roster = data.get("roster") or {}
+    for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster"),
+                       ("left_out", "Left out of the roster")):
+        entries = roster.get(key) or []
+        if entries:
+            items = "".join(f"<li>{e(entry_text(x))}</li>" for x in entries)
+            cls = "passed" if key == "left_out" else "partial"
+            out.append(f'<div class="callout {cls}"><strong>{title} ({len(entries)}).</strong>'
+                       f'<ul class="plain">{items}</ul></div>')
+    return "\n".join(out)
+
+
+def _students_table(rows, linked: set[str]) -> str:
+    from .html import STATE_MARK, e
+    who = _who_columns(rows)
+    head = "".join(f"<th>{e(h.replace('_', ' '))}</th>" for h in who)
+    body = []
     for r in rows:
-        student = html.escape(clean(r.student))
-        if r.student in linked:
-            student = f'<a href="{html.escape(report_link(r.student))}">{student}</a>'
-        cells = [student, *[html.escape(clean(str(getattr(r, k, "")))) for k in who],
-                 f"{r.score:g} / {r.max_score:g}", html.escape(r.status),
-                 *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], html.escape(" ".join(r.diagnoses))]
-        cls = ' class="bad"' if r.status != "graded" else ""
-        lines.append(f"<tr{cls}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
-    table = (f'<h2>Gradebook</h2><div class="wide"><table><thead><tr>{head}</tr></thead>'
-             f"<tbody>{''.join(lines)}</tbody></table></div>")
-    style = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
-             "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:3px 8px;"
-             "text-align:left;font-variant-numeric:tabular-nums}td:nth-child(2){white-space:nowrap}th{background:#f3f3f3}tr.bad td{background:#fdeeee}"
-             "img{max-width:100%}.wide{overflow-x:auto}p,li,td:first-child{overflow-wrap:anywhere}"
-             # A phone: a table wider than the screen scrolls by itself, the page does not.
-             "table{display:block;overflow-x:auto;max-width:100%}"
-             "@media (max-width:600px){body{margin:1em auto;padding:0 8px}}")
-    return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
-            f'<meta http-equiv="Content-Security-Policy" content="{CSP}">'
-            f'<meta name="viewport" content="width=device-width, initial-scale=1">'
-            f"<title>Class summary</title><style>{style}</style></head><body>{body}{table}</body></html>\n")
+        cls = _status_class(r)
+        pct = 0.0 if r.max_score <= 0 else max(0.0, min(100.0, 100 * r.score / r.max_score))
+        bar = f'<span class="bar {cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
+        d = first_diagnosis(r)
+        more = len(set(r.diagnoses) - {d})
+        diagnosis = (f'<strong>{e(_diagnosis_title(d))}</strong> <span class="id">{e(d)}</span>'
+                     + (f" (+{more} more)" if more else "")) if d else ""
+        if r.error:
+            diagnosis = e(r.error)
+        mark = {"passed": STATE_MARK["passed"], "failed": STATE_MARK["failed"],
+                "partial": STATE_MARK["partial"]}.get(cls, "–")
+        body.append(f'<tr><td class="who">{_student_link(r, linked)}</td>'
+                    + "".join(f'<td class="nowrap">{e(getattr(r, k, ""))}</td>' if k != "name"
+                              else f"<td>{e(getattr(r, k, ''))}</td>" for k in who)
+                    + f'<td class="pts">{bar}{e(_score_cell(r)) if r.max_score > 0 else "–"}</td>'
+                    f'<td><span class="pill {cls}">{mark} {e(r.status)}</span></td>'
+                    f'<td class="diag">{diagnosis}</td></tr>')
+    return f"""
+<section>
+  <h2>Students</h2>
+  <div class="wide"><table class="checks students">
+    <thead><tr><th>Student</th>{head}<th class="pts">Score</th><th>Status</th><th>First diagnosis</th></tr></thead>
+    <tbody>{"".join(body)}</tbody>
+  </table></div>
+</section>"""
+
+
+def _points_table(rows, linked: set[str]) -> str:
+    """Every check's points, as in gradebook.csv: collapsed (it is wide)."""
+    from .html import e
+    names = check_names(rows)
+    if not names:
+        return ""
+    head = "".join(f"<th class=\"pts\">{e(n)}</th>" for n in names)
+    body = "".join(f"<tr><td>{_student_link(r, linked)}</td>"
+                   + "".join(f'<td class="pts">{e(points(r.checks[n])) if n in r.checks else ""}</td>' for n in names)
+                   + f'<td>{e(" ".join(r.diagnoses))}</td></tr>' for r in rows)
+    return f"""
+<section>
+  <details class="log"><summary>Points per check, and every diagnosis (as in gradebook.csv)</summary>
+  <div class="wide"><table class="checks points">
+    <thead><tr><th>Student</th>{head}<th>Diagnoses</th></tr></thead>
+    <tbody>{body}</tbody>
+  </table></div></details>
+</section>"""
+
+
+def _charts(out: Path, charted: int) -> str:
+    from .html import _figure
+    return f"""
+<section>
+  <h2>Scores and speed</h2>
+  <div class="pair">
+    {_figure(out / HISTOGRAM, "Scores", "ungradable submissions are not shown")}
+    {_figure(out / SPEED_CHART, "Speed against accuracy", _speed_caption(charted))}
+  </div>
+</section>"""
+
+
+def _diagnoses_table(rows) -> str:
+    from .html import e
+    counted = _diagnosis_counts(rows)
+    if not counted:
+        return '<section><h2>Most common diagnoses</h2><p>None: no submission was found at fault.</p></section>'
+    body = "".join(f'<tr><td><code>{e(d)}</code></td><td>{e(title)}</td><td class="pts">{n}</td></tr>'
+                   for d, title, n in counted)
+    return f"""
+<section>
+  <h2>Most common diagnoses</h2>
+  <table class="checks">
+    <thead><tr><th>Diagnosis</th><th>What it means</th><th class="pts">Submissions</th></tr></thead>
+    <tbody>{body}</tbody>
+  </table>
+</section>"""
+
+
+def _skipped_html(skipped) -> str:
+    from .html import e
+    if not skipped:
+        return ""
+    items = "".join(f"<li><code>{e(x.get('entry', ''))}</code>: {e(x.get('reason', ''))}</li>" for x in skipped)
+    return (f"<section><h2>Entries that were not graded</h2><p>What the class folder held besides "
+            f'submissions, and why each was left out.</p><ul class="plain">{items}</ul></section>')
+
+
+def _roster_html(roster) -> str:
+    from .html import e
+    if not roster:
+        return ""
+    files = roster.get("lms_files") or []
+    imports = (f"<p>Import-ready grade files beside this page: {e(', '.join(files))} (Canvas, Moodle, "
+               "Gradescope; the roster's students only).</p>") if files else ""
+    return (f"<section><h2>Roster</h2><p><code>{e(roster.get('file', ''))}</code>: "
+            f"{int(roster.get('students', 0))} students, {int(roster.get('matched', 0))} matched to a "
+            "submission (who handed in nothing, and submissions matching no one, are listed at the top).</p>"
+            f"{imports}</section>")
+
+
+def _similarity_html(similarity) -> str:
+    """Clusters of similar students, each collapsed; in each, its pairs and
+    their longest shared passages side by side (collapsed too)."""
+    from .html import e
+    if not similarity:
+        return ""
+    pairs = similarity.get("pairs") or []
+    parts = [f"<section><h2>Most similar pairs</h2><p>{e(_similarity_intro_text(similarity))}</p>"]
+    if not pairs:
+        parts.append("<p>No pair reaches that share.</p>")
+    for n, cluster in enumerate(similarity_clusters(pairs), 1):
+        inner = []
+        for p in cluster["pairs"]:
+            a, b = str(p.get("a", "")), str(p.get("b", ""))
+            inner.append(f'<p class="pair-title">{e(a)} and {e(b)}: {float(p.get("similarity", 0)):.0%}</p>'
+                         f"<p>{float(p.get('share_a', 0)):.0%} of {e(a)}'s code and "
+                         f"{float(p.get('share_b', 0)):.0%} of {e(b)}'s, "
+                         f"{int(p.get('shared_tokens', 0))} tokens in common.</p>")
+            for passage in p.get("passages") or []:
+                (fa, la), (fb, lb) = _lines(passage, "a"), _lines(passage, "b")
+                inner.append(f'<details class="passage"><summary>shared passage: {e(a)} lines {fa}-{la}, '
+                             f'{e(b)} lines {fb}-{lb}</summary><div class="side-by-side">'
+                             f'<pre><code>{e(passage.get("a_text", ""))}</code></pre>'
+                             f'<pre><code>{e(passage.get("b_text", ""))}</code></pre></div></details>')
+        names = ", ".join(cluster["students"])
+        parts.append(f'<details class="cluster"><summary>Cluster {n}: {e(names)} '
+                     f'({len(cluster["students"])} students, up to {cluster["similarity"]:.0%})</summary>'
+                     f'{"".join(inner)}</details>')
+    not_compared = similarity.get("not_compared") or []
+    if not_compared:
+        items = "".join(f"<li>{e(x.get('student', ''))}: {e(x.get('reason', ''))}</li>" for x in not_compared)
+        parts.append(f'<p><strong>Not compared:</strong></p><ul class="plain">{items}</ul>')
+    return "".join(parts) + "</section>"
+
+
+def _similarity_intro_text(similarity) -> str:
+    return (f"{int(similarity.get('compared', 0))} submissions compared with "
+            f"{similarity.get('tool', 'a similarity tool')}"
+            + (f", the template ({similarity['boilerplate']}) not counted" if similarity.get("boilerplate") else "")
+            + f"; pairs sharing at least {float(similarity.get('min_listed', 0)):.0%} are listed, grouped into "
+            "clusters of students. A high share is a reason to look, not a verdict.")
+
+
+def _footer(data: dict) -> str:
+    from .html import e
+    files = ["gradebook.csv", *((data.get("roster") or {}).get("lms_files") or []), "summary.json", "summary.md"]
+    return f'<footer>beside this page: {e(", ".join(files))}</footer>'
+
+
+def summary_html(rows, out: Path, linked: set[str] | None = None, data: dict | None = None,
+                 charted: int = 0) -> str:
+    """The class page: self-contained, in report.html's style."""
+    from .html import CSS
+    linked = linked or set()
+    data = data or {}
+    body = "\n".join(s for s in (
+        _hero(rows), _attention(rows, data), _students_table(rows, linked), _points_table(rows, linked),
+        _charts(out, charted), _diagnoses_table(rows), _skipped_html(data.get("skipped")),
+        _roster_html(data.get("roster")), _similarity_html(data.get("similarity")), _footer(data)) if s)
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta http-equiv="Content-Security-Policy" content="{CSP}">
+<meta name="color-scheme" content="light dark">
+<title>Class summary</title>
+<style>{CSS}{CLASS_CSS}</style>
+</head>
+<body>
+<main>
+{body}
+</main>
+</body>
+</html>
+"""
 
 
 def write_summary(rows, out: Path, data: dict | None = None) -> None:
-    """summary.md and summary.html: score histogram, most common diagnoses,
-    every submission on the speed-against-accuracy chart, a link to every
-    student's report; with grade-all's `data`, the entries it skipped, the
-    roster's matches and the most similar pairs."""
+    """summary.md and summary.html: the students with score, status and
+    first diagnosis (a link to every report), score histogram, most common
+    diagnoses, every submission on the speed-against-accuracy chart; with
+    grade-all's `data`, the entries it skipped, the roster's matches and the
+    clusters of similar submissions."""
     from . import write_atomic
     out = Path(out)
     _histogram(rows, out / HISTOGRAM)
@@ -268,4 +574,4 @@ def write_summary(rows, out: Path, data: dict | None = None) -> None:
     linked = {r.student for r in rows if (out / r.student / STUDENT_REPORT).is_file()}
     text = summary_markdown(rows, charted, linked, data)
     write_atomic(out / "summary.md", text)
-    write_atomic(out / "summary.html", summary_html(rows, text, out, linked))
+    write_atomic(out / "summary.html", summary_html(rows, out, linked, data, charted))

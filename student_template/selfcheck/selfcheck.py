@@ -19,7 +19,9 @@ import base64
 import html
 import json
 import math
+import os
 import re
+import signal
 import struct
 import subprocess
 import sys
@@ -165,13 +167,8 @@ class Driver:
             job = self.raw / f"job{self.count}.txt"
             job.write_text("".join("\t".join(commands[i][1]) + "\n" for i in todo))
             status = self.raw / f"job{self.count}.status"
-            try:
-                # What the student's code prints is kept, not parsed.
-                proc = subprocess.run([str(self.path), str(job), str(status)], capture_output=True, text=True,
-                                      errors="replace", timeout=TIMEOUT_S, cwd=str(KIT))
-                code, timed_out, err = proc.returncode, False, proc.stderr
-            except subprocess.TimeoutExpired:
-                code, timed_out, err = None, True, ""
+            code, timed_out = run_ended(self.path, job, status, self.raw / f"job{self.count}")
+            err = (self.raw / f"job{self.count}.err").read_text(errors="replace") if not timed_out else ""
             out = status.read_text(errors="replace") if status.is_file() else ""
             done = set()
             for line in out.splitlines():
@@ -203,6 +200,84 @@ class Driver:
                 failed.update(range(start, len(commands)))
                 break
         return failed, threw, failures
+
+
+def run_ended(driver: Path, job: Path, status: Path, stem: Path) -> tuple[int | None, bool]:
+    """Run the driver on one job file: (exit code, timed out). The driver
+    runs in a session of its own, and it ends with everything it started:
+    the student's code runs in it (static initialisers too), and a process
+    it left behind could otherwise rewrite the report after the self-check
+    has written it. What the student's code prints goes to files (kept, not
+    parsed), so a leftover holding a pipe open cannot stall the run."""
+    with open(f"{stem}.out", "wb") as out, open(f"{stem}.err", "wb") as err:
+        proc = subprocess.Popen([str(driver), str(job), str(status)], stdin=subprocess.DEVNULL, stdout=out,
+                                stderr=err, cwd=str(KIT), start_new_session=True)
+        try:
+            code, timed_out = proc.wait(timeout=TIMEOUT_S), False
+        except subprocess.TimeoutExpired:
+            code, timed_out = None, True
+        end_descendants(proc)
+    return code, timed_out
+
+
+def become_subreaper() -> bool:
+    """Linux: make every process the driver leaves behind (even one that
+    called setsid to leave its session) a child of this one when its parent
+    dies, so end_descendants can find it. Elsewhere, or if it fails, only
+    the driver's process group is ended."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        import ctypes
+        PR_SET_CHILD_SUBREAPER = 36
+        return ctypes.CDLL(None, use_errno=True).prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) == 0
+    except (OSError, AttributeError):
+        return False
+
+
+SUBREAPER = False   # set by main()
+
+
+def own_children() -> list[int]:
+    me, found = os.getpid(), []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat", "rb") as f:
+                    fields = f.read().rpartition(b")")[2].split()   # the name, in (), may hold anything
+            except OSError:
+                continue
+            if len(fields) > 1 and int(fields[1]) == me:
+                found.append(int(entry))
+    return found
+
+
+def end_descendants(proc: subprocess.Popen | None = None) -> None:
+    """Kill the driver (if still running), its process group, and, as a
+    subreaper, every process left behind, until none is left."""
+    if proc is not None:
+        if proc.poll() is None:
+            proc.kill()
+        if hasattr(os, "killpg"):
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)   # its session's group: the driver's pid
+            except OSError:
+                pass   # nothing left in it
+        proc.wait()
+    while SUBREAPER:
+        children = own_children()
+        if not children:
+            break
+        for pid in children:   # orphans reparented to us, and any they still hold
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        for pid in children:
+            try:
+                os.waitpid(pid, 0)
+            except ChildProcessError:
+                pass
 
 
 def crash_message(code: int | None) -> str:
@@ -1011,8 +1086,11 @@ def main(argv=None) -> int:
     if not driver.is_file():
         print(f"selfcheck: no driver at {driver}: build it first (make selfcheck does)", file=sys.stderr)
         return 2
+    global SUBREAPER
+    SUBREAPER = become_subreaper()
     t0 = time.monotonic()
     result = grade(driver, args.out.resolve())
+    end_descendants()   # nothing the driver started may outlive the run and touch the reports
     write_reports(result, args.out)
     print(terminal_report(result))
     print(f"\n({time.monotonic() - t0:.1f} s) Reports: {args.out / 'report.md'} and {args.out / 'report.html'} (with pictures)")

@@ -5,7 +5,12 @@ OUT/<student>/ when complete, with a record (.grade.json) that holds the key
 they were graded under: the submission's content hash, the grader's own
 (code, rubric, fixtures, maps, our C and C++ sources), the options and the
 course secret. Re-run after an interruption, a student whose key is
-unchanged is skipped. The gradebook (gradebook.csv) and the class summary
+unchanged is skipped, unless their status says another process may have
+disturbed the grading (DISTURBED: timeout, ungradable). A grading process
+that dies (killed, out of memory, unable to start a thread) breaks the
+process pool and every grading in it: the pool is rebuilt for those not yet
+started, and those that were being graded are graded again, each alone in a
+process of its own; one that fails alone too is ungradable, with the reason. The gradebook (gradebook.csv) and the class summary
 (summary.md, summary.html and their charts) are rebuilt from what is on
 disk, so they are always complete.
 
@@ -14,7 +19,7 @@ the results folder) are skipped and listed with the reason in the summary
 data (OUT/summary.json, "skipped"). An entry that looks like an archive or
 a source file in any format is graded, so that a .rar gets its own
 verdict ("unknown-format") instead of vanishing. With a roster (--roster
-CSV, grader/roster.py) the gradebook gains student_id, name and email
+CSV, grader/course/roster.py) the gradebook gains student_id, name and email
 columns and a row for every student who handed nothing in.
 """
 from __future__ import annotations
@@ -30,9 +35,10 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import PROJECT_ROOT
-from .results import UNGRADABLE
-from .submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
+from .. import PROJECT_ROOT
+from ..results import TIMEOUT, UNGRADABLE
+from ..submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
+from .lms_csv import FILES as LMS_FILES
 
 # grade() imports this module for student_name: what only a class needs
 # (process pools, the class summary's report code) is imported where used.
@@ -42,7 +48,7 @@ MISSING = "no-submission"     # a roster's student with nothing in the class fol
 SUMMARY_DATA = "summary.json"
 # What grade-all writes beside the students' folders in OUT (lower case).
 CLASS_FILES = ("gradebook.csv", SUMMARY_DATA, "summary.md", "summary.html", "summary_histogram.png",
-               "summary_speed_accuracy.png")
+               "summary_speed_accuracy.png", *LMS_FILES)
 # Temporary folders are named after the student, cut short: a student name
 # near the 255-byte limit made mkdtemp fail ("ungradable", the grader blamed).
 TMP_NAME_CHARS = 40
@@ -51,6 +57,10 @@ TMP_NAME_CHARS = 40
 # build/ in it must not force a regrade of the class).
 KEY_ROOTS = ("grader", "reference/include", "reference/src", "fixtures", "Cubemap", "scenes")
 KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")   # fixtures/ holds study.csv
+# Statuses another process may have caused (a classmate's worker that
+# signalled or starved this one, a grading process killed, a harness error):
+# a resumed run grades them again instead of keeping them as final.
+DISTURBED = (TIMEOUT, UNGRADABLE)
 # Metrics the class summary charts, copied from the checks into the record.
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
@@ -106,7 +116,7 @@ def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Pat
 def _hash_tree(path: Path) -> str:
     # Links and special files are never followed or read (one link to
     # /proc/self/mem in one folder stopped the whole class); bounded in files.
-    from .submissions import hash_submission
+    from ..submissions import hash_submission
     return hash_submission(path)
 
 
@@ -144,6 +154,7 @@ class Row:
     student_id: str = ""                                     # from the roster (--roster)
     name: str = ""
     email: str = ""
+    first_diagnosis: str = ""                                # the id the report names first (its cause)
 
 
 def _chart_metrics(result) -> dict[str, float]:
@@ -161,7 +172,7 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
     The record is written inside the new folder before it is renamed, so a
     folder with a record is always complete; an interruption leaves at most
     a .tmp- folder, which the next run removes."""
-    from .grade import GradeOptions, grade
+    from ..grade import GradeOptions, grade
     final = Path(out)
     work = Path(tempfile.mkdtemp(prefix=f".tmp-{student[:TMP_NAME_CHARS]}-", dir=final.parent))
     try:
@@ -211,10 +222,11 @@ def read_row(student: str, out_dir: Path) -> Row:
     tests = data.get("tests", [])
     checks = {t.get("extra_data", {}).get("check", t["name"]): float(t.get("score", 0.0)) for t in tests}
     record = read_record(out_dir) or {}
+    found = [d["id"] for d in extra.get("diagnoses", [])]
     return Row(student, extra.get("status", "graded"), float(data.get("score", 0.0)),
                float(extra.get("max_score", sum(t.get("max_score", 0) for t in tests))),
-               checks, sorted({d["id"] for d in extra.get("diagnoses", [])}),
-               dict(record.get("metrics", {})), float(data.get("execution_time", 0.0)))
+               checks, sorted(set(found)), dict(record.get("metrics", {})), float(data.get("execution_time", 0.0)),
+               first_diagnosis=found[0] if found else "")
 
 
 def _clean_leftovers(out: Path) -> None:
@@ -240,11 +252,16 @@ class Interrupted(Exception):
 
 def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | None = None,
               progress: bool = True, force: bool = False, roster: Path | None = None,
-              similarity: bool = False) -> list[Row]:
+              similarity: bool = False, grade_one=None, assignment: str | None = None) -> list[Row]:
     """Grade every submission in `folder` into `out`; returns the gradebook rows.
     Raises Interrupted on Ctrl-C (what finished is kept: run again to go on),
     RosterError when the roster cannot be read and SimilarityUnavailable
-    when --similarity cannot run (both before anything is graded)."""
+    when --similarity cannot run (both before anything is graded). With a
+    roster, the grade files for Canvas, Moodle and Gradescope are written
+    too (grader/course/lms_csv.py), the LMS's column named `assignment`.
+    `grade_one` (a module-level function with _grade_one's signature, run in
+    the grading processes) replaces _grade_one: tests use it to break a
+    grading process."""
     options = dict(options or {})
     if similarity:   # before grading: a missing tool must not cost a class's grading time
         from .similarity import require_tool
@@ -254,7 +271,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         from .roster import load_roster
         class_roster = load_roster(roster)
     if not options.get("allow_stale"):
-        from .fixtures import check_stale
+        from ..fixtures import check_stale
         check_stale()   # once, here: raises StaleFixtures for the instructor to read
     options["allow_stale"] = True
     jobs = max(1, jobs or os.cpu_count() or 1)
@@ -267,22 +284,32 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     for student, path in submissions.items():
         key = f"{key_base}:{_hash_tree(path)}"
         record = read_record(out / student)
+        kept = None
         if not force and record and record.get("key") == key and (out / student / "results.json").is_file():
-            rows[student] = read_row(student, out / student)
-            rows[student].skipped = True
+            kept = read_row(student, out / student)
+        if kept is not None and kept.status not in DISTURBED:
+            kept.skipped = True
+            rows[student] = kept
         else:
             todo.append((student, path, key))
     with _Progress(progress, len(submissions), len(submissions) - len(todo)) as advance:
         if todo:
             try:
-                _run_pool(todo, out, jobs, options, rows, advance)
+                _run_pool(todo, out, jobs, options, rows, advance, grade_one or _grade_one)
             except KeyboardInterrupt:
                 raise Interrupted(len(rows), len(submissions)) from None
+    _clean_leftovers(out)   # what a broken pool's processes left half-written
     ordered = [rows[s] for s in submissions]
-    data = {"skipped": skipped_entries(folder, exclude=out), "roster": None, "similarity": None}
+    data = {"skipped": skipped_entries(folder, exclude=out), "roster": None, "similarity": None,
+            "grade_again": {"statuses": list(DISTURBED), "students": [r.student for r in ordered if r.status in DISTURBED]}}
     missing: list[Row] = []
     if class_roster is not None:
-        data["roster"], missing = _apply_roster(class_roster, Path(roster), ordered)
+        data["roster"], missing, entries = _apply_roster(class_roster, Path(roster), ordered)
+        from .lms_csv import DEFAULT_ASSIGNMENT, write_lms_files
+        # A Canvas export with one assignment names the column that fills it.
+        exported = class_roster.assignments[0] if len(class_roster.assignments) == 1 else None
+        data["roster"]["lms_files"] = [p.name for p in write_lms_files(entries, out,
+                                                                       assignment or exported or DEFAULT_ASSIGNMENT)]
     if similarity:
         from .similarity import class_similarity
         data["similarity"] = class_similarity(submissions, out)
@@ -292,9 +319,10 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     return ordered
 
 
-def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list[Row]]:
+def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list[Row], list]:
     """Fill the rows' id, name and email; rows for students who handed in
-    nothing; the summary's "roster" entry."""
+    nothing; the summary's "roster" entry; (row, student) for every student
+    on the roster, in gradebook order."""
     matched, unmatched, absent = class_roster.match([r.student for r in rows])
     for r in rows:
         if r.student in matched:
@@ -302,10 +330,12 @@ def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list
             r.student_id, r.name, r.email = st.id, st.name, st.email
     missing = [Row(st.name or st.id or st.email, MISSING, 0.0, 0.0, student_id=st.id, name=st.name, email=st.email)
                for st in absent]
+    entries = [(r, matched[r.student]) for r in rows if r.student in matched] + list(zip(missing, absent))
     summary = {"file": path.name, "columns": class_roster.columns, "students": len(class_roster.students),
                "matched": len(matched), "unmatched": unmatched,
-               "missing": [{"id": st.id, "name": st.name, "email": st.email} for st in absent]}
-    return summary, missing
+               "missing": [{"id": st.id, "name": st.name, "email": st.email} for st in absent],
+               "left_out": class_roster.left_out}
+    return summary, missing, entries
 
 
 def _summary(rows: list[Row], out: Path, data: dict) -> None:
@@ -313,35 +343,140 @@ def _summary(rows: list[Row], out: Path, data: dict) -> None:
     data when it takes it."""
     import inspect
 
-    from .reports.class_summary import write_summary
+    from ..reports.class_summary import write_summary
     if "data" in inspect.signature(write_summary).parameters:
         write_summary(rows, out, data=data)
     else:
         write_summary(rows, out)
 
 
-def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance) -> None:
+def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance, grade_one) -> None:
+    """Grade `todo` in pools of `jobs` processes. A grading process that dies
+    breaks its pool and fails every grading in it: those not yet started go
+    to a fresh pool; those that were started, like every grading that
+    raised, are graded again alone (_grade_alone), since any of them may
+    be the one that broke it."""
+    queue, suspects = list(todo), []
+    while queue:
+        failed, started = _pool_round(queue, out, jobs, options, rows, advance, grade_one)
+        again = [t for t in queue if t[0] in failed and t[0] not in started]
+        suspects += [(t, failed[t[0]]) for t in queue if t[0] in failed and t[0] in started]
+        if again and len(again) == len(queue):
+            # Nothing started: the pool cannot run here at all (no process or
+            # thread to be had). Each is tried alone, and says why if it fails.
+            suspects += [(t, failed[t[0]]) for t in again]
+            again = []
+        queue = again
+    for (student, path, key), first in suspects:
+        rows[student] = _grade_alone(student, path, out / student, key, options, grade_one, first)
+        advance(student)
+
+
+def _pool_round(queue, out: Path, jobs: int, options: dict, rows: dict, advance, grade_one):
+    """One pool over `queue`: fills `rows` with what was graded; returns
+    ({student: why their grading failed}, {students whose grading started})."""
     import concurrent.futures as futures
     import multiprocessing
     ctx = multiprocessing.get_context("spawn")   # no copy of the parent's threads or state
-    pool = futures.ProcessPoolExecutor(max_workers=min(jobs, len(todo)), mp_context=ctx,
-                                       initializer=_ignore_interrupts)
+    starts = ctx.SimpleQueue()   # each grading process says whom it starts, before it starts
+    pool = futures.ProcessPoolExecutor(max_workers=min(jobs, len(queue)), mp_context=ctx,
+                                       initializer=_pool_process_init, initargs=(starts,))
+    failed: dict[str, str] = {}
+    started: set[str] = set()
     try:
-        pending = {pool.submit(_grade_one, student, str(path), str(out / student), key, options): student
-                   for student, path, key in todo}
-        for done in futures.as_completed(pending):
-            student = pending[done]
-            try:
-                rows[student] = done.result()
-            except Exception as e:   # the harness failed on this one: ungradable, never dropped
-                rows[student] = Row(student, UNGRADABLE, 0.0, 0.0, error=f"{type(e).__name__}: {e}")
-            advance(student)
+        pending = {pool.submit(_started_then, grade_one, student, str(path), str(out / student), key, options): student
+                   for student, path, key in queue}
+        waiting = set(pending)
+        while waiting:
+            # A short wait: a name waiting in `starts` must not fill its pipe.
+            done, waiting = futures.wait(waiting, timeout=0.5, return_when=futures.FIRST_COMPLETED)
+            while not starts.empty():
+                started.add(starts.get())
+            for future in done:
+                student = pending[future]
+                try:
+                    rows[student] = future.result()
+                    advance(student)
+                except Exception as e:   # the harness failed on this one, or the pool broke
+                    failed[student] = _failure_text(e)
     except KeyboardInterrupt:
         for process in list(getattr(pool, "_processes", {}).values()):
             process.terminate()   # their half-graded folders are .tmp- ones, removed next run
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown()
+    while not starts.empty():
+        started.add(starts.get())
+    return failed, started
+
+
+_STARTS = None   # in a grading process: where it says whom it starts grading
+
+
+def _pool_process_init(starts) -> None:
+    global _STARTS
+    _STARTS = starts
+    _ignore_interrupts()
+
+
+def _started_then(grade_one, student: str, *args) -> Row:
+    _STARTS.put(student)
+    return grade_one(student, *args)
+
+
+def _failure_text(e: BaseException) -> str:
+    from concurrent.futures.process import BrokenProcessPool
+    if isinstance(e, BrokenProcessPool):
+        return "a grading process died while this submission was in its pool"
+    return f"{type(e).__name__}: {e}"
+
+
+def _grade_alone(student: str, path: Path, out: Path, key: str, options: dict, grade_one, first: str) -> Row:
+    """Grade one student in a process of its own, with nothing else being
+    graded; ungradable, saying why, if that fails too."""
+    import multiprocessing
+    ctx = multiprocessing.get_context("spawn")
+    receive, send = ctx.Pipe(duplex=False)
+    process = ctx.Process(target=_grade_in_process, args=(send, grade_one, student, str(path), str(out), key, options),
+                          daemon=True)
+    try:
+        process.start()
+        send.close()
+        try:
+            message = receive.recv()
+        except EOFError:   # it died without a word
+            message = None
+        process.join()
+    except KeyboardInterrupt:
+        process.terminate()
+        raise
+    finally:
+        receive.close()
+    if message is not None and message[0] == "ok":
+        return message[1]
+    why = message[1] if message is not None else f"its grading process {_exit_text(process.exitcode)}"
+    return Row(student, UNGRADABLE, 0.0, 0.0,
+               error=f"{why} (graded alone, after a first try in the pool failed: {first})")
+
+
+def _grade_in_process(send, grade_one, student: str, *args) -> None:
+    _ignore_interrupts()
+    try:
+        message = ("ok", grade_one(student, *args))
+    except Exception as e:
+        message = ("error", f"{type(e).__name__}: {e}")
+    send.send(message)
+    send.close()
+
+
+def _exit_text(code: int | None) -> str:
+    import signal
+    if code is not None and code < 0:
+        try:
+            return f"was killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"was killed by signal {-code}"
+    return f"exited with status {code} before grading finished"
 
 
 class _Progress:
@@ -372,7 +507,7 @@ def write_gradebook(rows: list[Row], path: Path, roster_columns: bool = False) -
     With a roster: student_id, name and email after the student column (an
     LMS imports by them), and students who handed in nothing with a blank
     score (an import leaves their grade alone)."""
-    from .reports.class_summary import check_names
+    from ..reports.class_summary import check_names
     names = check_names(rows)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")

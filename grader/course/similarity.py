@@ -28,7 +28,7 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-from . import PROJECT_ROOT
+from .. import PROJECT_ROOT
 
 BOILERPLATE = PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp"
 NOISE_TOKENS = 25        # shorter shared runs are noise (copydetect's noise threshold, its default)
@@ -132,7 +132,7 @@ def class_similarity(submissions: dict[str, Path], out: Path | None = None) -> d
     (grader/submissions.py: archives, caps, no links followed) and compare
     them all. A submission whose source cannot be found is not compared
     (its own report says why)."""
-    from .submissions import SubmissionError, select_source
+    from ..submissions import SubmissionError, select_source
     sources, unread = {}, []
     for student, path in submissions.items():
         try:

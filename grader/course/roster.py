@@ -15,6 +15,10 @@ Canvas's user id inside a Canvas download name ("doejane_12345_67890_...
 "jane_doe", "doe_jane", "doejane", "janedoe"). A name that two rows share
 matches neither: an ambiguous match is worse than none.
 
+Canvas's test student ("Student, Test" in its exports, "Test Student" in
+older ones) is left out, with a note (Roster.left_out): it is no one, and
+would show as a student who handed in nothing.
+
 Everything in a roster or a file name is plain text for the reports.
 """
 from __future__ import annotations
@@ -31,6 +35,9 @@ EMAIL_COLUMNS = ("email", "emailaddress", "email1", "sisloginid", "loginid")
 NAME_COLUMNS = ("name", "fullname", "student", "studentname")
 FIRST_COLUMNS = ("firstname", "givenname")
 LAST_COLUMNS = ("lastname", "surname", "familyname")
+SECTION_COLUMNS = ("section", "sections", "group")
+# Canvas's test student, as its exports name it (normalised: letters only).
+CANVAS_TEST_STUDENT = ("studenttest", "teststudent")
 CANVAS_ID = "id"            # Canvas's own user id, part of its download file names
 MAX_ROSTER_BYTES = 10 << 20
 
@@ -45,12 +52,15 @@ class Student:
     name: str
     email: str
     canvas_id: str = ""
+    section: str = ""       # Canvas's import wants it back
 
 
 @dataclass
 class Roster:
     students: list[Student]
     columns: dict[str, str] = field(default_factory=dict)   # what -> the header it came from
+    left_out: list[str] = field(default_factory=list)       # rows that are no one, and why
+    assignments: list[str] = field(default_factory=list)    # Canvas's assignment columns, "Name (id)"
 
     def match(self, submission_names: list[str]) -> tuple[dict[str, Student], list[str], list[Student]]:
         """({submission: student}, submissions matched to nobody, students with no submission)."""
@@ -126,6 +136,7 @@ def load_roster(path: Path) -> Roster:
     email_col = _column(headers, EMAIL_COLUMNS)
     name_col = _column(headers, NAME_COLUMNS)
     first_col, last_col = _column(headers, FIRST_COLUMNS), _column(headers, LAST_COLUMNS)
+    section_col = _column(headers, SECTION_COLUMNS)
     # Canvas: "ID" is its own user id, "SIS User ID" the university's: prefer the latter as the id.
     canvas_col = headers.get(CANVAS_ID) if "sisuserid" in headers else None
     if canvas_col and id_col == canvas_col:
@@ -133,16 +144,21 @@ def load_roster(path: Path) -> Roster:
     if not (id_col or email_col or name_col or first_col):
         raise RosterError(f"{path}: no column to match students by (expected one of: SID, Student ID, ID, "
                           f"Email, Name, First Name/Last Name, Student; found: {', '.join(reader.fieldnames)})")
-    students = []
+    students, left_out = [], []
     for row in reader:
         def get(col):
             return (row.get(col) or "").strip() if col else ""
         name = get(name_col) or " ".join(x for x in (get(first_col), get(last_col)) if x)
-        if name.strip().lower() == "points possible" or name.strip().lower().startswith("test student"):
-            continue   # Canvas's second row, and its test student
-        student = Student(get(id_col), name, get(email_col), get(canvas_col))
+        if name.strip().lower() == "points possible":
+            continue   # Canvas's second row
+        if _norm(name) in CANVAS_TEST_STUDENT:
+            left_out.append(f"{name}: Canvas's test student (Student View), not a student")
+            continue
+        student = Student(get(id_col), name, get(email_col), get(canvas_col), get(section_col))
         if student.id or student.email or student.name:
             students.append(student)
     columns = {k: v for k, v in (("id", id_col), ("name", name_col or first_col), ("email", email_col)) if v}
-    return Roster(students, columns)
+    # A Canvas export names each assignment's column "Name (assignment id)".
+    assignments = [h for h in reader.fieldnames if h and canvas_col and re.fullmatch(r".*\S \(\d+\)", h.strip())]
+    return Roster(students, columns, left_out, assignments)
 

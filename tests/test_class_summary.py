@@ -1,0 +1,162 @@
+"""The class page an instructor reads (summary.html, summary.md) and the grade
+files an LMS imports (grader/course/lms_csv.py), on hand-made gradebook rows:
+what each student got is in the table, similar students come as clusters,
+and each LMS file has the columns that LMS imports by."""
+from __future__ import annotations
+
+import csv
+import io
+import re
+from html.parser import HTMLParser
+
+from grader.course.grade_all import MISSING, Row
+from grader.course.lms_csv import write_lms_files
+from grader.course.roster import Student, load_roster
+from grader.reports.class_summary import similarity_clusters, write_summary
+from grader.reports.html import CSS
+
+ROWS = [
+    Row("alice", "graded", 100.0, 100.0, {"read_texture": 25.0}, [], first_diagnosis=""),
+    Row("bob", "graded", 63.93, 100.0, {"read_texture": 6.12}, ["nearest-neighbor"], first_diagnosis="nearest-neighbor"),
+    Row("carol", "graded", 58.32, 100.0, {"read_texture": 25.0}, ["crash", "length-overflow"], first_diagnosis="crash"),
+    Row("dave", "build-error", 0.0, 100.0, {}, ["build-error"], first_diagnosis="build-error"),
+    Row("erin", "ungradable", 0.0, 0.0, error="its grading process was killed by SIGKILL (graded alone, ...)"),
+]
+
+
+class Cells(HTMLParser):
+    """The text of every table row, and the <details> summaries, of a page."""
+
+    def __init__(self, page: str):
+        super().__init__()
+        self.rows, self.summaries, self._row, self._in = [], [], None, None
+        self.feed(page)
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "tr":
+            self._row = []
+        elif tag in ("td", "th") and self._row is not None:
+            self._row.append("")
+            self._in = "cell"
+        elif tag == "summary":
+            self.summaries.append("")
+            self._in = "summary"
+
+    def handle_endtag(self, tag):
+        if tag == "tr" and self._row is not None:
+            self.rows.append([c.strip() for c in self._row])
+            self._row = None
+        elif tag in ("td", "th", "summary"):
+            self._in = None
+
+    def handle_data(self, data):
+        if self._in == "cell":
+            self._row[-1] += data
+        elif self._in == "summary":
+            self.summaries[-1] += data
+
+
+def test_the_class_page_lists_each_student_with_score_status_and_first_diagnosis(tmp_path):
+    for r in ROWS:
+        (tmp_path / r.student).mkdir()
+        (tmp_path / r.student / "report.html").write_text("")
+    write_summary(ROWS, tmp_path, data={"grade_again": {"statuses": ["timeout", "ungradable"], "students": ["erin"]}})
+    page = (tmp_path / "summary.html").read_text()
+    rows = {r[0]: r for r in Cells(page).rows if len(r) == 4}    # the students table: 4 columns without a roster
+    assert rows["Student"] == ["Student", "Score", "Status", "First diagnosis"]
+    assert rows["alice"][1:] == ["100 / 100", "✓ graded", ""]
+    assert rows["bob"][1:] == ["63.93 / 100", "◐ graded", "readTexture still returns the nearest texel nearest-neighbor"]
+    assert rows["carol"][3] == "Your code crashed crash (+1 more)"
+    assert rows["dave"][1:3] == ["0 / 100", "✗ build-error"]
+    assert rows["erin"][1:3] == ["–", "– ungradable"] and "SIGKILL" in rows["erin"][3]
+    assert '<td class="who"><a href="bob/report.html">bob</a></td>' in page
+    # report.html's stylesheet, not a copy of it
+    assert page.count(CSS) == 1
+    assert "1 result says timeout or ungradable" in page and "grades it again: erin" in page
+    md = (tmp_path / "summary.md").read_text()
+    assert "| [bob](<bob/report.html>) | 63.93 / 100 | graded | readTexture still returns the nearest texel " \
+           "(`nearest-neighbor`) |" in md
+
+
+def pair(a, b, similarity):
+    return {"a": a, "b": b, "similarity": similarity, "share_a": similarity, "share_b": similarity,
+            "shared_tokens": 100, "passages": [{"a_lines": [1, 9], "b_lines": [2, 10], "a_text": f"code of {a}",
+                                                "b_text": f"code of {b}"}]}
+
+
+def test_similar_pairs_come_as_clusters_of_students():
+    pairs = [pair("ann", "ben", 0.9), pair("dan", "eve", 0.97), pair("ben", "cat", 0.6)]
+    clusters = similarity_clusters(pairs)
+    assert [c["students"] for c in clusters] == [["dan", "eve"], ["ann", "ben", "cat"]]
+    assert [c["similarity"] for c in clusters] == [0.97, 0.9]
+    assert [(p["a"], p["b"]) for p in clusters[1]["pairs"]] == [("ann", "ben"), ("ben", "cat")]
+
+
+def test_the_page_collapses_each_cluster_and_each_shared_passage(tmp_path):
+    similarity = {"tool": "copydetect 0.5.0", "compared": 5, "min_listed": 0.5,
+                  "pairs": [pair("ann", "ben", 0.9), pair("dan", "eve", 0.97), pair("ben", "cat", 0.6)]}
+    write_summary(ROWS[:1], tmp_path, data={"similarity": similarity})
+    page = (tmp_path / "summary.html").read_text()
+    summaries = [s for s in Cells(page).summaries if not s.startswith("Points per check")]
+    assert summaries == [
+        "Cluster 1: dan, eve (2 students, up to 97%)",
+        "shared passage: dan lines 1-9, eve lines 2-10",
+        "Cluster 2: ann, ben, cat (3 students, up to 90%)",
+        "shared passage: ann lines 1-9, ben lines 2-10",
+        "shared passage: ben lines 1-9, cat lines 2-10"]
+    # every cluster and passage starts closed
+    assert not re.search(r"<details[^>]* open", page)
+    md = (tmp_path / "summary.md").read_text()
+    assert "### Cluster 2: ann, ben, cat (up to 90%)" in md
+
+
+def entries():
+    students = [Student("S001", "Anderson, Alice", "alice", "501", "Lab A"),
+                Student("S002", "Brown, Bob", "bob", "502", "Lab B"),
+                Student("S003", "Clark, Carol", "carol", "503", "Lab A"),
+                Student("S004", "=cmd|' /C calc'!A0", "dan", "504", "Lab A")]
+    rows = [Row("alice", "graded", 100.0, 100.0), Row("bob", "graded", 63.93, 100.0),
+            Row("carol", "ungradable", 0.0, 0.0), Row("Clark", MISSING, 0.0, 0.0)]
+    return list(zip(rows, students))
+
+
+def read(path):
+    return list(csv.reader(io.StringIO(path.read_text(), newline="")))
+
+
+def test_each_lms_gets_the_columns_it_imports_by(tmp_path):
+    files = write_lms_files(entries(), tmp_path, "Environment map (1234)")
+    assert [f.name for f in files] == ["grades_canvas.csv", "grades_moodle.csv", "grades_gradescope.csv"]
+    # Canvas: its export's identity columns, the Points Possible row, the assignment as Canvas names it.
+    assert read(tmp_path / "grades_canvas.csv") == [
+        ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Environment map (1234)"],
+        ["    Points Possible", "", "", "", "", "100"],
+        ["Anderson, Alice", "501", "S001", "alice", "Lab A", "100"],
+        ["Brown, Bob", "502", "S002", "bob", "Lab B", "63.93"],
+        ["Clark, Carol", "503", "S003", "carol", "Lab A", ""],           # ungradable: left alone
+        ["'=cmd|' /C calc'!A0", "504", "S004", "dan", "Lab A", ""]]     # no formula; nothing handed in
+    assert read(tmp_path / "grades_moodle.csv")[:2] == [
+        ["Full name", "Email address", "ID number", "Environment map (1234)"], ["Anderson, Alice", "alice", "S001", "100"]]
+    assert read(tmp_path / "grades_gradescope.csv") == [
+        ["Name", "SID", "Email", "Total Score", "Max Points", "Status"],
+        ["Anderson, Alice", "S001", "alice", "100", "100", "Graded"],
+        ["Brown, Bob", "S002", "bob", "63.93", "100", "Graded"],
+        ["Clark, Carol", "S003", "carol", "", "100", "Ungraded"],
+        ["'=cmd|' /C calc'!A0", "S004", "dan", "", "100", "Missing"]]
+    assert (tmp_path / "grades_canvas.csv").read_bytes().count(b"\r\n") == 6    # RFC 4180 line ends
+
+
+def test_a_canvas_export_names_its_assignment_column(tmp_path):
+    path = tmp_path / "canvas.csv"
+    path.write_text("Student,ID,SIS User ID,SIS Login ID,Section,Environment map (1234),Quiz 1 (77),Current Score\n"
+                    '"Doe, Jane",555,1001,jdoe,S1,,,\n')
+    assert load_roster(path).assignments == ["Environment map (1234)", "Quiz 1 (77)"]
+    path.write_text("First Name,Last Name,SID,Email\nJane,Doe,1001,jdoe@uni.edu\n")
+    assert load_roster(path).assignments == []
+
+
+def test_a_submission_named_like_an_lms_file_does_not_take_its_place(tmp_path):
+    from grader.course.grade_all import find_submissions
+    for name in ("grades_canvas.csv.zip", "grades_moodle.csv.cpp", "grades_gradescope.csv"):
+        (tmp_path / name).mkdir() if "." not in name.rsplit(".csv", 1)[1] else (tmp_path / name).write_text("")
+    assert sorted(find_submissions(tmp_path)) == ["grades_canvas.csv_", "grades_gradescope.csv_", "grades_moodle.csv_"]
