@@ -86,6 +86,9 @@ def _forbidden_message(text: str) -> str:
         return f"tried to use {what} ({name})"
     if name in _SIGNAL_CALLS:
         return f"tried to send a signal to another process ({name})"
+    if name in ("fcntl", "ioctl"):
+        # The commands that choose which process gets a descriptor's signal.
+        return f"tried to have the kernel send signals to a process of its choosing ({name} {argument})"
     if name in _SYSTEM_CALLS:
         return f"tried to change the machine's settings ({name})"
     if name in _MEMORY_CALLS:

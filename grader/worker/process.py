@@ -32,8 +32,9 @@ from . import protocol
 from .capture import CappedOutput
 from .failures import (EXCEPTION, EXITED, FORBIDDEN_SYSCALL, LOAD_ERROR, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash,
                        signal_name)
+from . import uids
 from .native import worker_binary
-from .sandbox import INPUT_INSIDE, ISOLATION, NOBODY, bwrap_command, resolve_mode
+from .sandbox import INPUT_INSIDE, ISOLATION, bwrap_command, resolve_mode
 
 LIBRARY_NAME = "submission.so"
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
@@ -51,7 +52,7 @@ class Limits:
     address_space_mb: int | None = 2048   # None: unlimited (AddressSanitizer builds need that)
     cpu_seconds: int | None = 120         # over the worker's life: a backstop to the wall-clock timeouts
     file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
-    processes: int = 64                   # threads included; applied in the sandbox's own user namespace
+    processes: int = 64                   # threads included: the worker's uid's tasks (see _nproc_limit)
     seccomp: bool = True
     texture_mb: int = 24                  # the largest six-face texture window (512 x 512 faces need 18 MiB)
 
@@ -110,14 +111,28 @@ def find_worker_pid(top: int, binary: Path) -> int | None:
         want = os.stat(binary)
     except OSError:
         return None
-    for pid in _descendants(top):
+    found = None
+    for pid in _descendants(top):   # parents before children
         try:
             exe = os.stat(f"/proc/{pid}/exe")
         except OSError:
             continue
         if (exe.st_dev, exe.st_ino) == (want.st_dev, want.st_ino):
-            return pid
-    return None
+            found = pid     # the deepest: in its own pid namespace the worker runs under two relays of itself
+    return found
+
+
+def _tasks_of_uid(uid: int) -> int:
+    """Threads of every process whose owner is `uid` (what RLIMIT_NPROC counts)."""
+    count = 0
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                if os.stat(f"/proc/{entry}").st_uid == uid:
+                    count += len(os.listdir(f"/proc/{entry}/task"))
+            except OSError:
+                continue
+    return count
 
 
 def process_cpu_ns(pid: int) -> int:
@@ -152,6 +167,11 @@ class Worker:
     caller allowed that (allow_unsafe). Raises SandboxUnavailable when no
     isolation is possible and allow_unsafe is False."""
 
+    # Privilege-drop mode: ask for a pid namespace of its own (the worker
+    # falls back without one where the container refuses; `pid_namespace`
+    # says which held). Tests turn it off to see the uid's wall alone.
+    try_pid_namespace = True
+
     def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
                  preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
                  start_timeout_s: float = 15.0, allow_unsafe: bool = False,
@@ -181,10 +201,23 @@ class Worker:
         self._watch: tuple[int | None, float, int | None] | None = None
         self.stuck: tuple[int, float, float] | None = None
         self.start_time_s = 0.0
+        self._uid: uids.WorkerUid | None = None      # privilege-drop: a uid no other process has
+        self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
 
     @property
     def isolation(self) -> str:
         return ISOLATION[self.mode]
+
+    @property
+    def confinement(self) -> str:
+        """What kept this worker from other processes, in words (once started)."""
+        if self.mode == "sandbox":
+            return ("bubblewrap: own pid and network namespaces, "
+                    + ("a uid of its own" if self._uid else "its own user namespace"))
+        if self.mode == "privilege-drop":
+            return ("privilege-drop: a uid of its own, " + ("its own pid namespace" if self.pid_namespace
+                                                         else "no pid namespace (not allowed here)"))
+        return "unsafe-none: the grader's uid"
 
     # ---- life cycle -------------------------------------------------------
 
@@ -210,9 +243,10 @@ class Worker:
         input_dir, cwd = self._tmp / "input", self._tmp / "cwd"
         input_dir.mkdir()
         cwd.mkdir()
-        if self.mode == "privilege-drop":
-            # The worker's whole world after chroot: root-owned, read-only to
-            # nobody, holding only the submission (and a cross for load_cross).
+        if self.mode != "plain":
+            # The worker's whole world after chroot (or its /sandbox/input):
+            # root-owned, read-only to the worker's uid, holding only the
+            # submission (and a cross for load_cross).
             input_dir.chmod(0o755)
         shutil.copyfile(self.library, input_dir / LIBRARY_NAME)
         (input_dir / LIBRARY_NAME).chmod(0o644)
@@ -230,11 +264,21 @@ class Worker:
         env = {"PATH": "/usr/bin:/bin", "LANG": "C"}
         if self._preload:
             env["LD_PRELOAD"] = ":".join(self._preload)
+        if self.mode in ("sandbox", "privilege-drop") and os.geteuid() == 0:
+            # A uid no other process has while this worker lives: no signal
+            # reaches another worker, and RLIMIT_NPROC bounds this one's threads.
+            try:
+                self._uid = uids.acquire()
+            except (uids.UidsUnavailable, OSError) as exc:
+                raise WorkerHarnessError(f"no uid for the worker: {exc}") from exc
+        uid = str(self._uid.uid) if self._uid else ""
         if self.mode == "sandbox":
-            cmd = bwrap_command(binary, input_dir, args + [f"{INPUT_INSIDE}/{LIBRARY_NAME}"], env)
+            own = ["--uid", uid, "--gid", uid] if uid else []
+            cmd = bwrap_command(binary, input_dir, own + args + [f"{INPUT_INSIDE}/{LIBRARY_NAME}"], env,
+                                as_root=bool(uid))
         elif self.mode == "privilege-drop":
-            cmd = [str(binary), "--chroot", str(input_dir), "--uid", NOBODY, "--gid", NOBODY, *args,
-                   f"/{LIBRARY_NAME}"]
+            cmd = [str(binary), "--chroot", str(input_dir), "--uid", uid, "--gid", uid,
+                   *(["--pid-namespace"] if self.try_pid_namespace else []), *args, f"/{LIBRARY_NAME}"]
         else:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
         try:
@@ -269,7 +313,7 @@ class Worker:
             self._finish()
             raise WorkerHarnessError(f"the worker exited during set-up (exit status {self._proc.returncode}); "
                                      f"it printed: {self.output()[-500:]!r}")
-        magic, status, _, size = protocol.HEADER.unpack(head)
+        magic, status, held, size = protocol.HEADER.unpack(head)
         if magic != protocol.RESPONSE_MAGIC or status not in (protocol.SANDBOXED, protocol.SETUP_ERROR) \
                 or size > protocol.MAX_TEXT_BYTES:
             self._kill()
@@ -278,6 +322,7 @@ class Worker:
         if status == protocol.SETUP_ERROR:
             self._finish()
             raise WorkerHarnessError(protocol.decode_text(payload or b""))
+        self.pid_namespace = bool(held & protocol.SANDBOXED_PID_NAMESPACE)
         self._worker_pid = find_worker_pid(self._proc.pid, binary)
 
     def _limit_args(self) -> list[str]:
@@ -287,14 +332,22 @@ class Worker:
             args += ["--as-mb", str(lim.address_space_mb)]
         if lim.cpu_seconds:
             args += ["--cpu-s", str(lim.cpu_seconds)]
-        # Only in the sandbox: outside it, RLIMIT_NPROC counts all of the
-        # user's processes (the seccomp filter stops fork either way).
-        if self.mode == "sandbox" and lim.processes:
-            args += ["--nproc", str(lim.processes)]
+        if lim.processes:
+            args += ["--nproc", str(self._nproc_limit())]
         args += ["--texture-bytes", str(self.texture_bytes)]
         if not lim.seccomp:
             args.append("--no-seccomp")
         return args
+
+    def _nproc_limit(self) -> int:
+        """RLIMIT_NPROC counts every task of the worker's uid, threads
+        included, so it bounds a thread bomb. Under bubblewrap and in
+        privilege-drop mode that uid is the worker's alone; without isolation
+        it is the grader's (root ignores the limit), so the limit is what that
+        uid runs now plus the worker's share."""
+        if self.mode in ("sandbox", "privilege-drop"):
+            return self.limits.processes
+        return _tasks_of_uid(os.getuid()) + self.limits.processes
 
     def close(self) -> None:
         """Stop the worker (politely, then by force) and remove its files."""
@@ -321,6 +374,9 @@ class Worker:
         if self._tmp is not None:
             shutil.rmtree(self._tmp, ignore_errors=True)
             self._tmp = None
+        if self._uid is not None and (self._proc is None or self._proc.poll() is not None):
+            self._uid.release()     # the worker is gone: its uid may serve another
+            self._uid = None
         # The progress page stays readable after close (the runner reads it
         # once the worker is gone); it is unmapped with this object.
 
@@ -337,6 +393,12 @@ class Worker:
         except subprocess.TimeoutExpired:
             self._proc.kill()
             self._proc.wait()
+        # Under relays (its own pid namespace) the worker itself may still be
+        # exiting: wait for it, so its uid is free when released.
+        deadline = time.monotonic() + 2.0
+        while self._worker_pid is not None and os.path.exists(f"/proc/{self._worker_pid}") \
+                and time.monotonic() < deadline:
+            time.sleep(0.002)
 
     def progress(self) -> int | None:
         """The index (within the last FETCH or READ_TEXTURE request) of the
@@ -611,7 +673,8 @@ class Worker:
         self._finish()
         status = self._proc.returncode
         # bubblewrap reports a child killed by signal n as exit status 128 + n.
-        if status is not None and (status < 0 or (self.mode == "sandbox" and status > 128)):
+        relayed = self.mode == "sandbox" or self.pid_namespace
+        if status is not None and (status < 0 or (relayed and status > 128)):
             signo = -status if status < 0 else status - 128
             name = signal_name(signo)
             if signo == signal.SIGSYS:

@@ -28,6 +28,8 @@ FETCH_WHOLE = 7
 OK, EXCEPTION, ARGUMENT, CRASH, LOAD_ERROR, READY, BAD_REQUEST = 0, 1, 2, 3, 4, 5, 6
 # Sent before the submission is loaded: the only replies the grader trusts.
 SANDBOXED, SETUP_ERROR = 7, 8
+# Bits of SANDBOXED's count: what held besides limits and the filter.
+SANDBOXED_PID_NAMESPACE = 1
 STATUS_NAMES = {OK: "ok", EXCEPTION: "exception", ARGUMENT: "argument", CRASH: "crash",
                 LOAD_ERROR: "load-error", READY: "ready", BAD_REQUEST: "bad-request",
                 SANDBOXED: "sandboxed", SETUP_ERROR: "setup-error"}

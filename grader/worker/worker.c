@@ -2,7 +2,8 @@
  * worker.c - the only process that runs student code.
  *
  *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--texture-bytes N]
- *          [--chroot DIR --uid N --gid N] [--no-seccomp] [--check-drop] [--progress-fd N]
+ *          [--chroot DIR --uid N --gid N [--pid-namespace]] [--no-seccomp] [--check-drop]
+ *          [--progress-fd N]
  *          REQUEST_FD RESPONSE_FD SUBMISSION.so
  *
  * Order matters: limits, signal handlers (on an alternate stack, so a stack
@@ -39,8 +40,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <ucontext.h>
 #include <unistd.h>
@@ -49,6 +52,7 @@
 #include <linux/audit.h>
 #include <linux/filter.h>
 #include <linux/seccomp.h>
+#include <linux/sockios.h>
 #include <sched.h>
 #include <sys/prctl.h>
 #include <sys/syscall.h>
@@ -69,6 +73,8 @@ enum { CAUSE_SIGNAL = 0, CAUSE_GUARD_AFTER = 1, CAUSE_GUARD_BEFORE = 2,
        CAUSE_STACK_OVERFLOW = 3, CAUSE_CPU_LIMIT = 4, CAUSE_FORBIDDEN_SYSCALL = 5,
        CAUSE_TEXTURE_WRITE = 6 };
 enum { PLACE_END = 0, PLACE_START = 1 };
+/* Bits of the SANDBOXED message's count: what held besides the filter. */
+enum { SANDBOXED_PID_NAMESPACE = 1 };
 enum { WHERE_ALL_FACES = -1 };
 
 /* Exit codes, for when the grader sees the status but not the report. */
@@ -282,7 +288,7 @@ static const struct syscall_name forbidden_names[] = {
     NAME(memfd_create) NAME(remap_file_pages) NAME(shmat) NAME(process_madvise)
     NAME(pidfd_open) NAME(pidfd_send_signal) NAME(pidfd_getfd) NAME(rt_sigqueueinfo)
     NAME(rt_tgsigqueueinfo) NAME(seccomp) NAME(kcmp) NAME(name_to_handle_at)
-    NAME(open_by_handle_at) NAME(fanotify_init) NAME(prctl)
+    NAME(open_by_handle_at) NAME(fanotify_init) NAME(prctl) NAME(fcntl) NAME(ioctl)
     /* System V and POSIX IPC outlive the worker and are shared between
      * workers outside bubblewrap (privilege-drop): none. */
     NAME(shmget) NAME(msgget) NAME(semget) NAME(mq_open)
@@ -324,6 +330,27 @@ static void append(char *out, size_t out_size, const char *text)
     out[n] = 0;
 }
 
+/* fcntl and ioctl commands that choose which process gets a signal (SIGIO,
+ * or any signal with F_SETSIG): refused, so a worker can signal no one. */
+static const struct syscall_name signal_commands[] = {
+    { F_SETOWN, "F_SETOWN" }, { F_SETOWN_EX, "F_SETOWN_EX" }, { F_SETSIG, "F_SETSIG" },
+    { F_NOTIFY, "F_NOTIFY" }, { F_SETLEASE, "F_SETLEASE" }, { F_SETFL, "F_SETFL with O_ASYNC" },
+};
+static const struct syscall_name signal_ioctls[] = {
+    { FIOSETOWN, "FIOSETOWN" }, { SIOCSPGRP, "SIOCSPGRP" }, { TIOCSPGRP, "TIOCSPGRP" }, { FIOASYNC, "FIOASYNC" },
+};
+
+static const char *command_name(long nr, unsigned command)
+{
+    const struct syscall_name *names = nr == __NR_fcntl ? signal_commands : signal_ioctls;
+    size_t count = nr == __NR_fcntl ? sizeof signal_commands / sizeof signal_commands[0]
+                                    : sizeof signal_ioctls / sizeof signal_ioctls[0];
+    for (size_t i = 0; i < count; i++)
+        if ((unsigned)names[i].nr == command)
+            return names[i].name;
+    return "(a command outside the allowed list)";
+}
+
 static void on_forbidden_syscall(int signo, siginfo_t *info, void *context)
 {
     struct crash_report r;
@@ -360,6 +387,10 @@ static void on_forbidden_syscall(int signo, siginfo_t *info, void *context)
         path = (const char *)args[1];
     if (nr == __NR_execve || nr == __NR_truncate)
         path = (const char *)args[0];
+    if (nr == __NR_fcntl || nr == __NR_ioctl) {
+        append(r.text, sizeof r.text, " ");
+        append(r.text, sizeof r.text, command_name(nr, (unsigned)args[1]));
+    }
     if (path) {
         char copied[160];
         copy_user_string(path, copied, sizeof copied);
@@ -693,6 +724,49 @@ static void trap_on_bits(long nr, int arg, unsigned mask, int arg2, unsigned mas
     load((unsigned)offsetof(struct seccomp_data, nr));
 }
 
+/* fcntl: only the commands a lookup's runtime may use (descriptor flags,
+ * duplicates, locks, pipe size, seals); F_SETFL only without O_ASYNC.
+ * Everything else traps: F_SETOWN(_EX), F_SETSIG, F_NOTIFY, F_SETLEASE and
+ * O_ASYNC would have the kernel deliver a signal of the caller's choosing
+ * to a pid of its choosing (a classmate's worker, the speed check's
+ * reference), which kill's rule never sees. */
+static const unsigned fcntl_allowed[] = {
+    F_DUPFD, F_GETFD, F_SETFD, F_GETFL, F_GETLK, F_SETLK, F_SETLKW, F_OFD_GETLK, F_OFD_SETLK,
+    F_OFD_SETLKW, F_DUPFD_CLOEXEC, F_GETPIPE_SZ, F_GET_SEALS,
+};
+/* ioctl: isatty (TCGETS), the terminal size, FIONREAD, FIONBIO and the
+ * close-on-exec pair are allowed; the ones that set a signal's owner trap;
+ * any other answers ENOTTY (what a pipe says to a terminal request). */
+static const unsigned ioctl_allowed[] = { TCGETS, TIOCGWINSZ, FIONREAD, FIONBIO, FIOCLEX, FIONCLEX };
+
+static void on_command(long nr, const unsigned *allowed, size_t count, const struct syscall_name *trapped,
+                       size_t trapped_count, unsigned otherwise, unsigned async_command)
+{
+    int skip = new_label(), in_block = new_label(), allow = new_label(), trap = new_label(), async = new_label();
+    jump_to(BPF_JEQ, (unsigned)nr, in_block, -1);
+    always_to(skip);
+    place(in_block);
+    load(ARG_LOW(1));      /* the command: an unsigned int, the kernel ignores the high word */
+    if (async_command)
+        jump_to(BPF_JEQ, async_command, async, -1);
+    for (size_t i = 0; i < count; i++)
+        jump_to(BPF_JEQ, allowed[i], allow, -1);
+    for (size_t i = 0; i < trapped_count; i++)
+        jump_to(BPF_JEQ, (unsigned)trapped[i].nr, trap, -1);
+    ret(otherwise);
+    place(async);
+    if (async_command) {
+        load(ARG_LOW(2));
+        jump_to(BPF_JSET, O_ASYNC, trap, allow);
+    }
+    place(allow);
+    ret(ALLOW);
+    place(trap);
+    ret(TRAP);
+    place(skip);
+    load((unsigned)offsetof(struct seccomp_data, nr));
+}
+
 static const int guarded_signals[] = { SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGSYS, SIGXCPU };
 
 static int install_filter(void)
@@ -755,13 +829,18 @@ static int install_filter(void)
     on_other_pid(__NR_move_pages, 0, pid, FAIL(EPERM));
     on_call(__NR_setpriority, FAIL(EPERM));     /* PRIO_USER reaches every process of the uid */
     on_call(__NR_ioprio_set, FAIL(EPERM));
+    /* Signals by way of a descriptor's owner (see fcntl_allowed). */
+    on_command(__NR_fcntl, fcntl_allowed, sizeof fcntl_allowed / sizeof fcntl_allowed[0], signal_commands,
+               sizeof signal_commands / sizeof signal_commands[0] - 1, TRAP, F_SETFL);
+    on_command(__NR_ioctl, ioctl_allowed, sizeof ioctl_allowed / sizeof ioctl_allowed[0], signal_ioctls,
+               sizeof signal_ioctls / sizeof signal_ioctls[0], FAIL(ENOTTY), 0);
     for (size_t i = 0; i < sizeof forbidden_names / sizeof forbidden_names[0]; i++) {
         long nr = forbidden_names[i].nr;
         int handled = nr == __NR_clone || nr == __NR_openat || nr == __NR_kill ||
                       nr == __NR_tgkill || nr == __NR_tkill || nr == __NR_rt_sigqueueinfo ||
                       nr == __NR_rt_tgsigqueueinfo || nr == __NR_mprotect || nr == __NR_pkey_mprotect ||
                       nr == __NR_munmap || nr == __NR_madvise || nr == __NR_mmap || nr == __NR_mremap ||
-                      nr == __NR_prctl;
+                      nr == __NR_prctl || nr == __NR_fcntl || nr == __NR_ioctl;
 #ifdef __NR_open
         handled = handled || nr == __NR_open;
 #endif
@@ -1085,13 +1164,56 @@ static int drop_privileges(const char *dir, long uid, long gid)
     return prctl(PR_SET_DUMPABLE, 0, 0, 0, 0);
 }
 
+/* A relay (see enter_pid_namespace): nothing of the worker's, then wait
+ * for `child` and end with its status, 128 + n when signal n killed it
+ * (bubblewrap's convention, which the grader reads the same way). */
+static void relay(pid_t child)
+{
+    for (int fd = 0; fd < 1024; fd++)
+        close(fd);
+    int status;
+    while (waitpid(child, &status, 0) < 0)
+        if (errno != EINTR)
+            _exit(EXIT_SETUP);
+    _exit(WIFSIGNALED(status) ? 128 + WTERMSIG(status) : WEXITSTATUS(status));
+}
+
+/* Privilege-drop mode, where the container allows it: a pid namespace of
+ * the worker's own, so it cannot name any other process at all (the uid of
+ * its own and the filter already keep it from signalling one). The worker
+ * becomes pid 2 under a root pid 1 that only waits (as pid 1 it would
+ * ignore the signals it sends itself), and the process the grader started
+ * waits for that one. 1: in the namespace; 0: unshare refused, nothing
+ * changed; -1: failed. Only the worker returns. */
+static int enter_pid_namespace(void)
+{
+#ifdef __linux__
+    if (unshare(CLONE_NEWPID) != 0)
+        return 0;
+    pid_t init = fork();
+    if (init < 0)
+        return -1;
+    if (init > 0)
+        relay(init);
+    pid_t worker = fork();
+    if (worker < 0)
+        _exit(EXIT_SETUP);
+    if (worker > 0)
+        relay(worker);
+    /* The namespace ends with its pid 1; the grader's kill reaches all three. */
+    return 1;
+#else
+    return 0;
+#endif
+}
+
 int main(int argc, char **argv)
 {
     long as_mb = 0, cpu_s = 0, nproc = -1, uid = -1, gid = -1;
     long long texture_bytes = 24ll << 20;
     long long fsize = 0;
     const char *chroot_dir = NULL;
-    int seccomp = 1, check_drop = 0, i = 1, progress_fd = -1;
+    int seccomp = 1, check_drop = 0, i = 1, progress_fd = -1, pid_namespace = 0;
     for (; i < argc && strncmp(argv[i], "--", 2) == 0; i++) {
         if (!strcmp(argv[i], "--as-mb") && i + 1 < argc) as_mb = atol(argv[++i]);
         else if (!strcmp(argv[i], "--cpu-s") && i + 1 < argc) cpu_s = atol(argv[++i]);
@@ -1104,6 +1226,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--progress-fd") && i + 1 < argc) progress_fd = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--no-seccomp")) seccomp = 0;
         else if (!strcmp(argv[i], "--check-drop")) check_drop = 1;
+        else if (!strcmp(argv[i], "--pid-namespace")) pid_namespace = 1;
         else return EXIT_LOAD;
     }
     if (check_drop)   /* can this machine run privilege-drop mode? */
@@ -1113,6 +1236,10 @@ int main(int argc, char **argv)
     request_fd = atoi(argv[i]);
     response_fd = atoi(argv[i + 1]);
     const char *library = argv[i + 2];
+    /* Which held is told to the grader in the set-up message. */
+    int in_namespace = pid_namespace && uid >= 0 ? enter_pid_namespace() : 0;
+    if (in_namespace < 0)
+        return setup_failed("cannot start the worker in its own pid namespace");
 
     char here;
     stack_top = &here;
@@ -1151,7 +1278,7 @@ int main(int argc, char **argv)
         return setup_failed("cannot install the seccomp filter");
     /* The last message from the grader's own code: from here on, anything on
      * the reply pipe may come from the submission. */
-    reply(ST_SANDBOXED, 0, NULL, 0);
+    reply(ST_SANDBOXED, in_namespace ? SANDBOXED_PID_NAMESPACE : 0, NULL, 0);
     if (load_submission(library) != 0)
         return EXIT_LOAD;
     return serve();
