@@ -45,8 +45,12 @@ class SubmissionFailure(Exception):
 
     def __init__(self, kind: str, message: str, *, signal_name: str | None = None,
                  crash: CrashReport | None = None, fatal: bool = True, output: str = "",
-                 exit_status: int | None = None, detail: str = ""):
+                 exit_status: int | None = None, detail: str = "", grader_limit: bool = False):
         super().__init__(message)
+        # Stopped by a limit of the grader's that a busy machine can reach
+        # too (the wall-clock outer bound, a kill from outside): worth one
+        # more try before it is a verdict.
+        self.grader_limit = grader_limit
         self.kind, self.message, self.signal_name = kind, message, signal_name
         self.crash, self.fatal, self.output, self.exit_status = crash, fatal, output, exit_status
         self.detail = detail    # e.g. "after" / "before" for out-of-bounds reads, "bad_alloc"

@@ -5,9 +5,11 @@ privilege-drop, or unsafe-none only when allowed), in a fresh temporary
 directory, with an almost empty environment and resource limits set by
 worker.c itself. The first message (SANDBOXED, sent before the submission is
 loaded) is the only one believed; everything after it is the submission's. Requests go over a private pipe pair; fds 1 and 2 go to a
-capped capture (capture.py). Every call has its own wall-clock timeout: on
-expiry the worker's process group is killed and the call raises
-SubmissionFailure(kind="timeout"). Anything else the submission does wrong
+capped capture (capture.py). Every call has its own time limit, in the
+worker's CPU time (the submission's work), with a wall-clock outer bound
+(wall_bound) for code that sleeps: on expiry the worker's process group is
+killed and the call raises SubmissionFailure(kind="timeout"); at the wall
+bound it is marked grader_limit (a busy machine can reach it too). Anything else the submission does wrong
 raises SubmissionFailure too (failures.py), including replies that blame
 the grader; only the grader's own problems raise WorkerHarnessError.
 """
@@ -37,6 +39,17 @@ from .native import worker_binary
 from .sandbox import INPUT_INSIDE, ISOLATION, bwrap_command, resolve_mode
 
 LIBRARY_NAME = "submission.so"
+# A call's time limit is CPU time of the worker (the submission's work); the
+# wall clock is only an outer bound this much more generous, for code that
+# sleeps. Under load a correct call's wall time stretches with the queue for
+# a core, never its CPU time (issue 21: set_faces took 0.21 s of its 0.5 s
+# wall-clock limit at load 15 on 2 cores, and a timeout there became a
+# failure to load the submission).
+WALL_FACTOR, WALL_SLACK_S = 4.0, 1.0
+
+
+def wall_bound(timeout_s: float) -> float:
+    return WALL_FACTOR * timeout_s + WALL_SLACK_S
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
 _WATCH_S = 0.02                   # how often the progress page is looked at during a long call
 PIPE_BYTES = 1 << 20
@@ -50,7 +63,7 @@ class WorkerHarnessError(RuntimeError):
 @dataclass(frozen=True)
 class Limits:
     address_space_mb: int | None = 2048   # None: unlimited (AddressSanitizer builds need that)
-    cpu_seconds: int | None = 120         # over the worker's life: a backstop to the wall-clock timeouts
+    cpu_seconds: int | None = 120         # over the worker's life: a backstop to the per-call limits
     file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
     processes: int = 64                   # threads included: the worker's uid's tasks (see _nproc_limit)
     seccomp: bool = True
@@ -201,6 +214,12 @@ class Worker:
         self._watch: tuple[int | None, float, int | None] | None = None
         self.stuck: tuple[int, float, float] | None = None
         self.start_time_s = 0.0
+        # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
+        self._cpu_limit: tuple[int, int] | None = None
+        self._last_cpu = 0      # ns, the last time it was read
+        # The inputs of the last FETCH or READ_TEXTURE that faulted, (index,
+        # protocol.CrashReport) each; the worker went on past them.
+        self.faults: list[tuple[int, protocol.CrashReport]] = []
         self._uid: uids.WorkerUid | None = None      # privilege-drop: a uid no other process has
         self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
 
@@ -294,9 +313,10 @@ class Worker:
         self._request_fd, self._response_fd = request_w, response_r
         os.set_blocking(self._request_fd, False)
         self._output = CappedOutput(output_r, *self._cap)
-        deadline = time.monotonic() + self._start_timeout_s
+        deadline = time.monotonic() + wall_bound(self._start_timeout_s)
         try:
             self._setup(binary, deadline)
+            self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work
             status, count, payload = self._receive(None, None, deadline, "loading the submission")
             if status != protocol.READY or count != 1:
                 self._fail(PROTOCOL, f"expected the ready message, got status {protocol.STATUS_NAMES[status]}")
@@ -466,7 +486,7 @@ class Worker:
             before = None
         dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
         n = len(dirs)
-        # The whole batch in one submission call, as before per-input progress.
+        # Blocks of 4096 inputs per submission call, as before per-input progress.
         _, payload = self._call(protocol.FETCH_WHOLE, n, dirs.tobytes(), n, n * 24, timeout_s, "fetchColor")
         rgb = protocol.decode_doubles(payload, n)
         try:
@@ -543,12 +563,26 @@ class Worker:
               expected_bytes: int | None, timeout_s: float, what: str) -> tuple[int, bytes]:
         if not self.alive:
             raise WorkerHarnessError("the worker is not running (start it, or start a new one after a failure)")
-        deadline = time.monotonic() + timeout_s
+        deadline = time.monotonic() + wall_bound(timeout_s)
         if self._progress is not None:
             struct.pack_into("=Q", self._progress, 0, _NO_PROGRESS)
         self._watch, self.stuck = (None, time.monotonic(), self._cpu_or_none()), None
+        self._limit_cpu(timeout_s)
         self._send(protocol.request(op, count, payload), deadline, what)
         status, count, reply = self._receive(expected_count, expected_bytes, deadline, what)
+        self.faults = []
+        if status == protocol.FAULTS:
+            # Inputs that faulted while the worker went on: claims against the
+            # submission only (those inputs count as failed).
+            if op not in (protocol.FETCH, protocol.FETCH_WHOLE, protocol.READ_TEXTURE):
+                self._fail(PROTOCOL, f"a faults reply to {what}")
+            try:
+                self.faults = protocol.decode_faults(reply, count, expected_count)
+            except protocol.ProtocolViolation as exc:
+                self._fail(PROTOCOL, str(exc))
+            status, count, reply = self._receive(expected_count, expected_bytes, deadline, what)
+            if status == protocol.FAULTS:
+                self._fail(PROTOCOL, "two faults replies to one request")
         if status == protocol.OK:
             return count, reply
         if status == protocol.EXCEPTION:
@@ -565,14 +599,37 @@ class Worker:
                                  f"({protocol.decode_text(reply)[:200]!r}) to a request the grader had checked")
         self._fail(PROTOCOL, f"unexpected reply status {protocol.STATUS_NAMES[status]} to {what}")
 
+    def _limit_cpu(self, timeout_s: float) -> None:
+        """From now on the call may use `timeout_s` of the worker's CPU time.
+        Where its CPU clock cannot be read, the wall clock limits it instead."""
+        cpu = self._cpu_or_none()
+        self._cpu_limit = (cpu, int(timeout_s * 1e9)) if cpu is not None else None
+        if cpu is None:
+            self._wall_only = time.monotonic() + timeout_s
+
+    def _over_limit(self, deadline: float) -> str | None:
+        """Why the current call must stop now, if it must: "cpu" (its CPU
+        time used up: the submission's work) or "wall" (the outer bound)."""
+        now = time.monotonic()
+        if self._cpu_limit is not None:
+            cpu = self._cpu_or_none()
+            if cpu is not None and cpu - self._cpu_limit[0] > self._cpu_limit[1]:
+                return "cpu"
+        elif now >= getattr(self, "_wall_only", deadline):
+            return "wall"
+        return "wall" if now >= deadline - _WATCH_S else None
+
     def _send(self, buffers: list, deadline: float, what: str) -> None:
         poller = select.poll()
         poller.register(self._request_fd, select.POLLOUT)
         for buf in buffers:
             view = memoryview(buf).cast("B")
             while len(view):
-                if not poller.poll(_deadline_left(deadline) * 1000):
-                    self._timeout(what, deadline)
+                if not poller.poll(min(_deadline_left(deadline), _WATCH_S) * 1000):
+                    why = self._over_limit(deadline)
+                    if why:
+                        self._timeout(what, why)
+                    continue
                 try:
                     n = os.write(self._request_fd, view[:1 << 20])
                 except BlockingIOError:
@@ -589,8 +646,9 @@ class Worker:
             # Short waits while a call runs, to watch which input it is on.
             ready, _, _ = select.select([self._response_fd], [], [], min(left, _WATCH_S))
             if not ready:
-                if left <= _WATCH_S:
-                    self._timeout(what, deadline)
+                why = self._over_limit(deadline)
+                if why:
+                    self._timeout(what, why)
                 self._observe()
                 continue
             chunk = os.read(self._response_fd, min(size - got, 1 << 20))
@@ -644,9 +702,12 @@ class Worker:
 
     def _cpu_or_none(self) -> int | None:
         try:
-            return process_cpu_ns(self._worker_pid) if self._worker_pid is not None else None
+            cpu = process_cpu_ns(self._worker_pid) if self._worker_pid is not None else None
         except OSError:
             return None
+        if cpu is not None:
+            self._last_cpu = cpu
+        return cpu
 
     def _observe(self) -> None:
         """Note when the progress page first showed its current value."""
@@ -656,7 +717,7 @@ class Worker:
         if value != self._watch[0]:
             self._watch = (value, time.monotonic(), self._cpu_or_none())
 
-    def _timeout(self, what: str, deadline: float):
+    def _timeout(self, what: str, why: str):
         # Before the kill: how long (wall and CPU seconds, seen from here)
         # the worker has been on the input its progress page names.
         self._observe()
@@ -667,7 +728,10 @@ class Worker:
             self.stuck = (value, time.monotonic() - since, cpu)
         self._kill()
         self._output.wait_closed(2.0)
-        raise SubmissionFailure(TIMEOUT, f"{what} did not finish in time (killed)", output=self.output())
+        # "wall": the outer bound, which a busy machine can reach too: the
+        # runner tries once more before it is a verdict (grader_limit).
+        raise SubmissionFailure(TIMEOUT, f"{what} did not finish in time (killed)", output=self.output(),
+                                detail=why, grader_limit=why == "wall")
 
     def _exited(self, what: str):
         self._finish()
@@ -685,9 +749,14 @@ class Worker:
                                         "(SIGSYS; system(), popen() and posix_spawn do this to start a process)",
                                         signal_name=name, output=self.output(), exit_status=status)
             if signo == signal.SIGKILL and self.limits.cpu_seconds:
+                # The kernel's SIGKILL at the hard CPU limit, or a kill from
+                # outside (the machine's, or the submission's own): tried once
+                # more by the runner unless the CPU limit explains it.
+                at_limit = self._last_cpu >= (self.limits.cpu_seconds - 2) * 1e9
                 raise SubmissionFailure(TIMEOUT, f"the worker was killed ({name}) while {what} ran, "
                                         "probably at its CPU-time limit", signal_name=name,
-                                        output=self.output(), exit_status=status, detail="cpu")
+                                        output=self.output(), exit_status=status, detail="cpu",
+                                        grader_limit=not at_limit)
             raise SubmissionFailure(EXITED, f"the worker was killed by {name} while {what} ran",
                                     signal_name=name, output=self.output(), exit_status=status)
         if status == protocol.EXIT_PROTOCOL:
