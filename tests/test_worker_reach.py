@@ -196,3 +196,18 @@ def test_a_thread_bomb_stops_at_the_workers_limit(attacker, mode):
         made = worker.fetch([[0, 99, 0]], timeout_s=20)[0, 0]
         assert 0 < made < limits.processes
         assert_unharmed(victim)
+
+
+@pytest.mark.skipif(BWRAP is not None or os.geteuid() != 0, reason="bubblewrap run as root")
+def test_under_bubblewrap_as_root_each_worker_has_a_uid_of_its_own_and_no_network(attacker):
+    """As root, bwrap runs without a user namespace (one would map the
+    sandbox's nobody to root, exempt from RLIMIT_NPROC); the worker switches
+    to its own uid itself. Its other namespaces are still its own."""
+    with Worker(attacker, sandbox="sandbox") as a, Worker(attacker, sandbox="sandbox") as b:
+        seen = {uid_of(a._worker_pid), uid_of(b._worker_pid)}
+        assert len(seen) == 2 and all(uids.FIRST_UID <= uid < uids.FIRST_UID + uids.COUNT for uid in seen)
+        for kind in ("net", "pid", "mnt", "ipc"):
+            assert os.readlink(f"/proc/{a._worker_pid}/ns/{kind}") != os.readlink(f"/proc/self/ns/{kind}")
+        with open(f"/proc/{a._worker_pid}/status") as f:
+            caps = {line.split()[0]: int(line.split()[1], 16) for line in f if line.startswith("Cap")}
+        assert caps["CapEff:"] == caps["CapPrm:"] == 0

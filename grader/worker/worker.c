@@ -1284,6 +1284,10 @@ static int drop_privileges(const char *dir, long uid, long gid)
             return -1;
         }
     }
+    /* No setuid program gives anything back, filter or not (under bubblewrap
+     * as root the bounding set is not emptied). */
+    if (prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0)
+        return -1;
     return prctl(PR_SET_DUMPABLE, 0, 0, 0, 0);
 }
 
