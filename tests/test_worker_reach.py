@@ -211,3 +211,17 @@ def test_under_bubblewrap_as_root_each_worker_has_a_uid_of_its_own_and_no_networ
         with open(f"/proc/{a._worker_pid}/status") as f:
             caps = {line.split()[0]: int(line.split()[1], 16) for line in f if line.startswith("Cap")}
         assert caps["CapEff:"] == caps["CapPrm:"] == 0
+
+
+@pytest.mark.parametrize("mode", ISOLATED)
+def test_the_zoos_thread_bomb_is_refused_at_the_limit_while_loading(mode):
+    """tests/submissions/runtime_attacks/thread_bomb.cpp (C++, 16 KiB stacks):
+    the kernel refuses its 64th task, which it throws, uncaught: std::terminate."""
+    from grader.build import build_submission
+    built = build_submission(PROJECT_ROOT / "tests" / "submissions" / "runtime_attacks" / "thread_bomb.cpp")
+    assert built.ok, built.log
+    worker = Worker(built.library, sandbox=mode)
+    with pytest.raises(SubmissionFailure) as caught:
+        worker.start()
+    worker.close()
+    assert caught.value.kind == "exception" and "what():  no more threads" in caught.value.output

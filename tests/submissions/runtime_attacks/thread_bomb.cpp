@@ -1,10 +1,13 @@
 // thread_bomb.cpp - issue 18 attack "a whole class made ungradable": a correct
-// lookup whose static initialiser starts idle threads until the system
-// refuses one. In privilege-drop mode RLIMIT_NPROC was not set and every
-// worker was uid nobody: the container's pids ran out and every student
-// graded beside it came out ungradable. Verdict now: the worker's own uid and
-// RLIMIT_NPROC stop it at 64 tasks; std::thread throws, std::terminate aborts
-// while loading (crash), and classmates graded beside it keep full marks.
+// lookup whose static initialiser starts idle threads with 16 KiB stacks (so
+// the address-space limit does not stop it) until the system refuses one.
+// In privilege-drop mode RLIMIT_NPROC was not set and every worker was uid
+// nobody: the container's pids ran out and every student graded beside it
+// came out ungradable. Verdict now: the worker's own uid and RLIMIT_NPROC
+// stop it at 64 tasks; the refusal is thrown, uncaught in a static
+// initialiser, so std::terminate aborts while loading (exception), and
+// classmates graded beside it keep full marks. (Capped at 4096 threads, so
+// this file cannot take a test machine down should the limit regress.)
 #include "EnvironmentMap.h"
 
 #include <algorithm>
@@ -12,15 +15,30 @@
 #include <cmath>
 #include <chrono>
 #include <cstddef>
+#include <stdexcept>
 #include <thread>
 
 namespace {
 
-// The bomb: idle threads until the system refuses one (std::thread then
-// throws, uncaught in a static initialiser: std::terminate).
+// pthreads without <pthread.h> (the include policy allows only the standard
+// library): <thread> declares them already; std::thread cannot choose its
+// stack size.
+void* idle(void*)
+{
+    std::this_thread::sleep_for(std::chrono::hours(1));
+    return nullptr;
+}
+
+// The bomb: idle threads until the system refuses one, then the refusal thrown.
 const int bomb = [] {
-    for (;;)
-        std::thread([] { std::this_thread::sleep_for(std::chrono::hours(1)); }).detach();
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, 16384);
+    for (int made = 0; made < 4096; ++made) {
+        pthread_t thread;
+        if (pthread_create(&thread, &attr, idle, nullptr) != 0)
+            throw std::runtime_error("no more threads");
+    }
     return 0;
 }();
 
