@@ -6,6 +6,9 @@ names the attack's diagnosis; nothing is "the grader failed".
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -22,7 +25,9 @@ EXPECTED = {
     "timed_black": "timed-output-wrong",       # black on the timing faces only
     "timed_cache": "slow",                     # a cache of answers never hits fresh directions
     "clock_got": "forbidden-syscall",          # the worker's pages made writable at load
+    "thread_bomb": "exception",                # idle threads until refused: std::thread throws while loading
 }
+CORRECT = Path(__file__).parent / "submissions" / "correct"
 
 
 def test_every_attack_has_an_expectation():
@@ -40,3 +45,27 @@ def test_an_attack_gets_its_verdict_and_the_report_is_intact(name, tmp_path):
     assert saved["score"] == result.score
     report = (tmp_path / "report.md").read_text()
     assert "Traceback" not in report and "grader itself failed" not in report
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege-drop mode needs root")
+def test_a_thread_bomb_graded_beside_a_classmate_leaves_the_classmate_full_marks(tmp_path):
+    """Issue 18: in privilege-drop mode (a failing bwrap first on PATH, as on
+    Gradescope) the bomb exhausted the container's pids and everyone graded
+    beside it was ungradable. Both are graded at once, in two processes."""
+    fake = tmp_path / "fakebin"
+    fake.mkdir()
+    (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    (fake / "bwrap").chmod(0o755)
+    env = {**os.environ, "PATH": f"{fake}:{os.environ['PATH']}"}
+    runs = {name: subprocess.Popen([sys.executable, "-m", "grader", "grade", str(path), "--quick", "--allow-stale",
+                                    "--out", str(tmp_path / name)], env=env, stdout=subprocess.PIPE,
+                                   stderr=subprocess.STDOUT, text=True)
+            for name, path in (("bomb", ZOO / "thread_bomb.cpp"), ("classmate", CORRECT / "idiomatic.cpp"))}
+    printed = {name: run.communicate(timeout=600)[0] for name, run in runs.items()}
+    results = {name: json.loads((tmp_path / name / "results.json").read_text()) for name in runs}
+    for name in runs:
+        assert "separate unprivileged user" in printed[name], printed[name]   # privilege-drop mode
+    classmate = results["classmate"]
+    assert classmate["score"] == sum(t["max_score"] for t in classmate["tests"]), printed["classmate"]
+    assert results["bomb"]["score"] == 0, printed["bomb"]
+    assert "uncaught C++ exception" in (tmp_path / "bomb" / "report.md").read_text()

@@ -1,7 +1,10 @@
 """The runner finds the input that fails from the worker's progress page (the
 index of the input being evaluated, shared with the grader) instead of
 bisecting, in a couple of worker starts; the page is the submission's to
-write, so a forged index must never gain it a value."""
+write, so a forged index must never gain it a value. A fault the worker can
+go on past (SIGSEGV, SIGBUS, SIGFPE, SIGILL inside one lookup) costs that
+input alone and no worker start (issue 19); an abort still ends the worker
+and is narrowed down."""
 from __future__ import annotations
 
 import subprocess
@@ -19,16 +22,23 @@ MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(
     SANDBOX_PROBLEM is not None, reason=f"no sandbox here: {SANDBOX_PROBLEM}"))]
 
 # fetchColor answers (x, y, z) for direction (x, y, z), except:
-#   x == 1: crashes (NULL write); x == 3: spins forever;
-#   x == 7: writes y into the grader's progress page (found in /proc/self/maps), then crashes;
-#   x == 8: crashes on the process's z-th call (state: only a fresh worker forgets it).
+#   x == 1: aborts (ends the worker); x == 2: faults (NULL write: the worker goes on);
+#   x == 3: spins forever; x == 4: overflows its stack (the worker goes on);
+#   x == 5: switches its alternate signal stack off, then faults;
+#   x == 7: writes y into the grader's progress page (found in /proc/self/maps), then aborts;
+#   x == 8: aborts on the process's z-th call (state: only a fresh worker forgets it);
+#   x == 9: sleeps 0.3 s (no CPU time).
 STAND_IN = r"""
 #define _GNU_SOURCE
 #include "submission_abi.h"
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <signal.h>
 #include <string.h>
+#include <time.h>
+
+static int deeper(volatile int n) { volatile char pad[4096]; pad[0] = (char)n; return deeper(n + 1) + pad[0]; }
 
 int sub_abi_version(void) { return SUB_ABI_VERSION; }
 void *sub_create(char *m, size_t s) { (void)m; (void)s; return calloc(1, 16); }
@@ -52,10 +62,14 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
     for (size_t i = 0; i < n; i++) {
         double x = d[3*i], y = d[3*i+1], z = d[3*i+2];
         calls++;
-        if (x == 1) *(volatile int *)0 = 1;
+        if (x == 1) abort();
+        if (x == 2) *(volatile int *)0 = 1;
         if (x == 3) for (volatile int spin = 1; spin;) {}
-        if (x == 7) { forge((uint64_t)y); *(volatile int *)0 = 1; }
-        if (x == 8 && calls == (long)z) *(volatile int *)0 = 1;
+        if (x == 4) rgb[3*i] = deeper(0);
+        if (x == 5) { stack_t off = { .ss_flags = SS_DISABLE }; sigaltstack(&off, NULL); *(volatile int *)0 = 1; }
+        if (x == 7) { forge((uint64_t)y); abort(); }
+        if (x == 8 && calls == (long)z) abort();
+        if (x == 9) { struct timespec t = { 0, 300000000 }; nanosleep(&t, NULL); }
         rgb[3*i] = x; rgb[3*i+1] = y; rgb[3*i+2] = z;
     }
     return SUB_OK;
@@ -65,7 +79,8 @@ int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_
 {
     (void)map; (void)addr; (void)m; (void)s;
     for (size_t i = 0; i < n; i++) {
-        if (uv[2*i] == 1) *(volatile int *)0 = 1;
+        if (uv[2*i] == 1) abort();
+        if (uv[2*i] == 2) *(volatile int *)0 = 1;
         rgb[3*i] = uv[2*i]; rgb[3*i+1] = uv[2*i+1]; rgb[3*i+2] = 0;
     }
     return SUB_OK;
@@ -212,3 +227,118 @@ def test_the_failure_budget_is_off_when_none(stand_in):
         outcome = runner.fetch(dirs)
     assert [f.index for f in outcome.failures] == [10, 20, 30, 40, 50]
     assert outcome.evaluated.sum() == 55 and not outcome.gave_up
+
+
+# ---- faults the worker goes on past -------------------------------------------------
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_fault_costs_only_its_input_and_no_worker_start(stand_in, mode):
+    faulty = (3, 4, 5, 300, 301, 1999)
+    dirs = directions(2000, {i: (2, 0, 0) for i in faulty} | {100: (4, 0, 0), 200: (5, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox=mode, timeout_s=2, max_failures=4) as runner:
+        outcome = runner.fetch(dirs)
+        assert runner.worker_starts == 1
+        # The signal mask and the alternate stack are ours again after each
+        # one: the worker still answers, and faults again where it should.
+        again = runner.fetch(dirs[:10])
+        assert runner.worker_starts == 1
+    crashed = sorted(faulty + (100, 200))
+    assert outcome.recovered_rows == crashed and outcome.fault_rows.tolist() == crashed
+    assert not outcome.gave_up and outcome.evaluated.sum() == 2000 - len(crashed)
+    # The first few described, with their kind; every one named in recovered_rows.
+    assert [(f.index, f.kind) for f in outcome.failures] == [(i, "crash") for i in crashed[:4]]
+    assert "null pointer" in outcome.failures[0].message
+    honest_rows_only(outcome, dirs)
+    assert again.recovered_rows == [3, 4, 5] and again.evaluated.sum() == 7
+
+
+def test_a_stack_overflow_and_a_fault_without_our_alternate_stack_are_gone_past(stand_in):
+    dirs = directions(50, {10: (4, 0, 0), 20: (5, 0, 0), 30: (4, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        outcome = runner.fetch(dirs)
+        assert runner.worker_starts == 1
+    assert outcome.recovered_rows == [10, 20, 30]
+    assert "stack overflow" in outcome.failures[0].message
+    honest_rows_only(outcome, dirs)
+
+
+def test_a_read_texture_fault_costs_only_its_input(stand_in):
+    uv = np.column_stack([np.full(300, 0.25), np.linspace(0, 1, 300)])
+    uv[[0, 123, 299]] = (2, 0.5)
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        outcome = runner.read_texture(2, uv)
+        assert runner.worker_starts == 1
+    assert outcome.recovered_rows == [0, 123, 299] and outcome.evaluated.sum() == 297
+
+
+EDGE_CRASH = """// Test submission (tests/test_crash_localisation.py): the handout's bilinear readTexture, except that
+// it crashes (a read through a null pointer) when u == 1 or v == 1, and nowhere else.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+#include <cstddef>
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    (void)direction;
+    return readTexture(faceAddress(FACE_POS_X), 0.5, 0.5);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    if (u == 1.0 || v == 1.0)
+        addr = *static_cast<const float* volatile*>(nullptr);
+    const double px = u * m_FaceWidth, py = v * m_FaceHeight;
+    const int ix = static_cast<int>(px), iy = static_cast<int>(py);
+    const double alpha = px - ix, beta = py - iy;
+    const auto texel = [&](int x, int y) -> Color {
+        x = std::clamp(x, 0, m_FaceWidth - 1);
+        y = std::clamp(y, 0, m_FaceHeight - 1);
+        const float* t = addr + 3 * (static_cast<std::ptrdiff_t>(y) * m_FaceWidth + x);
+        return {t[0], t[1], t[2]};
+    };
+    const Color c0 = (1.0 - alpha) * texel(ix, iy) + alpha * texel(ix + 1, iy);
+    const Color c1 = (1.0 - alpha) * texel(ix, iy + 1) + alpha * texel(ix + 1, iy + 1);
+    return (1.0 - beta) * c0 + beta * c1;
+}
+"""
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_submission_crashing_only_at_u_or_v_one_loses_only_those_inputs(tmp_path, mode):
+    """Issue 19: a crash at the face's edge cost a worker start per input and,
+    past the failed-run budget, the rest of each batch (20,000 inputs)."""
+    from grader.build import build_submission
+    from grader.reference import CubeMap
+    source = tmp_path / "EnvironmentMap.cpp"
+    source.write_text(EDGE_CRASH)
+    built = build_submission(source, cache_dir=tmp_path / "cache")
+    assert built.ok, built.log
+    cube = np.random.default_rng(19).random((6, 16, 16, 3), dtype=np.float32)
+    grid = np.linspace(0, 1, 41)
+    uv = np.concatenate([np.stack(np.meshgrid(grid, grid), -1).reshape(-1, 2),
+                         np.random.default_rng(7).random((5000, 2))])
+    edge = np.flatnonzero((uv == 1).any(axis=1))
+    with SubmissionRunner(built.library, cube, sandbox=mode, timeout_s=2, max_failures=4) as runner:
+        outcome = runner.read_texture(3, uv)
+        assert runner.worker_starts == 1
+    assert outcome.recovered_rows == edge.tolist() and len(edge) == 81
+    assert {f.kind for f in outcome.failures} == {"crash"} and not outcome.gave_up
+    inside = np.setdiff1d(np.arange(len(uv)), edge)
+    assert outcome.evaluated[inside].all() and not outcome.evaluated[edge].any()
+    np.testing.assert_allclose(outcome.values[inside], CubeMap(cube).read_texture(3, uv[inside]), atol=1e-6)
+
+
+def test_a_fault_while_timed_is_found_without_a_worker_start(stand_in):
+    # FETCH_WHOLE: blocks of inputs per call; a block with a fault is evaluated again input by input.
+    dirs = directions(10000, {5: (2, 0, 0), 9000: (2, 0, 0), 9001: (4, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        timed = runner.time_fetch([dirs])
+        assert runner.worker_starts == 1
+        assert [i for i, _ in runner._worker.faults] == [5, 9000, 9001]
+        # The pass times nothing (a fault's cost is in it): a failure naming the first, the worker alive.
+        assert timed.failure.kind == "crash" and "Vector3(2, 0, 0)" in timed.failure.input
+        assert "2 more crashed" in timed.failure.input and runner._worker.alive
+        again = runner.time_fetch([dirs[:5]])
+        assert again.failure is None and runner.worker_starts == 1
+        np.testing.assert_array_equal(again.values[0], dirs[:5])

@@ -216,7 +216,9 @@ def test_a_worker_that_stops_itself_times_out_at_that_input(libraries):
 @pytest.mark.sandbox
 def test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops(libraries):
     from grader.worker.lookups import BudgetedRunner
-    dirs = np.random.default_rng(4).normal(size=(4000, 3))     # 1.2 s asleep; 0.25 + 0.4 s allowed
+    # 1.2 s asleep: within the wall-clock outer bound (4 x 0.65 s + 1 s, issue 21), using no
+    # CPU time; the grading's budget is what stops it.
+    dirs = np.random.default_rng(4).normal(size=(4000, 3))
     with BudgetedRunner(libraries["asleep_everywhere"], FACES, sandbox=MODE, timeout_s=0.25, per_input_s=1e-4,
                         max_failures=4, max_timeouts=1, total_budget_s=2.0) as r:
         first = r.fetch(dirs)
@@ -224,7 +226,7 @@ def test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops(librar
             r.fetch(dirs)
         starts = r.worker_starts
         later = [r.fetch(dirs), r.read_texture(0, np.full((10, 2), 0.5)), r.time_fetch([dirs])]
-    assert not first.ok and not first.evaluated.all()
+    assert first.ok
     for outcome in later[:2]:
         assert outcome.gave_up and not outcome.evaluated.any()
         assert [(f.kind, f.index) for f in outcome.failures] == [("timeout", None)]

@@ -25,8 +25,12 @@ from grader.worker.lookups import open_lookups
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
 
 WRAPPER = r"""
+#define _GNU_SOURCE
 #include "submission_abi.h"
+#include <fcntl.h>
 #include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -54,8 +58,30 @@ static void *thrash(void *unused)
     return NULL;
 }
 #endif
+#if MODE == 5   /* SIGSTOP every process it can name (the reference's worker too) by a pipe's owner */
+static void *stop_everyone(void *unused)
+{
+    (void)unused;
+    int p[2];
+    if (pipe(p) != 0) return NULL;
+    for (;;)
+        for (int pid = 2; pid < 32768; pid++) {
+            char c;
+            fcntl(p[0], F_SETOWN, pid);
+            fcntl(p[0], F_SETSIG, SIGSTOP);
+            fcntl(p[0], F_SETFL, O_ASYNC | O_NONBLOCK);
+            (void)!write(p[1], "x", 1);
+            (void)!read(p[0], &c, 1);
+        }
+    return NULL;
+}
+#endif
 int sub_set_faces(void *map, const float *t, int w, int h, char *m, size_t s)
 {
+#if MODE == 5
+    static pthread_t thread;
+    if (w >= 256 && !thread) pthread_create(&thread, NULL, stop_everyone, NULL);
+#endif
 #if MODE == 4
     static pthread_t thread;
     if (!thread) pthread_create(&thread, NULL, thrash, NULL);
@@ -74,8 +100,8 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
     return SUB_OK;
 #elif MODE == 2 /* black on the large faces only the speed check uses */
     if (face_width >= 256) { memset(rgb, 0, n * 3 * sizeof *rgb); return SUB_OK; }
-#elif MODE == 3 /* replay: large batches answer with the first large batch's colours */
-    if (n >= 10000) {
+#elif MODE == 3 /* replay: large batches (timed passes come in blocks of 4096) answer with the first one's colours */
+    if (n >= 1000) {
         if (kept && kept_n == n) { memcpy(rgb, kept, n * 3 * sizeof *rgb); return SUB_OK; }
         kept = malloc(n * 3 * sizeof *rgb);
         kept_n = n;
@@ -89,7 +115,7 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
 """
 RENAMES = [f"-Dsub_{name}=ref_{name}" for name in
            ("abi_version", "create", "destroy", "set_faces", "fetch_batch", "read_texture_batch", "load_cross")]
-MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3, "thrash": 4}
+MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3, "thrash": 4, "stop_everyone": 5}
 
 
 @pytest.fixture(scope="module")
@@ -120,6 +146,38 @@ def speed_verdict(library, tmp_path) -> CheckResult:
         ctx = CheckContext(lookups=lookups, seed=4242, artifacts=tmp_path / "images", quick=True)
         speed(ctx, result, SweepFinding(fraction=1.0))
     return result
+
+
+@pytest.fixture
+def privilege_drop(tmp_path, monkeypatch):
+    """A bwrap first on PATH that fails as in a container without user
+    namespaces: root grades in privilege-drop mode."""
+    import os
+    from grader.worker import sandbox
+    if sandbox.privilege_drop_problem() is not None:
+        pytest.skip(f"no privilege drop: {sandbox.privilege_drop_problem()}")
+    fake = tmp_path / "fakebin"
+    fake.mkdir()
+    (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    (fake / "bwrap").chmod(0o755)
+    monkeypatch.setenv("PATH", f"{fake}:{os.environ['PATH']}")
+    sandbox.sandbox_problem.cache_clear()
+    yield
+    sandbox.sandbox_problem.cache_clear()
+
+
+def test_stopping_the_reference_during_the_speed_check_is_the_submissions_failure(libraries, tmp_path,
+                                                                                 privilege_drop):
+    """Issue 18: in privilege-drop mode every worker was uid nobody, and
+    fcntl(F_SETOWN) + F_SETSIG + O_ASYNC SIGSTOPped the idle reference worker:
+    'ungradable, a problem in the grader'. Now the call is refused (a verdict
+    for the submission) and the reference is out of reach anyway."""
+    result = speed_verdict(libraries["stop_everyone"], tmp_path)     # a RuntimeError here is "ungradable"
+    assert result.status == FAILED and result.fraction == 0.0, result.output
+    # Its thread's trap races the main thread's reply: the verdict is the
+    # call refused, or the replies it corrupted doing so; the submission's either way.
+    assert {d.id for d in result.diagnoses} & {"forbidden-syscall", "protocol"}, result.output
+    assert not result.error_log
 
 
 def test_an_honest_copy_of_the_reference_is_as_fast_as_the_reference(libraries, tmp_path):

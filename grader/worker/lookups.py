@@ -91,7 +91,9 @@ def open_lookups(library: Path, sandbox: bool | None = None, timeout_s: float = 
     isolation is possible here and allow_unsafe is False; the runner's
     `isolation` and `warnings` say what was used.
 
-    timeout_s: the base time limit of one call, plus 0.1 ms per input. A
+    timeout_s: the base time limit of one call, plus 0.1 ms per input, in
+    the worker's CPU time (a busy machine stretches only the wall clock,
+    whose outer bound is 4 times that plus 1 s: process.wall_bound). A
     correct submission answers 100,000 directions in about 10 ms (10.5 s
     allowed), so the limit only bites on a hang, where narrowing it down costs
     about log2(n) limits: the base stays short.

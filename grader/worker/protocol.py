@@ -21,16 +21,22 @@ HEADER = struct.Struct("=IIQQ")
 # Requests (op).
 SET_FACES, FETCH, READ_TEXTURE, TIME_FETCH, LOAD_CROSS, QUIT = 1, 2, 3, 4, 5, 6
 # FETCH and READ_TEXTURE evaluate one input per submission call, noting its
-# index in the progress page; FETCH_WHOLE hands the whole batch to one call
-# (timed passes: the same cost as before, nothing per input added).
+# index in the progress page; FETCH_WHOLE hands the batch over in blocks of
+# 4096 per call (timed passes: nothing per input added; a block in which an
+# input faults is evaluated again one input per call).
 FETCH_WHOLE = 7
 # Replies (status).
 OK, EXCEPTION, ARGUMENT, CRASH, LOAD_ERROR, READY, BAD_REQUEST = 0, 1, 2, 3, 4, 5, 6
 # Sent before the submission is loaded: the only replies the grader trusts.
 SANDBOXED, SETUP_ERROR = 7, 8
+# Before FETCH's or READ_TEXTURE's own reply: the inputs that faulted, each
+# with its crash report; the worker went on with the next input.
+FAULTS = 9
+# Bits of SANDBOXED's count: what held besides limits and the filter.
+SANDBOXED_PID_NAMESPACE = 1
 STATUS_NAMES = {OK: "ok", EXCEPTION: "exception", ARGUMENT: "argument", CRASH: "crash",
                 LOAD_ERROR: "load-error", READY: "ready", BAD_REQUEST: "bad-request",
-                SANDBOXED: "sandboxed", SETUP_ERROR: "setup-error"}
+                SANDBOXED: "sandboxed", SETUP_ERROR: "setup-error", FAULTS: "faults"}
 # Text replies (exception and error messages) longer than this are refused.
 MAX_TEXT_BYTES = 64 << 10
 
@@ -39,6 +45,7 @@ CAUSE_SIGNAL, CAUSE_GUARD_AFTER, CAUSE_GUARD_BEFORE, CAUSE_STACK_OVERFLOW = 0, 1
 CAUSE_CPU_LIMIT, CAUSE_FORBIDDEN_SYSCALL, CAUSE_TEXTURE_WRITE = 4, 5, 6
 WHERE_ALL_FACES = -1
 CRASH_REPORT = struct.Struct("=iiiiqQ224s")   # 256 bytes
+FAULT = struct.Struct("=Q256s")                # one FAULTS entry: the input's index, its crash report
 
 # Texture placements: the texels end where a guard page starts, or start
 # where one ends.
@@ -93,6 +100,9 @@ def check_reply_size(status: int, count: int, size: int, expected_count: int | N
     elif status in (EXCEPTION, ARGUMENT, LOAD_ERROR, BAD_REQUEST, SETUP_ERROR):
         if size > MAX_TEXT_BYTES:
             raise ProtocolViolation(f"{STATUS_NAMES[status]} message of {size} bytes")
+    elif status == FAULTS:
+        if not 0 < count <= (expected_count if expected_count is not None else 0) or size != count * FAULT.size:
+            raise ProtocolViolation(f"faults reply for {count} inputs in {size} bytes")
     elif status in (READY, SANDBOXED):
         if size != 0:
             raise ProtocolViolation(f"ready reply with a {size}-byte payload")
@@ -115,6 +125,19 @@ def decode_crash(payload: bytes) -> CrashReport:
         raise ProtocolViolation(f"crash report with cause {cause}, signal {signo}")
     return CrashReport(signo, code, cause, where, distance, address,
                        text.split(b"\0", 1)[0].decode("utf-8", "replace"))
+
+
+def decode_faults(payload: bytes, count: int, rows: int) -> list[tuple[int, CrashReport]]:
+    """(index, crash report) of each input that faulted, indices increasing
+    and below `rows` (what the worker was asked to evaluate)."""
+    out, last = [], -1
+    for k in range(count):
+        index, report = FAULT.unpack_from(payload, k * FAULT.size)
+        if not last < index < rows:
+            raise ProtocolViolation(f"fault at input {index} of {rows} (after {last})")
+        out.append((index, decode_crash(report)))
+        last = index
+    return out
 
 
 def decode_doubles(payload: bytes, rows: int) -> np.ndarray:

@@ -1,8 +1,11 @@
 """Run batches of lookups on a submission and attribute every failure to the
 input that causes it.
 
-SubmissionRunner keeps one Worker with the faces loaded. A batch that fails
-(crash, timeout, exception, forbidden call, the program ending itself,
+SubmissionRunner keeps one Worker with the faces loaded. An input that faults
+(SIGSEGV, SIGBUS, SIGFPE, SIGILL inside its lookup) costs only itself: the
+worker goes on past it and names it (Outcome.recovered_rows, the first few
+also as failures). A batch that fails otherwise
+(abort, timeout, exception, forbidden call, the program ending itself,
 corrupted replies) is narrowed down to its first failing input. The worker
 evaluates one input per submission call and notes the index of the input it
 is on in a page the grader reads (Worker.progress): that index is a hint
@@ -29,15 +32,16 @@ from typing import Callable
 
 import numpy as np
 
-from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, hint
-from .process import Limits, Worker
+from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, from_crash, hint
+from .process import Limits, Worker, WorkerHarnessError
 from .sandbox import ISOLATION, resolve_mode
 
 
 # Worker runs that may fail over one submission's grading (one runner)
 # before failing batches are no longer narrowed down (SubmissionRunner._give_up):
-# each costs a worker start (20-50 ms), and a submission that crashes all over
-# would otherwise cost seconds per check. Partial credit: past the budget, the
+# each costs a worker start (20-50 ms), and a submission that fails all over
+# would otherwise cost seconds per check. Faults the worker goes on past
+# (issue 19) are no failed runs: a missing clamp no longer reaches this. Partial credit: past the budget, the
 # inputs after a batch's first failure count as failed without being tried
 # (tests/submissions/wrong: crash-null 55.84 -> 55.17 points, stability only;
 # out-of-bounds-x1 42.84 -> 42.17; same diagnoses).
@@ -67,6 +71,16 @@ class Outcome:
     failures: list[Failure] = field(default_factory=list)
     gave_up: bool = False               # stopped early (failure cap or time budget)
     warnings: list[str] = field(default_factory=list)
+    # Inputs that faulted while the worker went on past them (each one, also
+    # beyond the failures described above).
+    recovered_rows: list[int] = field(default_factory=list)
+
+    @property
+    def fault_rows(self) -> np.ndarray:
+        """Every input that failed: those the worker went on past and those
+        narrowed down after a failed run."""
+        rows = set(self.recovered_rows) | {f.index for f in self.failures if f.index is not None}
+        return np.array(sorted(rows), np.int64)
 
     @property
     def ok(self) -> bool:
@@ -106,8 +120,11 @@ class TimedPasses:
 class SubmissionRunner:
     """Lookups on one submission's library with the faces (6, H, W, 3) given.
 
-    timeout_s + per_input_s * n is the wall-clock limit of one call over n
-    inputs. The isolation mode is settled here, once (sandbox.resolve_mode:
+    timeout_s + per_input_s * n is the CPU-time limit of one call over n
+    inputs (its wall-clock outer bound: process.wall_bound). A run stopped by
+    a limit a busy machine can reach too (the wall bound, a kill from
+    outside, a worker that did not start) is tried once more before it
+    counts (`retries`). The isolation mode is settled here, once (sandbox.resolve_mode:
     SandboxUnavailable when none is possible and allow_unsafe is False);
     `isolation` names it for reports and `warnings` carries what a report
     must say about it. Other keyword arguments go to Worker."""
@@ -132,6 +149,7 @@ class SubmissionRunner:
         self.warnings: list[str] = [warning] if warning else []
         self.worker_starts = 0
         self.failed_runs = 0     # worker runs that ended in a failure, over this runner's life
+        self.retries = 0         # runs tried again after a grader's limit stopped them (grader_limit)
         self._worker: Worker | None = None
         self._placement: str | None = None
         self._load_failure: Failure | None = None
@@ -199,14 +217,30 @@ class SubmissionRunner:
         for dirs in passes:
             dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
             try:
-                worker = self._ready_worker("end")
-                rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
+                try:
+                    worker = self._ready_worker("end")
+                    rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
+                except SubmissionFailure as failure:
+                    self._drop_worker()
+                    if not failure.grader_limit:
+                        raise
+                    self.retries += 1      # once more: see attempt() in _run_batch
+                    worker = self._ready_worker("end")
+                    rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
             except SubmissionFailure as failure:
                 self._drop_worker()
                 timed.failure = self._failure(failure, "fetchColor", None, "timing fetchColor over a batch")
                 break
             except _LoadFailed:
                 timed.failure = self._load_failure
+                break
+            if worker.faults:
+                # The pass finished, but a fault's cost (the kernel's signal
+                # delivery, the handler) is in its time: it times nothing.
+                index, report = worker.faults[0]
+                timed.failure = self._failure(from_crash(report, "", self.limits.cpu_seconds), "fetchColor", None,
+                                              f"timing fetchColor over a batch ({describe_fetch(dirs[index])} "
+                                              f"and {len(worker.faults) - 1} more crashed)")
                 break
             timed.cpu_ns.append(ns)
             timed.lookups.append(len(dirs))
@@ -241,24 +275,31 @@ class SubmissionRunner:
         stuck: list[tuple | None] = [None]
 
         def attempt(lo: int, hi: int) -> SubmissionFailure | None:
-            hint[0] = stuck[0] = None
-            try:
-                worker = self._ready_worker(placement)
-                outcome.values[lo:hi] = run(worker, lo, hi)
-                outcome.evaluated[lo:hi] = True
-                return None
-            except SubmissionFailure as failure:
-                # Which input was running, as the worker's progress page says.
-                hint[0] = self._worker.progress() if self._worker is not None else None
-                stuck[0] = self._worker.stuck if self._worker is not None else None
-                self._drop_worker()     # a fresh worker after any failure: no state carries over
-                self.failed_runs += 1
-                return failure
+            for tries in (1, 2):
+                hint[0] = stuck[0] = None
+                try:
+                    worker = self._ready_worker(placement)
+                    outcome.values[lo:hi] = run(worker, lo, hi)
+                    outcome.evaluated[lo:hi] = True
+                    self._take_faults(outcome, worker, lo, function, describe)
+                    return None
+                except SubmissionFailure as failure:
+                    # Which input was running, as the worker's progress page says.
+                    hint[0] = self._worker.progress() if self._worker is not None else None
+                    stuck[0] = self._worker.stuck if self._worker is not None else None
+                    self._drop_worker()     # a fresh worker after any failure: no state carries over
+                    if failure.grader_limit and tries == 1:
+                        self.retries += 1   # the machine's limit, maybe not the code's: once more
+                        continue
+                    self.failed_runs += 1
+                    return failure
 
         lo = 0
         while lo < n:
             timeouts = sum(f.kind == "timeout" for f in outcome.failures)
-            if (len(outcome.failures) >= self.max_failures or timeouts >= self.max_timeouts
+            # Faults the worker went past cost no time: only failed runs count here.
+            narrowed = len(outcome.failures) - min(len(outcome.recovered_rows), self.max_failures)
+            if (narrowed >= self.max_failures or timeouts >= self.max_timeouts
                     or time.monotonic() - began > self.budget_s):
                 outcome.gave_up = True
                 break
@@ -315,6 +356,19 @@ class SubmissionRunner:
                 break
         return outcome
 
+    def _take_faults(self, outcome: Outcome, worker: Worker, lo: int, function: str,
+                     describe: Callable[[int], str]) -> None:
+        """The inputs that faulted in a run that went on past them: failed,
+        each one named in recovered_rows, the first few described."""
+        for index, report in worker.faults:
+            row = lo + index
+            outcome.values[row] = np.nan
+            outcome.evaluated[row] = False
+            if len(outcome.recovered_rows) < self.max_failures:
+                failure = from_crash(report, "", self.limits.cpu_seconds)
+                outcome.failures.append(self._failure(failure, function, row, describe(row)))
+            outcome.recovered_rows.append(row)
+
     def _give_up(self, outcome: Outcome, failure: SubmissionFailure, lo: int, n: int, guess: int | None,
                  attempt, function: str, describe: Callable[[int], str]) -> None:
         """The submission's failed runs are over budget: no more narrowing
@@ -349,18 +403,28 @@ class SubmissionRunner:
         if self._worker is None or not self._worker.alive:
             self._drop_worker()
             # The mode was settled (and allowed) in __init__.
-            worker = Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload,
-                            texture_shape=self.faces.shape[1:3])
-            self.worker_starts += 1
-            try:
-                worker.start()
-                worker.set_faces(self.faces, placement or "end", timeout_s=self._timeout(0))
-            except SubmissionFailure as failure:
-                worker.close()
-                # Loading is the same every time: remember it rather than retry.
-                self._load_failure = self._failure(
-                    failure, "loading", None, "loading the submission (static initialisers and the constructor)")
-                raise _LoadFailed() from None
+            for tries in (1, 2):
+                worker = Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload,
+                                texture_shape=self.faces.shape[1:3])
+                self.worker_starts += 1
+                try:
+                    worker.start()
+                    worker.set_faces(self.faces, placement or "end", timeout_s=self._timeout(0))
+                    break
+                except WorkerHarnessError:
+                    worker.close()
+                    if tries == 2:
+                        raise
+                    self.retries += 1       # a worker that did not start: once more before it is ours
+                except SubmissionFailure as failure:
+                    worker.close()
+                    if failure.grader_limit and tries == 1:
+                        self.retries += 1   # stopped by the machine's limit, maybe: once more
+                        continue
+                    # Loading is the same every time: remember it rather than retry.
+                    self._load_failure = self._failure(
+                        failure, "loading", None, "loading the submission (static initialisers and the constructor)")
+                    raise _LoadFailed() from None
             self._worker, self._placement = worker, placement or "end"
         elif placement is not None and placement != self._placement:
             self._worker.set_faces(self.faces, placement, timeout_s=self._timeout(0))

@@ -11,7 +11,8 @@ Where bubblewrap is missing or cannot create namespaces (a container without
 user namespaces, another OS), `sandbox_problem()` says why. Then, when the
 grader runs as root (Gradescope, most Docker images), the worker runs in
 privilege-drop mode: it chroots into a fresh folder holding only the
-submission and becomes uid/gid nobody before loading it. Where neither is
+submission and becomes a uid/gid of its own (uids.py) before loading it,
+in a pid namespace of its own where the container allows one. Where neither is
 possible, `resolve_mode` raises SandboxUnavailable unless the caller allowed
 running without isolation ("unsafe-none", with a warning for the report).
 Never silently: every runner says which isolation it used.
@@ -65,10 +66,26 @@ def isolation(unprivileged: bool) -> list[str]:
             "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
 
 
-def bwrap_command(worker: Path, input_dir: Path, worker_args: list[str], env: dict[str, str]) -> list[str]:
+def isolation_as_root() -> list[str]:
+    """bwrap for a worker when the grader is root: the same namespaces but the
+    user's, and only the capabilities to become another uid, which the worker
+    uses at once (--uid: a uid of its own, uids.py). With a user namespace,
+    root's bwrap maps the sandbox's nobody to root itself, whom the kernel
+    exempts from RLIMIT_NPROC: a thread bomb was unbounded."""
+    return [shutil.which("bwrap") or "bwrap", "--unshare-ipc", "--unshare-pid", "--unshare-net", "--unshare-uts",
+            "--unshare-cgroup-try", "--cap-drop", "ALL", "--cap-add", "CAP_SETUID", "--cap-add", "CAP_SETGID",
+            "--die-with-parent", "--new-session", "--clearenv", *system_binds(),
+            "--proc", "/proc", "--dev", "/dev", "--tmpfs", "/tmp"]
+
+
+def bwrap_command(worker: Path, input_dir: Path, worker_args: list[str], env: dict[str, str],
+                  as_root: bool = False) -> list[str]:
     """The command running `worker` inside the sandbox; `worker_args` refer to
-    files of `input_dir` as INPUT_INSIDE/<name>."""
-    cmd = [*isolation(unprivileged=True),
+    files of `input_dir` as INPUT_INSIDE/<name>. `as_root`: the grader is
+    root and `worker_args` carry the uid the worker switches to."""
+    # As root, bwrap makes /sandbox 0700: the worker's uid must be able to enter it.
+    cmd = [*(isolation_as_root() + ["--perms", "0755", "--dir", SANDBOX_ROOT] if as_root
+             else isolation(unprivileged=True)),
            "--ro-bind", str(worker), WORKER_INSIDE,
            "--ro-bind", str(input_dir), INPUT_INSIDE,
            "--chdir", "/tmp"]
@@ -111,13 +128,21 @@ def privilege_drop_problem() -> str | None:
     if os.geteuid() != 0:
         return "the grader does not run as root, so it cannot switch the worker to another user"
     import tempfile
+    from . import uids
     from .native import worker_binary
+    try:
+        held = uids.acquire()
+    except (uids.UidsUnavailable, OSError) as exc:
+        return f"no uid of its own for the worker: {exc}"
+    uid = str(held.uid)
     with tempfile.TemporaryDirectory(prefix="envmap-drop-") as root:
         try:
-            done = subprocess.run([str(worker_binary()), "--check-drop", "--chroot", root, "--uid", NOBODY,
-                                   "--gid", NOBODY], capture_output=True, timeout=20)
+            done = subprocess.run([str(worker_binary()), "--check-drop", "--chroot", root, "--uid", uid,
+                                   "--gid", uid], capture_output=True, timeout=20)
         except (OSError, subprocess.TimeoutExpired) as exc:
             return f"the worker could not drop its privileges: {exc}"
+        finally:
+            held.release()
     if done.returncode != 0:
         return f"the worker could not drop its privileges (exit status {done.returncode})"
     return None

@@ -1,0 +1,73 @@
+"""Time limits measure the submission's work, not the machine's load
+(issue 21): a call's limit is the worker's CPU time, the wall clock only a
+generous outer bound, and a run the machine (not the code) stopped is tried
+once more before it is a verdict."""
+from __future__ import annotations
+
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+from grader.worker import SubmissionRunner, Worker
+from grader.worker.process import wall_bound
+from test_crash_localisation import directions, faces, stand_in  # noqa: F401  (the stand-in library fixture)
+
+pytestmark = [pytest.mark.sandbox]
+
+
+def test_a_call_that_gets_no_core_for_longer_than_its_limit_still_answers(stand_in):
+    """The worker stopped (as on a machine with every core busy) for twice
+    the call's limit: it used no CPU time meanwhile, so the call is not
+    timed out. With a wall-clock limit it was (0.5 s here)."""
+    with Worker(stand_in, sandbox="plain") as worker:
+        worker.set_faces(faces())
+        os.kill(worker._worker_pid, signal.SIGSTOP)
+        resume = threading.Timer(1.0, os.kill, (worker._worker_pid, signal.SIGCONT))
+        resume.start()
+        try:
+            answer = worker.fetch([[0.5, 7, 1]], timeout_s=0.5)
+        finally:
+            resume.join()
+    np.testing.assert_array_equal(answer, [[0.5, 7, 1]])
+    assert 1.0 < wall_bound(0.5)
+
+
+def test_a_spinning_call_is_stopped_at_its_cpu_limit_not_the_wall_bound(stand_in):
+    import time
+    from grader.worker import SubmissionFailure
+    with Worker(stand_in, sandbox="plain") as worker:
+        worker.set_faces(faces())
+        began = time.monotonic()
+        with pytest.raises(SubmissionFailure) as caught:
+            worker.fetch([[3, 0, 0]], timeout_s=0.3)
+        took = time.monotonic() - began
+    assert caught.value.kind == "timeout" and caught.value.detail == "cpu" and not caught.value.grader_limit
+    assert took < wall_bound(0.3)
+
+
+def test_a_batch_asleep_past_the_wall_bound_is_tried_once_more_then_narrowed(stand_in):
+    """2.4 s asleep in one call, bound 4 x 0.1 s + 1 s: the wall bound stops
+    it (tried once more, as the machine could have been the cause), then
+    smaller runs get every answer: sleeping is only slow."""
+    dirs = directions(8, {i: (9, 0, 0) for i in range(8)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=0.1, per_input_s=0,
+                          max_timeouts=1) as runner:
+        outcome = runner.fetch(dirs)
+        assert runner.retries >= 1 and runner.failed_runs >= 1
+    assert outcome.ok and outcome.evaluated.all()
+
+
+def test_a_worker_killed_from_outside_is_tried_once_more(stand_in):
+    dirs = directions(20, {5: (9, 0, 0)})     # input 5 sleeps 0.3 s: the kill lands in this call
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+        runner.fetch(dirs[:1])
+        killer = threading.Timer(0.1, os.kill, (runner._worker._worker_pid, signal.SIGKILL))
+        killer.start()
+        outcome = runner.fetch(dirs)
+        killer.join()
+        assert runner.retries == 1 and runner.worker_starts == 2 and runner.failed_runs == 0
+    assert outcome.ok and outcome.evaluated.all()
+    np.testing.assert_array_equal(outcome.values, dirs)
