@@ -23,7 +23,7 @@ import jsonschema
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.gradescope import build_bundle
+from grader.platforms.gradescope import build_bundle
 from grader.reports.gradescope_json import load_schema
 
 SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
@@ -106,7 +106,7 @@ def test_grader_that_cannot_start_still_leaves_valid_results(autograder, tmp_pat
 
 
 def test_leaderboard_is_off_in_the_shipped_rubric():
-    from grader.gradescope import leaderboard_enabled
+    from grader.platforms.gradescope import leaderboard_enabled
     from grader.score import load_rubric
     assert leaderboard_enabled(load_rubric(PROJECT_ROOT / "grader" / "rubric.toml")) is False
     assert leaderboard_enabled({"gradescope": {"leaderboard": True}}) is True
@@ -116,7 +116,7 @@ def test_leaderboard_is_off_in_the_shipped_rubric():
 def test_leaderboard_entries_need_both_axes():
     from types import SimpleNamespace
 
-    from grader.gradescope import leaderboard
+    from grader.platforms.gradescope import leaderboard
     timed = SimpleNamespace(checks=[SimpleNamespace(metrics={"flip_mean": 0.1}),
                                     SimpleNamespace(metrics={"ns_per_lookup": 41.5, "uniform_smooth_rms": 0.0125})])
     assert leaderboard(timed) == [
@@ -164,7 +164,7 @@ def test_the_bundle_carries_grader_secret_and_warns_about_the_public_default(tmp
     set while building goes into the bundled rubric; left unset, the command
     warns instead of shipping the default silently."""
     import tomllib
-    from grader.gradescope import DEFAULT_SECRET, course_secret_problem
+    from grader.platforms.gradescope import DEFAULT_SECRET, course_secret_problem
     monkeypatch.setenv("GRADER_SECRET", 'per-course "quoted" secret')
     assert course_secret_problem() is None
     with zipfile.ZipFile(build_bundle(tmp_path / "secret.zip")) as z:

@@ -57,7 +57,7 @@ def test_this_venv_runs_the_locked_versions():
 
 
 def test_every_installer_uses_the_lock_with_hashes():
-    from grader.gradescope import INCLUDE, SETUP_SH
+    from grader.platforms.gradescope import INCLUDE, SETUP_SH
     make_venv = (PROJECT_ROOT / "scripts" / "make-venv.sh").read_text()
     assert "--require-hashes" in make_venv
     assert "make-venv.sh $(VENV) requirements.lock" in (PROJECT_ROOT / "Makefile").read_text()

@@ -42,7 +42,7 @@ def run(args) -> int:
     if args.grade is not None:
         return grade_for_gradescope(args.grade, args.results, quick=args.quick,
                                     allow_unsafe=getattr(args, "allow_unsafe", False))
-    from ..gradescope import build_bundle, course_secret_problem
+    from ..platforms.gradescope import build_bundle, course_secret_problem
     path = build_bundle(args.out)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): upload it as the autograder on Gradescope")
     problem = course_secret_problem()
@@ -53,7 +53,7 @@ def run(args) -> int:
 
 def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, allow_unsafe: bool = False) -> int:
     from ..grade import GradeOptions, grade
-    from ..gradescope import add_leaderboard, leaderboard, leaderboard_enabled
+    from ..platforms.gradescope import add_leaderboard, leaderboard, leaderboard_enabled
     from ..results import UNGRADABLE
     from ..score import load_rubric
     options = GradeOptions(quick=quick, include_hidden=False, allow_unsafe=allow_unsafe)

@@ -11,7 +11,7 @@ import stat
 import zipfile
 from pathlib import Path
 
-from . import PROJECT_ROOT
+from .. import PROJECT_ROOT
 
 INCLUDE = ("grader", "reference", "student_template", "Cubemap", "fixtures", "scenes",
            "envmap_test.cfg", "requirements.txt", "requirements.lock", "packages.txt", "Makefile", "scripts")
