@@ -42,7 +42,7 @@ def results(root: Path) -> dict:
 @pytest.mark.slow
 def test_entrypoint_grades_a_correct_submission(grade_root):
     (grade_root / "student" / "EnvironmentMap.cpp").write_bytes((SUBMISSIONS / "correct" / "if_chain.cpp").read_bytes())
-    entry = grade_root / "serverFilesCourse" / "envmap" / "grader" / "prairielearn.sh"
+    entry = grade_root / "serverFilesCourse" / "envmap" / "grader" / "platforms" / "prairielearn" / "entrypoint.sh"
     run = subprocess.run([str(entry)], capture_output=True, text=True, timeout=300,
                          env={**os.environ, "PL_GRADE_ROOT": str(grade_root)})
     assert run.returncode == 0, run.stdout + run.stderr
@@ -69,7 +69,7 @@ def test_a_wrong_submission_gets_partial_credit_and_its_diagnosis(grade_root):
 
 def test_the_graders_own_failure_is_not_gradable_and_shows_no_traceback(grade_root, monkeypatch, capsys):
     import grader.grade
-    from grader.prairielearn import grade_prairielearn
+    from grader.platforms.prairielearn import grade_prairielearn
 
     def broken(*args, **kwargs):
         raise RuntimeError("fixtures unreadable\n  File \"/secret/path.py\", line 1")
@@ -84,7 +84,7 @@ def test_the_graders_own_failure_is_not_gradable_and_shows_no_traceback(grade_ro
 
 
 def test_no_student_folder_is_not_gradable(tmp_path):
-    from grader.prairielearn import grade_prairielearn
+    from grader.platforms.prairielearn import grade_prairielearn
     data = grade_prairielearn(tmp_path)
     assert data["gradable"] is False and "student is missing" in data["message"]
     assert json.loads((tmp_path / "results" / "results.json").read_text()) == data

@@ -5,7 +5,7 @@ ROOT/results/results.json in PrairieLearn's format: score 0..1, gradable,
 message, tests[] (points, max_points, output) and images[] (the renders and
 arrow pictures as PNG data URLs). Exit status 0 whenever results.json was
 written, whatever the grade (gradable: false says the grader failed).
-See grader/prairielearn.py for the question's info.json settings.
+See grader/platforms/prairielearn/ for the question's info.json settings.
 """
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args) -> int:
-    from ..prairielearn import grade_prairielearn
+    from ..platforms.prairielearn import grade_prairielearn
     data = grade_prairielearn(args.root, quick=args.quick, keep_reports=args.keep_reports)
     print(f"{args.root / 'results' / 'results.json'}: score {data['score']:g}, gradable {data['gradable']}")
     return 0

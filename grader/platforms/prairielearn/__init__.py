@@ -20,7 +20,7 @@ log). Question set-up (info.json):
 
     "externalGradingOptions": {"enabled": true, "image": "<an image with this project's
         set-up, e.g. Gradescope's setup.sh>", "entrypoint":
-        "/grade/serverFilesCourse/envmap/grader/prairielearn.sh", "timeout": 120}
+        "/grade/serverFilesCourse/envmap/grader/platforms/prairielearn/entrypoint.sh", "timeout": 120}
 """
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ import tempfile
 import traceback
 from pathlib import Path
 
-from .results import UNGRADABLE
+from ...results import UNGRADABLE
 
 DEFAULT_ROOT = Path("/grade")
 # PNGs the checks leave beside the reports (CheckResult.artifacts): shown
@@ -67,8 +67,8 @@ def _image(label: str, path: Path) -> dict | None:
 
 def results_from(result, report_md: str = "") -> dict:
     """PrairieLearn's results.json for one GradeResult (student view)."""
-    from .reports.text import clean, truncate_middle
-    from .reports.view import check_output
+    from ...reports.text import clean, truncate_middle
+    from ...reports.view import check_output
     tests, images, hidden = [], [], 0
     for check in result.checks:
         if check.visibility != "visible":
@@ -125,7 +125,7 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
     Every failure ends in a results.json: the grader's own (stale fixtures,
     no sandbox, a bug) as gradable: false with the reason's first line, the
     traceback on stderr for the instructor."""
-    from .grade import GradeOptions, grade
+    from ...grade import GradeOptions, grade
     root = Path(root)
     results_path = root / "results" / "results.json"
     work = Path(tempfile.mkdtemp(prefix="envmap-pl-"))
