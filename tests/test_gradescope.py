@@ -249,17 +249,22 @@ def test_leaderboard_in_results_when_the_rubric_turns_it_on(autograder, tmp_path
 
 def test_setup_sh_installs_like_make_venv_from_the_lock(bundle, tmp_path):
     """setup.sh is not run here (it is the image build), but it parses, and
-    everything it calls is in the zip: the package script with the core
-    group, make-venv.sh with the lock (pip install --require-hashes)."""
+    everything it calls is in the zip: install-grading-env.sh, which runs the
+    package script with the core group and make-venv.sh with the lock (pip
+    install --require-hashes)."""
     with zipfile.ZipFile(bundle) as z:
         names = set(z.namelist())
         setup = z.read("setup.sh").decode()
+        env_script = z.read("scripts/install-grading-env.sh").decode()
     (tmp_path / "setup.sh").write_text(setup)
-    assert subprocess.run(["bash", "-n", str(tmp_path / "setup.sh")], capture_output=True).returncode == 0
-    assert "bash scripts/install-system-deps.sh core" in setup
-    assert 'bash scripts/make-venv.sh .venv requirements.lock "$python"' in setup
-    assert {"scripts/install-system-deps.sh", "scripts/make-venv.sh", "requirements.lock", "packages.txt"} <= names
-    assert "pip install --quiet" not in setup     # progress is shown while the image builds
+    for script in (tmp_path / "setup.sh", PROJECT_ROOT / "scripts" / "install-grading-env.sh"):
+        assert subprocess.run(["bash", "-n", str(script)], capture_output=True).returncode == 0
+    assert "bash scripts/install-grading-env.sh .venv" in setup
+    assert "bash scripts/install-system-deps.sh core" in env_script
+    assert 'bash scripts/make-venv.sh "$venv" requirements.lock "$python"' in env_script
+    assert {"scripts/install-system-deps.sh", "scripts/make-venv.sh", "scripts/install-grading-env.sh",
+            "requirements.lock", "packages.txt"} <= names
+    assert "pip install --quiet" not in setup + env_script     # progress is shown while the image builds
 
 
 def test_the_bundle_carries_grader_secret_and_warns_about_the_public_default(tmp_path, monkeypatch):

@@ -66,15 +66,21 @@ def ran(check: CheckResult, built: bool = True) -> bool:
     return built and check.status not in (SKIPPED, ERROR)
 
 
-def _test(check: CheckResult, built: bool = True) -> dict:
+def check_markdown(check: CheckResult) -> str:
+    """A check's own output as inert Markdown, with its worst cases; a
+    hidden check carries its own diagnoses (the summary lists only the
+    visible checks'), shown when the check is."""
     output = "\n".join([inert_markdown(truncate_middle(check_output(check))), "",
                         *markdown.worst_cases(check)]).strip()
     if not is_visible(check) and check.diagnoses:
-        # The top-level output lists visible checks' diagnoses only; a hidden
-        # check carries its own, shown when Gradescope shows the check.
         sections = [line for g in group_diagnoses(check.diagnoses)
                     for line in markdown.diagnosis_section(g, "####")]
         output = "\n".join([output, "", "### What to fix", "", *sections]).strip()
+    return output
+
+
+def _test(check: CheckResult, built: bool = True) -> dict:
+    output = check_markdown(check)
     entry = {
         "name": clean(check.title) or check.name,
         "score": _number(check.score),

@@ -1,51 +1,64 @@
 """PrairieLearn's external grader: grade /grade/student into /grade/results/results.json.
 
-PrairieLearn runs the course's grading image with this layout (its
-"external grading" documentation):
+PrairieLearn runs the question's grading image with this layout (its
+"External Grading" documentation):
 
-    /grade/serverFilesCourse/   the course's serverFilesCourse/ (this project can live there)
-    /grade/student/             the student's files (EnvironmentMap.cpp)
-    /grade/tests/               the question's tests/ folder (unused: the rubric is ours)
-    /grade/results/results.json what we write; PrairieLearn reads nothing else
+    /grade/serverFilesCourse/envmap/  this project (the course's serverFilesCourse/envmap,
+                                      copied in because info.json lists it)
+    /grade/student/                   the student's files (EnvironmentMap.cpp)
+    /grade/tests/                     the question's tests/ folder (unused: the rubric is ours)
+    /grade/results/results.json       what we write; PrairieLearn reads nothing else
 
-and shows results.json to the student: `score` (0 to 1), `gradable`
-(false only when the grader failed, which PrairieLearn does not charge to
-the student), `message`, `output`, `tests[]` (name, description, points,
-max_points, message, output) and `images[]` ({label, url}: PNG data URLs).
+The image (Dockerfile beside this file) holds the system packages and the
+virtual environment ($ENVMAP_VENV); entrypoint.sh finds them and runs
+`python -m grader prairielearn`. docs/platforms.md says how to build the
+image and set up the question.
 
-What the student sees is what Gradescope shows them: hidden checks count
-towards the score but are not listed; no traceback ever reaches a student
-(the instructor's copy goes to stderr, which PrairieLearn keeps in its job
-log). Question set-up (info.json):
+results.json is shown to the student by <pl-external-grader-results>:
+`score` (0 to 1), `gradable` (false only when the grader failed, which
+PrairieLearn does not charge to the student), `message`, `output`,
+`tests[]` (name, description, points, max_points, message, output) and
+`images[]` ({label, url}: PNG data URLs). PrairieLearn shows message and
+output in a <pre>, so they are plain text (the Markdown reports rendered by
+rich, no `#`, `**`, pipes or escapes). The whole file must stay under 1 MB:
+pictures are added in order of use while the file stays under RESULTS_BUDGET.
 
-    "externalGradingOptions": {"enabled": true, "image": "<an image with this project's
-        set-up, e.g. Gradescope's setup.sh>", "entrypoint":
-        "/grade/serverFilesCourse/envmap/grader/platforms/prairielearn/entrypoint.sh", "timeout": 120}
+What the student sees is what Gradescope shows them (grader.reports.
+gradescope_json's student view): hidden checks count towards the score but
+are not listed; the grader's warnings and the isolation mode are the
+instructor's and go to stderr, which PrairieLearn keeps in the grading job's
+log, as does every traceback.
 """
 from __future__ import annotations
 
-import base64
+import io
 import json
 import os
+import re
 import shutil
 import sys
 import tempfile
 import traceback
 from pathlib import Path
 
-from ...results import UNGRADABLE
+from ...results import BUILD_ERROR, UNGRADABLE
 
 DEFAULT_ROOT = Path("/grade")
 # PNGs the checks leave beside the reports (CheckResult.artifacts): shown
-# under these labels, in this order; others follow by name.
+# under these labels, in this order (the most useful first: the budget may
+# leave the last out); others follow by name.
 IMAGE_LABELS = {
     "render_submission": "Your render",
     "render_reference": "Reference render",
     "render_difference": "Difference (brighter is further off)",
-    "render_flip": "FLIP error map",
     "arrows": "Axis arrows on each face",
+    "render_flip": "FLIP error map",
+    "speed_accuracy_chart": "Speed against accuracy (your lookup is the star)",
 }
-MAX_IMAGE_BYTES = 2_000_000     # per picture: results.json must stay small enough to store
+MAX_RESULTS_BYTES = 1_000_000   # PrairieLearn's limit for the whole results.json
+RESULTS_BUDGET = 900_000        # what we fill, with room to spare
+MAX_IMAGE_BYTES = 200_000       # per picture, encoded (larger ones are halved until they fit)
+TEXT_WIDTH = 100                # columns of the plain text (PrairieLearn's <pre> scrolls wider lines)
 FAILED_MESSAGE = ("The autograder failed before it could grade your submission. This is not your fault: "
                   "please tell your instructor.")
 
@@ -55,55 +68,80 @@ def _number(value: float) -> float:
     return round(value, 4) if value == value and abs(value) != float("inf") else 0.0
 
 
-def _image(label: str, path: Path) -> dict | None:
-    try:
-        data = path.read_bytes()
-    except OSError:
-        return None
-    if not data.startswith(b"\x89PNG\r\n\x1a\n") or len(data) > MAX_IMAGE_BYTES:
-        return None
-    return {"label": label, "url": "data:image/png;base64," + base64.b64encode(data).decode()}
+def plain_text(markdown: str, width: int = TEXT_WIDTH) -> str:
+    """Markdown as the plain text a terminal would show (rich's renderer, no
+    colour): headings, emphasis and escapes become text, tables become
+    aligned columns."""
+    from rich.console import Console
+    from rich.markdown import Markdown
+    console = Console(width=width, color_system=None, force_terminal=False, record=True,
+                      file=io.StringIO(), highlight=False, emoji=False)
+    console.print(Markdown(markdown, hyperlinks=False))
+    lines = [line.rstrip() for line in console.export_text().splitlines()]
+    return re.sub(r"\n{3,}", "\n\n", "\n".join(lines)).strip("\n") + "\n"
 
 
-def results_from(result, report_md: str = "") -> dict:
+def _message(result, hidden: int) -> str:
+    if result.status == UNGRADABLE:
+        return FAILED_MESSAGE
+    from ...reports.view import STATUS_TEXT
+    status = STATUS_TEXT.get(result.status, result.status)
+    message = f"Score: {result.score:g} / {result.max_score:g} ({status})."
+    if hidden:
+        message += f" {hidden} hidden check{'s' if hidden > 1 else ''} also count towards the score."
+    return message
+
+
+def _pictures(checks) -> list[tuple[str, Path]]:
+    """(label, path) of the visible checks' pictures, most useful first."""
+    order = list(IMAGE_LABELS)
+    named = sorted(((name, Path(path)) for c in checks for name, path in c.artifacts.items()),
+                   key=lambda kv: (order.index(kv[0]) if kv[0] in order else len(order), kv[0]))
+    return [(IMAGE_LABELS.get(name, name.replace("_", " ")), path) for name, path in named]
+
+
+def _size(data: dict) -> int:
+    return len(json.dumps(data, indent=1, sort_keys=True).encode()) + 1
+
+
+def results_from(result) -> dict:
     """PrairieLearn's results.json for one GradeResult (student view)."""
-    from ...reports.text import clean, truncate_middle
-    from ...reports.view import check_output
-    tests, images, hidden = [], [], 0
-    for check in result.checks:
-        if check.visibility != "visible":
-            hidden += 1
-            continue
-        tests.append({
-            "name": clean(check.title) or check.name,
-            "description": check.name,
-            "points": _number(check.score),
-            "max_points": _number(check.max_score),
-            "message": check.status,
-            "output": truncate_middle(check_output(check)),
-        })
-        named = sorted(check.artifacts.items(),
-                       key=lambda kv: (list(IMAGE_LABELS).index(kv[0]) if kv[0] in IMAGE_LABELS else 99, kv[0]))
-        for name, path in named:
-            picture = _image(IMAGE_LABELS.get(name, name.replace("_", " ")), Path(path))
-            if picture:
-                images.append(picture)
+    from ...reports.gradescope_json import check_markdown, png_data_url, ran, student_summary
+    from ...reports.text import clean
+    from ...reports.view import check_state, is_visible
+    shown = [c for c in result.checks if is_visible(c)]
+    built = result.status != BUILD_ERROR
+    tests = [{
+        "name": clean(check.title) or check.name,
+        "description": check.name,
+        "points": _number(check.score),
+        "max_points": _number(check.max_score),
+        "message": check_state(check) if ran(check, built) else "not run",
+        "output": plain_text(check_markdown(check)),
+    } for check in shown]
     gradable = result.status != UNGRADABLE
-    top = result.max_score
-    if not gradable:
-        message = FAILED_MESSAGE
-    else:
-        message = f"Score: {result.score:g} / {top:g} ({result.status})."
-        if hidden:
-            message += f" {hidden} hidden check{'s' if hidden > 1 else ''} also count towards the score."
-    return {
+    data = {
         "gradable": gradable,
-        "score": _number(result.score / top) if gradable and top > 0 else 0.0,
-        "message": message,
-        "output": truncate_middle(report_md),
+        "score": _number(result.score / result.max_score) if gradable and result.max_score > 0 else 0.0,
+        "message": _message(result, len(result.checks) - len(shown)),
+        "output": plain_text(student_summary(result)),
         "tests": tests,
-        "images": images,
+        "images": [],
     }
+    left_out = 0
+    for label, path in _pictures(shown):
+        url = png_data_url(path, MAX_IMAGE_BYTES)
+        if url is None:
+            continue
+        picture = {"label": label, "url": url}
+        if _size(data) + len(json.dumps(picture)) + 4 <= RESULTS_BUDGET:
+            data["images"].append(picture)
+        else:
+            left_out += 1
+    if left_out:
+        data["output"] += (f"\n({left_out} picture{'s' if left_out > 1 else ''} left out to keep the results "
+                           "under PrairieLearn's size limit.)\n")
+    return data
 
 
 def failure_results(reason: str = "") -> dict:
@@ -124,8 +162,10 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
 
     Every failure ends in a results.json: the grader's own (stale fixtures,
     no sandbox, a bug) as gradable: false with the reason's first line, the
-    traceback on stderr for the instructor."""
+    traceback on stderr for the instructor. The grader's warnings and the
+    isolation mode go to stderr too (PrairieLearn's job log)."""
     from ...grade import GradeOptions, grade
+    from ...reports.gradescope_json import instructor_notes
     root = Path(root)
     results_path = root / "results" / "results.json"
     work = Path(tempfile.mkdtemp(prefix="envmap-pl-"))
@@ -135,8 +175,9 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
             data = failure_results(f"{student} is missing")
         else:
             result = grade(student, work / "reports", GradeOptions(quick=quick, include_hidden=False))
-            md = work / "reports" / "report.md"
-            data = results_from(result, md.read_text() if md.is_file() else "")
+            for note in instructor_notes(result):
+                print(f"prairielearn: note: {note}", file=sys.stderr)
+            data = results_from(result)
             if keep_reports:    # report.html and friends for the instructor, beside results.json
                 shutil.copytree(work / "reports", root / "results" / "reports", dirs_exist_ok=True)
     except Exception as e:   # the harness, not the student: say so, keep the details off the student's page
