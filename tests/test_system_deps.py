@@ -194,6 +194,7 @@ PROVIDED_BY = {
     "setpriv": "base: util-linux (essential)",
     "git": "base: the clone itself (bench/bench_compare.py archives a commit)",
     "cmake": "optional: tests/test_kit.py skips its CMake build without it",
+    "hadolint": "optional: tests/test_prairielearn.py lints the Dockerfile with it when installed",
 }
 CALLS = ("run", "Popen", "check_output", "check_call", "call")
 
