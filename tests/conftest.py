@@ -7,9 +7,10 @@ Markers (registered in pytest.ini):
     browser    drives a headless browser
     sanitizer  reruns suites under AddressSanitizer / UBSan
 `make test` runs everything; `make test-fast` leaves out slow, sanitizer and
-browser tests. Markers are given per test file below (MODULE_MARKERS), so
-test files owned by different people need no edits to be classified; a test
-file may also mark single tests with @pytest.mark.<name>.
+browser tests. Markers are given per test file below (MODULE_MARKERS) and
+per test (TEST_MARKERS), so test files owned by different people need no
+edits to be classified; a test file may also mark single tests with
+@pytest.mark.<name>.
 """
 from __future__ import annotations
 
@@ -42,11 +43,23 @@ MODULE_MARKERS = {
     "test_reference_sanitizers": ("sanitizer", "slow"),
     "test_report_html_browser": ("browser", "slow"),
 }
+# Single tests in otherwise fast files, by "module::test name" (parametrized
+# cases included): what would keep `make test-fast` from its 60 s.
+TEST_MARKERS = {
+    # headless Chromium on a graded class
+    "test_report_injection_e2e::test_no_name_runs_as_script_in_a_browser": ("browser", "slow"),
+    # a whole-class grading (grade-all)
+    "test_report_injection_e2e::test_grade_all_with_markup_and_mathtext_names": ("slow",),
+    # a hypothesis property test of about 76 s
+    "test_texture_model::test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_other": ("slow",),
+}
 
 
 def pytest_collection_modifyitems(config, items):
     for item in items:
-        for name in MODULE_MARKERS.get(item.module.__name__.rsplit(".", 1)[-1], ()):
+        module = item.module.__name__.rsplit(".", 1)[-1]
+        test = f"{module}::{getattr(item, 'originalname', None) or item.name}"
+        for name in MODULE_MARKERS.get(module, ()) + TEST_MARKERS.get(test, ()):
             item.add_marker(getattr(pytest.mark, name))
 
 
