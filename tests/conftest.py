@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pytest
@@ -86,3 +87,65 @@ def correct_build(reference_library):
     build = build_submission(source)
     assert build.ok, build.log
     return build
+
+
+# ---- what another user (nobody) can reach -------------------------------------------
+
+NOBODY = ["setpriv", "--reuid", "65534", "--regid", "65534", "--clear-groups"]
+# What a copy of the project for another user leaves out (the venv is the
+# interpreter's; build outputs are made again).
+NOT_COPIED = (".venv", "build", "out", ".git", "__pycache__", ".pytest_cache", ".tmp-*")
+
+
+def nobody_python() -> tuple[str | None, str]:
+    """An interpreter path user nobody can run with the grader's packages
+    (this one, or the same venv by its real path when only the way to it is
+    closed, e.g. a .venv symlink inside a 0700 checkout), and why not when none."""
+    import os
+    import subprocess
+    why = ""
+    real = os.path.join(os.path.realpath(sys.prefix), "bin", "python")
+    for python in dict.fromkeys([sys.executable, real]):
+        done = subprocess.run([*NOBODY, python, "-c", "import numpy, cffi, rich"], capture_output=True,
+                              text=True, timeout=60, cwd="/")
+        if done.returncode == 0:
+            return python, ""
+        why = (done.stderr.strip().splitlines() or [f"exit {done.returncode}"])[-1]
+    return None, why
+
+
+class NobodyCopy(NamedTuple):
+    root: Path       # the project, readable by nobody
+    python: str      # an interpreter nobody can run with the grader's packages
+
+
+@pytest.fixture(scope="session")
+def nobody_project(tmp_path_factory) -> NobodyCopy:
+    """The project as user nobody can read it: PROJECT_ROOT itself when it
+    can, else a copy (without .venv/ and build outputs) in a folder open to
+    all, as a checkout in /root or any 0700 folder needs. Skips, saying why,
+    when nobody cannot run this interpreter with the grader's packages (a
+    virtual environment inside such a folder)."""
+    import shutil
+    import subprocess
+    import tempfile
+    python, why = nobody_python()
+    if python is None:
+        pytest.skip(f"user nobody cannot run {sys.executable} with the grader's packages ({why}): "
+                    "the virtual environment is in a folder other users cannot read")
+    readable = subprocess.run([*NOBODY, "test", "-r", str(PROJECT_ROOT / "grader" / "__init__.py")],
+                              timeout=60, cwd="/").returncode == 0
+    if readable:
+        yield NobodyCopy(PROJECT_ROOT, python)
+        return
+    folder = Path(tempfile.mkdtemp(prefix="envmap-for-nobody-"))
+    try:
+        folder.chmod(0o755)
+        copy = folder / "project"
+        shutil.copytree(PROJECT_ROOT, copy, ignore=shutil.ignore_patterns(*NOT_COPIED), symlinks=True)
+        for path in [copy, *copy.rglob("*")]:
+            if not path.is_symlink():
+                path.chmod(path.stat().st_mode | (0o755 if path.is_dir() else 0o444))
+        yield NobodyCopy(copy, python)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
