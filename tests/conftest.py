@@ -43,6 +43,7 @@ MODULE_MARKERS = {
     "test_reference_asan": ("sanitizer", "slow"),
     "test_reference_sanitizers": ("sanitizer", "slow"),
     "test_report_html_browser": ("browser", "slow"),
+    "test_markers": ("slow",),      # collects three test files in a subprocess, twice
 }
 # Single tests in otherwise fast files, by "module::test name" (parametrized
 # cases included): what would keep `make test-fast` from its 60 s.
