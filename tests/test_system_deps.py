@@ -8,6 +8,7 @@ records what it was asked to install.
 from __future__ import annotations
 
 import ast
+import functools
 import os
 import shutil
 import subprocess
@@ -244,6 +245,7 @@ def _pairs(targets, value):
                     yield t.id, v
 
 
+@functools.lru_cache(maxsize=None)
 def programs_run() -> dict[str, list[str]]:
     """Program -> the files that run it, over the grader, tests, bench and the kit."""
     where: dict[str, list[str]] = {}
