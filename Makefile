@@ -93,8 +93,10 @@ selfcheck: student-kit
 bench: core-deps venv reference
 	$(PY) bench/bench_grading.py $(if $(JOBS),--jobs $(JOBS))
 
+# The speed-against-accuracy study into build/study-figures/; UPDATE=1
+# rewrites the committed docs/study/ and fixtures/study.csv instead.
 study: core-deps venv reference
-	$(PY) -m grader study
+	$(PY) -m grader study $(if $(UPDATE),--update)
 
 # Mitsuba 3 as a peer renderer (optional extra: requirements-study.txt).
 bench-mitsuba: venv reference

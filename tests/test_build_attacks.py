@@ -542,15 +542,21 @@ def test_the_linked_library_is_checked_too(cache):
 
 def test_no_scratch_folder_outlives_its_build(cache, tmp_path, monkeypatch):
     # Also when the compile is killed at the deadline, and on a refusal.
+    import shutil
     import tempfile
-    scratch = tmp_path / "scratch"
-    scratch.mkdir()
+    # Not under tmp_path: in privilege-drop mode the compiler runs as another
+    # uid, which cannot enter pytest's 0700 temporary folder.
+    scratch = Path(tempfile.mkdtemp(prefix="envmap-scratch-"))
+    scratch.chmod(0o755)
     monkeypatch.setattr(tempfile, "tempdir", str(scratch))
-    slow = build_submission(SUBMISSIONS / "build" / "slow_compile.cpp", cache_dir=cache, timeout_s=2)
-    assert slow.timed_out
-    refused = build_submission(SUBMISSIONS / "attacks" / "incbin_split.cpp", cache_dir=cache / "again")
-    assert refused.diagnosis_id == "refused-source"
-    assert list(scratch.iterdir()) == []
+    try:
+        slow = build_submission(SUBMISSIONS / "build" / "slow_compile.cpp", cache_dir=cache, timeout_s=2)
+        assert slow.timed_out
+        refused = build_submission(SUBMISSIONS / "attacks" / "incbin_split.cpp", cache_dir=cache / "again")
+        assert refused.diagnosis_id == "refused-source"
+        assert list(scratch.iterdir()) == []
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
 
 
 def test_a_refused_submission_is_not_reported_as_a_compile_error(tmp_path):

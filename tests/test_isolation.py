@@ -235,10 +235,11 @@ NOBODY = ["setpriv", "--reuid", "65534", "--regid", "65534", "--clear-groups"]
 
 
 @root_only
-def test_without_root_or_bubblewrap_the_grader_refuses(no_bwrap, tmp_path):
+def test_without_root_or_bubblewrap_the_grader_refuses(no_bwrap, tmp_path, nobody_project):
     out = no_bwrap / "out"
-    done = subprocess.run([*NOBODY, PYTHON, "-m", "grader", "grade", str(CORRECT), "--quick", "--out", str(out)],
-                          cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=120,
+    correct = nobody_project.root / "tests" / "submissions" / "correct" / CORRECT.name   # (a copy in a 0700 checkout)
+    done = subprocess.run([*NOBODY, nobody_project.python, "-m", "grader", "grade", str(correct), "--quick",
+                           "--out", str(out)], cwd=nobody_project.root, capture_output=True, text=True, timeout=120,
                           env={**os.environ, "PYTHONDONTWRITEBYTECODE": "1"})
     assert done.returncode == 3, done.stderr
     assert "No isolation is possible" in done.stderr and "--unsafe-no-sandbox" in done.stderr
@@ -247,7 +248,7 @@ def test_without_root_or_bubblewrap_the_grader_refuses(no_bwrap, tmp_path):
 
 
 @root_only
-def test_without_root_or_bubblewrap_unsafe_must_be_asked_for(no_bwrap):
+def test_without_root_or_bubblewrap_unsafe_must_be_asked_for(no_bwrap, nobody_project):
     script = textwrap.dedent("""
         import sys
         sys.path.insert(0, sys.argv[1])
@@ -260,7 +261,8 @@ def test_without_root_or_bubblewrap_unsafe_must_be_asked_for(no_bwrap):
         mode, warning = resolve_mode("auto", allow_unsafe=True)
         print(mode, warning)
     """)
-    done = subprocess.run([*NOBODY, PYTHON, "-c", script, str(PROJECT_ROOT)], capture_output=True, text=True,
+    done = subprocess.run([*NOBODY, nobody_project.python, "-c", script, str(nobody_project.root)],
+                          capture_output=True, text=True,
                           timeout=60, env={**os.environ, "PYTHONDONTWRITEBYTECODE": "1"})
     assert done.returncode == 0, done.stderr
     first, second = done.stdout.splitlines()

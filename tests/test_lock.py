@@ -57,8 +57,12 @@ def test_this_venv_runs_the_locked_versions():
 
 
 def test_every_installer_uses_the_lock_with_hashes():
-    from grader.gradescope import INCLUDE, SETUP_SH
+    from grader.platforms.gradescope import INCLUDE, SETUP_SH
     make_venv = (PROJECT_ROOT / "scripts" / "make-venv.sh").read_text()
     assert "--require-hashes" in make_venv
     assert "make-venv.sh $(VENV) requirements.lock" in (PROJECT_ROOT / "Makefile").read_text()
-    assert "scripts/make-venv.sh .venv requirements.lock" in SETUP_SH and "requirements.lock" in INCLUDE
+    grading_env = (PROJECT_ROOT / "scripts" / "install-grading-env.sh").read_text()
+    assert 'scripts/make-venv.sh "$venv" requirements.lock' in grading_env and "requirements.lock" in INCLUDE
+    assert "scripts/install-grading-env.sh .venv" in SETUP_SH       # Gradescope
+    dockerfile = (PROJECT_ROOT / "grader" / "platforms" / "prairielearn" / "Dockerfile").read_text()
+    assert "scripts/install-grading-env.sh" in dockerfile             # PrairieLearn's image

@@ -660,7 +660,8 @@ def test_every_report_says_how_the_code_was_isolated(tmp_path):
     assert f"_Your code ran under: {words}._" in texts["report.md"]
     assert words in texts["report.html"] and words in terminal.summary_text(result)
     data = json.loads(texts["results.json"])
-    assert data["extra_data"]["isolation"] == "privilege-drop" and words in data["output"]
+    # results.json: for instructors only (extra_data), never in what Gradescope shows students (issue 21).
+    assert data["extra_data"]["isolation"] == "privilege-drop" and words not in data["output"]
     assert 'name="isolation" value="privilege-drop"' in texts["junit.xml"]
     # No code ran (a build error), and a mode this version does not know.
     assert "Your code ran under: none needed" in render_all(make_build_error())["report.md"]

@@ -147,3 +147,23 @@ def test_chart_draws_extra_points(tmp_path):
              {"label": "student B", "ns_random": 90.0, "uniform_smooth_rms": 2e-3, "edge_smooth_rms": 0.1}]
     path = chart.draw(rows, extra, tmp_path / "c.png")
     assert path.stat().st_size > 10_000
+
+
+def test_the_study_writes_to_build_unless_asked_to_update_the_committed_figures():
+    """`make study` must not rewrite tracked files with this machine's timings."""
+    from grader import PROJECT_ROOT
+    from grader.commands.study import destinations
+    from grader.study import STUDY_CSV
+    out, rows = destinations(None, update=False)
+    assert out == PROJECT_ROOT / "build" / "study-figures" and rows == out / "study.csv"
+    assert destinations(PROJECT_ROOT / "x", update=False) == (PROJECT_ROOT / "x", PROJECT_ROOT / "x" / "study.csv")
+    assert destinations(None, update=True) == (PROJECT_ROOT / "docs" / "study", STUDY_CSV)
+    assert STUDY_CSV == PROJECT_ROOT / "fixtures" / "study.csv"
+    makefile = (PROJECT_ROOT / "Makefile").read_text()
+    assert "-m grader study $(if $(UPDATE),--update)" in makefile
+
+
+def test_update_and_out_together_are_refused(capsys):
+    from grader.cli import main
+    assert main(["study", "--update", "--out", "/tmp/x"]) == 2
+    assert "--update writes to docs/study/" in capsys.readouterr().err

@@ -8,10 +8,14 @@ grader/rubric.toml ([grading] secret) before building: the zip carries it
 to Gradescope, whose students never see the autograder's files.
 
 With --grade, it is what run_autograder calls for each submission: `grade
---student-view` into RESULTS, plus Gradescope's leaderboard (speed and
-accuracy) when the rubric has [gradescope] leaderboard = true. Exit status
-3 when the grader could not grade (run_autograder then writes a results.json
-that says so).
+--student-view` into RESULTS, its results.json's summary as HTML with the
+render that differs most (Gradescope shows images only in html output),
+plus Gradescope's leaderboard (speed and accuracy) when the rubric has
+[gradescope] leaderboard = true. The instructor's notes (the grader's
+warnings, the isolation mode) are printed on stdout, which results.json
+hides from students (stdout_visibility: hidden). Exit status 3 when the
+grader could not grade (run_autograder then writes a results.json that says
+so).
 """
 from __future__ import annotations
 
@@ -42,7 +46,7 @@ def run(args) -> int:
     if args.grade is not None:
         return grade_for_gradescope(args.grade, args.results, quick=args.quick,
                                     allow_unsafe=getattr(args, "allow_unsafe", False))
-    from ..gradescope import build_bundle, course_secret_problem
+    from ..platforms.gradescope import build_bundle, course_secret_problem
     path = build_bundle(args.out)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): upload it as the autograder on Gradescope")
     problem = course_secret_problem()
@@ -53,7 +57,8 @@ def run(args) -> int:
 
 def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, allow_unsafe: bool = False) -> int:
     from ..grade import GradeOptions, grade
-    from ..gradescope import add_leaderboard, leaderboard, leaderboard_enabled
+    from ..platforms.gradescope import add_leaderboard, leaderboard, leaderboard_enabled
+    from ..reports import gradescope_json
     from ..results import UNGRADABLE
     from ..score import load_rubric
     options = GradeOptions(quick=quick, include_hidden=False, allow_unsafe=allow_unsafe)
@@ -63,8 +68,11 @@ def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, a
     except Exception as e:   # stale fixtures, a bad rubric, no sandbox: the instructor's, not the student's
         print(f"gradescope: {type(e).__name__}: {e}", file=sys.stderr)
         return 3
+    (results / "results.json").write_text(gradescope_json.render(result, output_format="html"))
     entries = leaderboard(result) if leaderboard_enabled(rubric) else []
     if entries:
         add_leaderboard(results / "results.json", entries)
     print(f"{result.submission}: {result.score:g} / {result.max_score:g} ({result.status})")
+    for note in gradescope_json.instructor_notes(result):
+        print(f"note: {note}")
     return 3 if result.status == UNGRADABLE else 0

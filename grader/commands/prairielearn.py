@@ -2,10 +2,12 @@
 
 Grades ROOT/student (default /grade/student) and writes
 ROOT/results/results.json in PrairieLearn's format: score 0..1, gradable,
-message, tests[] (points, max_points, output) and images[] (the renders and
-arrow pictures as PNG data URLs). Exit status 0 whenever results.json was
-written, whatever the grade (gradable: false says the grader failed).
-See grader/prairielearn.py for the question's info.json settings.
+message and output (plain text), tests[] (points, max_points, output) and
+images[] (the renders and arrow pictures as PNG data URLs, within
+PrairieLearn's 1 MB). Exit status 0 whenever results.json was written,
+whatever the grade (gradable: false says the grader failed). PrairieLearn
+runs it through grader/platforms/prairielearn/entrypoint.sh;
+docs/platforms.md has the image and the question's info.json.
 """
 from __future__ import annotations
 
@@ -26,7 +28,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args) -> int:
-    from ..prairielearn import grade_prairielearn
+    from ..platforms.prairielearn import grade_prairielearn
     data = grade_prairielearn(args.root, quick=args.quick, keep_reports=args.keep_reports)
     print(f"{args.root / 'results' / 'results.json'}: score {data['score']:g}, gradable {data['gradable']}")
     return 0

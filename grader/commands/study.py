@@ -1,9 +1,12 @@
 """`python -m grader study`: speed against accuracy of the lookup methods.
 
-Writes to --out (default docs/study/; the rows then go to fixtures/study.csv,
-a grading input): study.csv (one row per method and face size), study.png and study.svg (the chart), failure_map.csv, failure_map.md,
-failure_map.png (seams, ties, degenerate directions, at face size 32) and
-bake_error.csv (the bake's own error).
+Writes to --out (default build/study-figures/): study.csv (one row per
+method and face size), study.png and study.svg (the chart),
+failure_map.csv, failure_map.md, failure_map.png (seams, ties, degenerate
+directions, at face size 32) and bake_error.csv (the bake's own error).
+Timings are this machine's, so the committed figures change only when asked:
+--update writes to docs/study/ and the rows to fixtures/study.csv (a grading
+input: the speed check's chart), as `make study UPDATE=1` does.
 """
 from __future__ import annotations
 
@@ -17,14 +20,17 @@ HELP = "speed against accuracy of the lookup methods"
 FAILURE_MAP_SIZE = 32
 # OpenImageIO reads textures from files: the lat-long conversions live here.
 OIIO_WORK_DIR = PROJECT_ROOT / "build" / "study" / "oiio"
-DEFAULT_OUT = PROJECT_ROOT / "docs" / "study"
+DEFAULT_OUT = PROJECT_ROOT / "build" / "study-figures"
+COMMITTED_OUT = PROJECT_ROOT / "docs" / "study"      # with --update, and the rows to fixtures/study.csv
 
 
 def add_arguments(parser) -> None:
     parser.add_argument("--submission", type=Path,
                         help="a submission (folder, .cpp, .zip, .tar.gz) to add to the chart")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
-                        help="output folder (default docs/study/)")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="output folder (default build/study-figures/)")
+    parser.add_argument("--update", action="store_true",
+                        help="update the committed figures: write to docs/study/ and fixtures/study.csv")
     parser.add_argument("--sizes", type=int, nargs="+", help="face sizes (default 8 ... 512)")
     parser.add_argument("--quick", action="store_true",
                         help="a small configuration (sizes 8 and 32, fewer directions)")
@@ -84,6 +90,16 @@ def failure_map_markdown(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def destinations(out: Path | None, update: bool) -> tuple[Path, Path]:
+    """(folder for the figures, where the rows go). The rows are a grading
+    input: fixtures/study.csv, only when updating the committed figures."""
+    from ..study import STUDY_CSV
+    if update:
+        return COMMITTED_OUT, STUDY_CSV
+    out = out or DEFAULT_OUT
+    return out, out / "study.csv"
+
+
 def _read_points(path: Path) -> list[dict]:
     with open(path, newline="") as f:
         points = list(csv.DictReader(f))
@@ -102,10 +118,12 @@ def run(args) -> int:
     from ..study.bake import bake_error
     from ..study.ground_truth import DEFAULT_ENVIRONMENT
     from ..study.methods import default_methods
-    from ..study import STUDY_CSV
     from ..study.run import StudyConfig, run_study, write_csv
 
-    out: Path = args.out
+    if args.update and args.out is not None:
+        print("study: --update writes to docs/study/; leave out --out", file=sys.stderr)
+        return 2
+    out, rows_csv = destinations(args.out, args.update)
     out.mkdir(parents=True, exist_ok=True)
     config = StudyConfig.quick() if args.quick else StudyConfig()
     if args.sizes:
@@ -120,8 +138,7 @@ def run(args) -> int:
         print(f"study: {message}", file=sys.stderr, flush=True)
 
     rows = run_study(config, methods, progress=progress)
-    # The rows are a grading input: fixtures/study.csv unless --out says otherwise.
-    write_csv(rows, STUDY_CSV if out == DEFAULT_OUT else out / "study.csv")
+    write_csv(rows, rows_csv)
     extra = _read_points(args.extra_points) if args.extra_points else []
     if submission:
         # The submission's series stays on the chart; its point at the

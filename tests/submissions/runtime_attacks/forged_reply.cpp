@@ -1,7 +1,8 @@
 // forged_reply.cpp - issue 11 attack "forged replies blame the grader": a
 // correct solution that, for directions near +x, writes an ARGUMENT reply
 // ("the grader's request was bad") onto the worker's reply pipe, found from
-// /proc/self/cmdline. Before: "the grader itself failed, not your fault",
+// /proc/self/cmdline, or, where there is no /proc (privilege-drop mode's
+// chroot), onto every write-only descriptor from 3 on. Before: "the grader itself failed, not your fault",
 // with a traceback. Verdict now: protocol, charged to the submission.
 #include "EnvironmentMap.h"
 
@@ -15,6 +16,7 @@ int open(const char* path, int flags, ...);
 long read(int fd, void* buf, unsigned long n);
 long write(int fd, const void* buf, unsigned long n);
 int close(int fd);
+int fcntl(int fd, int cmd, ...);
 }
 static int replyFd()
 {
@@ -22,21 +24,25 @@ static int replyFd()
     int fd = open("/proc/self/cmdline", 0);
     long n = fd >= 0 ? read(fd, buf, sizeof buf - 1) : -1;
     if (fd >= 0) close(fd);
-    if (n <= 0) return 4;
+    if (n <= 0) return -1;    // no /proc: the caller tries every descriptor
     buf[n] = 0;
     const char* words[64];
     int count = 0;
     for (long i = 0; i < n && count < 64; i += (long)std::strlen(buf + i) + 1)
         words[count++] = buf + i;
-    return count >= 3 ? std::atoi(words[count - 2]) : 4;
+    return count >= 3 ? std::atoi(words[count - 2]) : -1;
 }
 
 static void forgeArgumentReply()
 {
     struct { unsigned magic, status; unsigned long long count, size; } h = {0x524b4d45u, 2, 0, 18};
+    const int F_GETFL = 3, O_ACCMODE = 3, O_WRONLY = 1;
     int fd = replyFd();
-    write(fd, &h, sizeof h);
-    write(fd, "grader's own error", 18);
+    for (int f = fd < 0 ? 3 : fd; f <= (fd < 0 ? 255 : fd); f++) {
+        if ((fcntl(f, F_GETFL) & O_ACCMODE) != O_WRONLY) continue;
+        write(f, &h, sizeof h);
+        write(f, "grader's own error", 18);
+    }
 }
 
 namespace {

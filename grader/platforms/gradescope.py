@@ -11,7 +11,7 @@ import stat
 import zipfile
 from pathlib import Path
 
-from . import PROJECT_ROOT
+from .. import PROJECT_ROOT
 
 INCLUDE = ("grader", "reference", "student_template", "Cubemap", "fixtures", "scenes",
            "envmap_test.cfg", "requirements.txt", "requirements.lock", "packages.txt", "Makefile", "scripts")
@@ -21,24 +21,13 @@ FIXED_TIME = (2020, 1, 1, 0, 0, 0)   # byte-identical zips from identical trees
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once when it builds the autograder image (as root).
-# The grader needs Python 3.11 or later: Gradescope's Ubuntu 24.04 base image
-# has it; on 22.04 python3.11 is installed beside the system's 3.10.
-# Everything is installed the way `make venv` does it on an instructor's
-# machine: the packages of packages.txt grading needs, then exactly the
-# versions of requirements.lock (pip install --require-hashes).
+# scripts/install-grading-env.sh installs what grading needs the way `make
+# venv` does on an instructor's machine (the core packages of packages.txt,
+# Python 3.11 or later, exactly the versions of requirements.lock); it is
+# the same script PrairieLearn's image runs.
 set -euo pipefail
 cd /autograder/source
-export DEBIAN_FRONTEND=noninteractive
-apt-get update -q
-apt-get install -y -q --no-install-recommends python3 make
-bash scripts/install-system-deps.sh core
-python=python3
-if ! python3 -c 'import sys; sys.exit(sys.version_info < (3, 11))'; then
-  apt-get install -y -q --no-install-recommends python3.11 python3.11-venv
-  python=python3.11
-fi
-bash scripts/make-venv.sh .venv requirements.lock "$python"
-touch .venv/.installed
+bash scripts/install-grading-env.sh .venv
 make reference
 # Fail here, when the image is built, rather than on every submission.
 .venv/bin/python -m grader fixtures --check

@@ -1,0 +1,32 @@
+"""The markers tests/conftest.py gives by name must name real tests: a
+renamed test would otherwise slip back into `make test-fast` unnoticed."""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+from conftest import MODULE_MARKERS, PROJECT_ROOT, TEST_MARKERS
+
+
+def collected(expression: str, *paths: str) -> set[str]:
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "--collect-only", "-p", "no:xdist",
+                          "-m", expression, *paths], cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode in (0, 5), run.stdout[-3000:] + run.stderr[-3000:]
+    return {line.split("[")[0] for line in run.stdout.splitlines() if "::" in line}
+
+
+def test_every_named_test_exists_and_test_fast_leaves_it_out():
+    files = sorted({f"tests/{name.split('::')[0]}.py" for name in TEST_MARKERS})
+    everything = collected("", *files)
+    fast = collected("not slow and not sanitizer and not browser", *files)
+    for name in TEST_MARKERS:
+        module, test = name.split("::")
+        node = f"tests/{module}.py::{test}"
+        assert node in everything, f"{name} is not a test (renamed?)"
+        assert node not in fast, f"{name} still runs in test-fast"
+    assert fast, "the fast set of those files is empty: the expression is wrong"
+
+
+def test_every_module_named_exists():
+    for module in MODULE_MARKERS:
+        assert (PROJECT_ROOT / "tests" / f"{module}.py").is_file(), module
