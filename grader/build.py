@@ -50,6 +50,7 @@ HarnessBuildError.
 """
 from __future__ import annotations
 
+import atexit
 import functools
 import hashlib
 import json
@@ -850,11 +851,37 @@ def _outside_files(deps: list[str], scratch: Path) -> list[str]:
 
 # ---- the student's part ------------------------------------------------------------
 
+def _enterable_by_others(folder: Path) -> bool:
+    """Whether a user that is neither owner nor group can pass through every
+    folder from / down to `folder` (the search bit for others)."""
+    folder = folder.resolve()
+    return all(os.stat(p).st_mode & stat.S_IXOTH for p in [folder, *folder.parents])
+
+
+@functools.lru_cache(maxsize=None)
+def _scratch_parent() -> str | None:
+    """Where privilege-drop scratch folders go. The temporary folder, unless
+    BUILD_UID cannot enter it (a TMPDIR that is 0700, such as pytest's or a
+    private one under /root): then a folder of our own in /tmp, root's, 0711,
+    made once per process. Without this the compiler could not read the
+    source and the student would be told their code did not compile."""
+    if _enterable_by_others(Path(tempfile.gettempdir())):
+        return None
+    own = Path(tempfile.mkdtemp(prefix="envmap-builds-", dir="/tmp"))
+    own.chmod(0o711)
+    atexit.register(shutil.rmtree, own, True)
+    if not _enterable_by_others(own):
+        raise HarnessBuildError(f"no folder the build user can enter: {own} and the temporary folder are closed to it")
+    return str(own)
+
+
 def _scratch(common: Path, source: bytes, isolation: str) -> Path:
     """A fresh folder outside the project holding copies of everything the
     student's build reads: the source, include/ (the API headers) and our
-    objects. In privilege-drop mode it belongs to BUILD_UID, mode 0700."""
-    scratch = Path(tempfile.mkdtemp(prefix="envmap-build-"))
+    objects. In privilege-drop mode it belongs to BUILD_UID, mode 0700, in a
+    folder BUILD_UID can enter (_scratch_parent)."""
+    parent = _scratch_parent() if isolation == "privilege-drop" else None
+    scratch = Path(tempfile.mkdtemp(prefix="envmap-build-", dir=parent))
     try:
         (scratch / "include").mkdir()
         (scratch / "tmp").mkdir()

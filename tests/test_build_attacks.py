@@ -485,6 +485,25 @@ def test_without_bubblewrap_root_builds_unprivileged(failing_bwrap, cache, tmp_p
     assert refused.diagnosis_id == "refused-include"
 
 
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
+def test_without_bubblewrap_a_private_temporary_folder_is_not_a_compile_error(failing_bwrap, cache, tmp_path,
+                                                                                monkeypatch):
+    # TMPDIR inside pytest's 0700 folder (or a private one under /root): the
+    # build user cannot enter it, so a correct file was told it did not compile.
+    import tempfile
+    private = tmp_path / "private-tmp"
+    private.mkdir(mode=0o700)
+    monkeypatch.setattr(tempfile, "tempdir", str(private))
+    build._scratch_parent.cache_clear()
+    try:
+        source = tmp_path / "EnvironmentMap.cpp"
+        source.write_bytes(GOOD + b"\n// a private TMPDIR\n")
+        result = build_submission(source, cache_dir=cache)
+        assert result.ok and result.isolation == "privilege-drop", result.log
+    finally:
+        build._scratch_parent.cache_clear()
+
+
 def test_without_bubblewrap_and_not_root_builds_as_ourselves(failing_bwrap, monkeypatch):
     monkeypatch.setattr(os, "geteuid", lambda: 1000)
     assert build.build_isolation() == "none"
