@@ -1,0 +1,97 @@
+"""Red team, issue 18's round: attacks a motivated student tried against the
+grader after issue 18's trust work, aimed at privilege-drop mode (root, no
+bubblewrap: Gradescope, PrairieLearn) and at the scoring logic.
+
+tests/submissions/redteam2/*.cpp say on line 1 what they do and the verdict a
+secure grader gives. An attack that still works has an
+`xfail(strict=True)` test asserting the secure verdict: it passes now and
+fails loudly once the grader is fixed (then drop the mark). An attack that
+is held has a plain test that it stays held. docs/security.md, "Red team
+(issue 18 round)", has the findings and the fix proposed for each.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from grader.grade import GradeOptions, grade
+from grader.results import FAILED, GRADED
+from grader.worker import sandbox
+
+REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
+
+TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_control"}
+
+ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
+ISOLATION = {"bubblewrap": "bubblewrap", "privilege-drop": "privilege-drop"}
+
+
+def test_every_redteam2_submission_has_a_test():
+    assert {p.stem for p in REDTEAM2.glob("*.cpp")} == TESTED
+    for p in REDTEAM2.glob("*.cpp"):
+        first = p.read_text().splitlines()[0]
+        assert first.startswith("// ") and "Verdict" in first
+
+
+@pytest.fixture(params=["bubblewrap", "privilege-drop"])
+def mode(request, tmp_path, monkeypatch):
+    """Both production modes: bubblewrap as it is here, and privilege-drop
+    (root with a failing `bwrap` first on PATH, as in a container without
+    user namespaces)."""
+    if request.param == "bubblewrap" and sandbox.sandbox_problem() is not None:
+        pytest.skip(f"bubblewrap does not run here: {sandbox.sandbox_problem()}")
+    if request.param == "privilege-drop":
+        if not ROOT:
+            pytest.skip("privilege-drop mode needs root")
+        fake = tmp_path / "fakebin"
+        fake.mkdir()
+        (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+        (fake / "bwrap").chmod(0o755)
+        monkeypatch.setenv("PATH", f"{fake}:{os.environ.get('PATH', '/usr/bin:/bin')}")
+    sandbox.sandbox_problem.cache_clear()
+    yield request.param
+    sandbox.sandbox_problem.cache_clear()
+
+
+def graded(name: str, out: Path, mode: str, only: tuple[str, ...] = ()):
+    result = grade(REDTEAM2 / f"{name}.cpp", out, GradeOptions(allow_stale=True, quick=True, only=only),
+                   write_reports=False)
+    assert result.status == GRADED, result.status
+    assert result.isolation == ISOLATION[mode]
+    return result
+
+
+def by_name(result):
+    return {c.name: c for c in result.checks}
+
+
+# ---- speed: the timing faces have a closed form --------------------------------
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, reason="the speed check's timing faces are a public closed form (0.5 + 0.5 x the "
+                   "direction through each texel centre): a 600x-slow lookup computes it instead of reading "
+                   "texels, within float rounding of the bilinear answer, and gets 5 / 5")
+def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
+    (speed,) = graded("analytic_when_timed", tmp_path, mode, only=("speed",)).checks
+    assert speed.status == FAILED and speed.score == 0
+
+
+# ---- the fitted model is believed for calls it never saw -------------------------
+
+CHECKS_OF_FETCH = ("read_texture", "fetch_sweep", "stability")
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, reason="readTexture's model is fitted on the grader's direct calls (a face in a "
+                   "window of its own); fetchColor's calls (inside m_Texels) are never seen, so a readTexture "
+                   "that acts half a texel off only on direct calls makes a half-texel fetchColor pass")
+def test_acting_for_the_model_fit_buys_no_points(tmp_path, mode):
+    attack = graded("fit_on_direct_calls", tmp_path / "attack", mode, only=CHECKS_OF_FETCH)
+    control = graded("half_texel_fetch_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH)
+    assert by_name(control)["fetch_sweep"].status == FAILED       # the control's fetchColor is wrong
+    assert by_name(attack)["fetch_sweep"].status == FAILED
+    assert attack.score <= control.score
