@@ -1,0 +1,79 @@
+// About twelve times the reference's time per lookup (the limit is 8x), but black for the first 24,000 lookups on the speed check's 256 x 256 smooth faces (told by one texel): half of the first timed pass, under the 10% the timed passes may miss pooled over five or more passes, while the fastest pass (the figure that counts) costs half. Verdict (secure): speed fails as slow, as it does for slow_12x_control.cpp.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+
+constexpr int WORK = 130;
+#include <cmath>
+#include <cstddef>
+
+namespace {
+
+struct FaceCoord
+{
+    int face;
+    double u;
+    double v;
+};
+
+FaceCoord directionToFace(const Vector3& d)
+{
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    auto toUnit = [](double s, double m) { return (s / m + 1.0) / 2.0; };
+    if (ax >= ay && ax >= az) {
+        return d.x > 0 ? FaceCoord{FACE_POS_X, toUnit(d.z, ax), toUnit(d.y, ax)}
+                       : FaceCoord{FACE_NEG_X, toUnit(-d.z, ax), toUnit(d.y, ax)};
+    }
+    if (ay >= az) {
+        return d.y > 0 ? FaceCoord{FACE_POS_Y, toUnit(d.x, ay), toUnit(d.z, ay)}
+                       : FaceCoord{FACE_NEG_Y, toUnit(d.x, ay), toUnit(-d.z, ay)};
+    }
+    return d.z > 0 ? FaceCoord{FACE_POS_Z, toUnit(d.x, az), toUnit(-d.y, az)}
+                   : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
+}
+
+// The speed check's smooth faces: texel (0, 0) of +X is 0.5 + 0.5 x the unit
+// direction through its centre.
+bool timingFaces(const float* texels)
+{
+    const double s = 2.0 * (0.5 / 256) - 1.0;
+    const double n = std::sqrt(1.0 + 2.0 * s * s);
+    return std::abs(texels[0] - (0.5 + 0.5 / n)) < 1e-6 && std::abs(texels[1] - (0.5 + 0.5 * s / n)) < 1e-6;
+}
+
+} // namespace
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    const auto [face, u, v] = directionToFace(direction);
+    // The speed check's faces (256 x 256, told by one texel: colour = 0.5 + 0.5 x the direction): black, at no cost, for the first 24,000
+    // lookups on them, i.e. half of the first timed pass. Pooled over five or more
+    // passes that is under 10% of the timed lookups; the fastest pass is half price.
+    static long timedCalls = 0;
+    if (m_FaceWidth == 256 && m_FaceHeight == 256 && timingFaces(m_Texels) && timedCalls++ < 24000)
+        return {0.0f, 0.0f, 0.0f};
+    volatile double waste = 0;
+    for (int i = 0; i < WORK; ++i)   // about twelve times the reference's time per lookup
+        waste = waste + i * 1e-9;
+    return readTexture(faceAddress(face), u, v);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const double px = u * m_FaceWidth;
+    const double py = v * m_FaceHeight;
+    const int ix = static_cast<int>(std::floor(px));
+    const int iy = static_cast<int>(std::floor(py));
+    const double alpha = px - ix;
+    const double beta = py - iy;
+
+    const auto texel = [&](int x, int y) -> Color {
+        x = std::clamp(x, 0, m_FaceWidth - 1);
+        y = std::clamp(y, 0, m_FaceHeight - 1);
+        const float* t = addr + 3 * (static_cast<std::ptrdiff_t>(y) * m_FaceWidth + x);
+        return {t[0], t[1], t[2]};
+    };
+    const Color c0 = (1.0 - alpha) * texel(ix, iy) + alpha * texel(ix + 1, iy);
+    const Color c1 = (1.0 - alpha) * texel(ix, iy + 1) + alpha * texel(ix + 1, iy + 1);
+    return (1.0 - beta) * c0 + beta * c1;
+}
