@@ -23,7 +23,7 @@ from grader.worker import sandbox
 REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
 TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_control", "black_half_a_timed_pass",
-          "slow_12x_control"}
+          "slow_11x_control"}
 
 ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 ISOLATION = {"bubblewrap": "bubblewrap", "privilege-drop": "privilege-drop"}
@@ -85,16 +85,16 @@ def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
 @pytest.mark.slow
 @pytest.mark.sandbox
 def test_the_slow_control_is_slow(tmp_path, mode):
-    """What black_half_a_timed_pass.cpp is without its trick: about 12x, slow."""
-    (speed,) = graded("slow_12x_control", tmp_path, mode, only=("speed",)).checks
+    """What black_half_a_timed_pass.cpp is without its trick: about 11x, slow."""
+    (speed,) = graded("slow_11x_control", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["slow"]
 
 
 @pytest.mark.slow
 @pytest.mark.sandbox
 @pytest.mark.xfail(strict=True, reason="the timed passes' match is pooled over every pass (10% may miss) while "
-                   "the time is the fastest pass: black on half of the first pass halves that pass's time, and a "
-                   "12x lookup measures about 7x, 5 / 5")
+                   "the time is the fastest pass: black on half of the second pass halves that pass's time, and an "
+                   "11x lookup measures about 6x, 5 / 5")
 def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
     (speed,) = graded("black_half_a_timed_pass", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0

@@ -1,9 +1,9 @@
-// About twelve times the reference's time per lookup (the limit is 8x), but black for the first 24,000 lookups on the speed check's 256 x 256 smooth faces (told by one texel): half of the first timed pass, under the 10% the timed passes may miss pooled over five or more passes, while the fastest pass (the figure that counts) costs half. Verdict (secure): speed fails as slow, as it does for slow_12x_control.cpp.
+// About eleven times the reference's time per lookup (the limit is 8x), but black for 24,000 lookups (the first half of the second timed pass, when caches are warm) on the speed check's 256 x 256 smooth faces (told by one texel): under the 10% the timed passes may miss pooled over five or more passes, while the fastest pass (the figure that counts) costs half. Verdict (secure): speed fails as slow, as it does for slow_11x_control.cpp.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
 
-constexpr int WORK = 130;
+constexpr int WORK = 110;
 #include <cmath>
 #include <cstddef>
 
@@ -32,28 +32,26 @@ FaceCoord directionToFace(const Vector3& d)
                    : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
 }
 
-// The speed check's smooth faces: texel (0, 0) of +X is 0.5 + 0.5 x the unit
-// direction through its centre.
-bool timingFaces(const float* texels)
-{
-    const double s = 2.0 * (0.5 / 256) - 1.0;
-    const double n = std::sqrt(1.0 + 2.0 * s * s);
-    return std::abs(texels[0] - (0.5 + 0.5 / n)) < 1e-6 && std::abs(texels[1] - (0.5 + 0.5 * s / n)) < 1e-6;
-}
-
 } // namespace
 
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
-    const auto [face, u, v] = directionToFace(direction);
-    // The speed check's faces (256 x 256, told by one texel: colour = 0.5 + 0.5 x the direction): black, at no cost, for the first 24,000
-    // lookups on them, i.e. half of the first timed pass. Pooled over five or more
+    // The speed check's faces (256 x 256, told by one texel): black, at no cost, for
+    // lookups 50,000 to 73,999 on them, i.e. the first half of the second timed pass. Pooled over five or more
     // passes that is under 10% of the timed lookups; the fastest pass is half price.
+    static const double s = 2.0 * (0.5 / 256) - 1.0, n = std::sqrt(1.0 + 2.0 * s * s);
+    static const float r0 = static_cast<float>(0.5 + 0.5 / n), g0 = static_cast<float>(0.5 + 0.5 * s / n);
     static long timedCalls = 0;
-    if (m_FaceWidth == 256 && m_FaceHeight == 256 && timingFaces(m_Texels) && timedCalls++ < 24000)
-        return {0.0f, 0.0f, 0.0f};
+    // The same window holds every texture of one size: look at the texel on every call (two compares).
+    const bool timing = m_FaceWidth == 256 && m_FaceHeight == 256 && std::abs(m_Texels[0] - r0) < 1e-6f && std::abs(m_Texels[1] - g0) < 1e-6f;
+    if (timing) {
+        const long n = timedCalls++;
+        if (n >= 50000 && n < 74000)
+            return {0.0f, 0.0f, 0.0f};
+    }
+    const auto [face, u, v] = directionToFace(direction);
     volatile double waste = 0;
-    for (int i = 0; i < WORK; ++i)   // about twelve times the reference's time per lookup
+    for (int i = 0; i < WORK; ++i)   // about eleven times the reference's time per lookup
         waste = waste + i * 1e-9;
     return readTexture(faceAddress(face), u, v);
 }
