@@ -23,7 +23,8 @@ from grader.worker import sandbox
 REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
 TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_control", "black_half_a_timed_pass",
-          "slow_11x_control"}
+          "slow_11x_control", "caller_by_address", "caller_by_flag", "nearest_control", "echo_fetch_answers",
+          "v_flipped_control"}
 
 ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 ISOLATION = {"bubblewrap": "bubblewrap", "privilege-drop": "privilege-drop"}
@@ -116,3 +117,19 @@ def test_acting_for_the_model_fit_buys_no_points(tmp_path, mode):
     assert by_name(control)["fetch_sweep"].status == FAILED       # the control's fetchColor is wrong
     assert by_name(attack)["fetch_sweep"].status == FAILED
     assert attack.score <= control.score
+
+
+# ---- readTexture that knows who calls it ----------------------------------------
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.parametrize("attack, control", [("caller_by_address", "nearest_control"),
+                                             ("caller_by_flag", "nearest_control"),
+                                             ("echo_fetch_answers", "v_flipped_control")])
+def test_a_readtexture_that_knows_its_caller_buys_no_points(tmp_path, mode, attack, control):
+    """Bilinear for the grader, something else for fetchColor (by address or
+    a flag), or fetchColor's own answers echoed back to a judge that calls
+    readTexture: never more than the same fetchColor over one honest readTexture."""
+    a = graded(attack, tmp_path / "attack", mode, only=CHECKS_OF_FETCH + ("renders",))
+    c = graded(control, tmp_path / "control", mode, only=CHECKS_OF_FETCH + ("renders",))
+    assert a.score <= c.score
