@@ -199,3 +199,46 @@ def test_small_audit_no_escape_and_no_false_fail(tmp_path, reference_library):
     assert data["escaped"] == [], terminal_text(data)
     assert data["false_fails"] == [], terminal_text(data)
     assert (tmp_path / "audit.html").read_text().count("<tr>") > len(result.mutants)
+
+
+# ---- a weakened rubric lets mutants through, and the audit names them -----------------------
+
+FLOAT_MATH = CORRECT_SUBMISSION / "float_math.cpp"
+# float_math scales the direction by m, its largest component, first. With a
+# wrong m (stated by hand: along some axes m is 0, and the solution returns
+# black there; elsewhere the answer is right) only a few directions are
+# wrong, which the sweep and the stability check find.
+WRONG_M = ("std::max(std::fabs(direction.y), std::max(std::fabs(direction.y), std::fabs(direction.z)))",
+           "std::max(std::fabs(direction.x), std::min(std::fabs(direction.y), std::fabs(direction.z)))")
+
+
+def _wrong_m_mutants() -> list[Mutant]:
+    chosen = [m for m in mutants_of(FLOAT_MATH.read_text(), "float_math") if any(w in m.after for w in WRONG_M)]
+    assert len(chosen) == 2, [m.diff for m in chosen]
+    return chosen
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_weakened_rubric_lets_mutants_through_and_the_audit_names_them(tmp_path, reference_library):
+    from grader.course.audit import run_audit
+    weak = tmp_path / "rubric-without-sweep-and-stability.toml"
+    text = (PROJECT_ROOT / "grader" / "rubric.toml").read_text()
+    for check in ("fetch_sweep", "stability"):
+        text, n = re.subn(rf"(\[checks\.{check}\]\npoints = )\d+", r"\g<1>0", text)
+        assert n == 1
+    weak.write_text(text)
+    chosen = _wrong_m_mutants()
+    diffs = sorted(m.diff for m in chosen)
+    strong = run_audit([FLOAT_MATH], chosen=chosen, jobs=2, out=tmp_path / "strong", quick=True, progress=False)
+    weakened = run_audit([FLOAT_MATH], chosen=chosen, jobs=2, out=tmp_path / "weak", rubric=weak, quick=True,
+                         progress=False)
+    assert [a.truth.klass for a in strong.mutants] == ["wrong", "wrong"]
+    data = summarise(strong)
+    assert data["escaped"] == [] and data["controls_ok"]
+    weak_data = json.loads((tmp_path / "weak" / "audit.json").read_text())
+    assert weak_data["controls_ok"]
+    assert sorted(r["diff"] for r in weak_data["escaped"]) == diffs
+    assert weak_data["kill_rate"] == 0.0
+    text = terminal_text(summarise(weakened))
+    assert all(d in text for d in diffs)
