@@ -168,6 +168,7 @@ def test_figures_count_escapes_false_fails_and_what_each_check_alone_catches():
     assert data["checks"]["stability"]["alone"] == ["w2"]
     assert data["checks"]["read_texture"]["alone"] == [] and data["checks"]["read_texture"]["catches"] == 1
     assert data["checks"]["speed"]["marks_down_equivalent"] == ["e2"]
+    assert data["caught_by_two_only"] == {"read_texture + renders": ["w1"]}
     text = terminal_text(data)
     assert "ESCAPED" in text and "perfect:3: a < b  =>  a <= b" in text
     assert "FALSELY FAILED" in text

@@ -6,6 +6,8 @@
     alone            for each check, the behaviour-changing mutants it is the only one
                      to mark down: a check that catches none alone is redundant on
                      these mutants, one that does is essential
+    caught by two    the mutants exactly two checks mark down: what a rubric without
+                     both would let through
 """
 from __future__ import annotations
 
@@ -53,6 +55,11 @@ def summarise(result) -> dict:
         checks[name] = {"points": points, "catches": len(catches), "alone": [a.name for a in alone],
                         "alone_diffs": [a.mutant.diff for a in alone],
                         "marks_down_equivalent": [a.name for a in equivalent if name in a.graded.lost]}
+    # Mutants that exactly two checks catch: what dropping both would let through.
+    pairs: dict[str, list[str]] = {}
+    for a in changing:
+        if len(a.graded.lost) == 2:
+            pairs.setdefault(" + ".join(a.graded.lost), []).append(a.name)
     controls_ok = all(c.truth.klass == EQUIVALENT and c.graded is not None and c.graded.full_marks
                       for c in result.controls)
     by_class = Counter(a.truth.klass for a in result.mutants)
@@ -73,6 +80,7 @@ def summarise(result) -> dict:
         "false_fails": [_row(a) for a in false_fails],
         "ungradable": [_row(a) for a in ungradable],
         "checks": checks,
+        "caught_by_two_only": dict(sorted(pairs.items())),
         "mutants": [_row(a) for a in result.mutants],
     }
 
@@ -100,6 +108,8 @@ def terminal_text(data: dict) -> str:
     for name, c in data["checks"].items():
         tag = "essential" if c["alone"] else ("redundant here" if c["points"] else "scores nothing")
         lines.append(f"  {name:<14} {c['points']:>5g}: {c['catches']:>4} caught, {len(c['alone']):>3} alone  ({tag})")
+    for pair, ids in data.get("caught_by_two_only", {}).items():
+        lines.append(f"  caught only by {pair}: {len(ids)}")
     for title, rows in (("ESCAPED (wrong, full marks)", data["escaped"]),
                         ("FALSELY FAILED (equivalent, marked down)", data["false_fails"]),
                         ("UNGRADABLE (the grader failed)", data["ungradable"])):
@@ -115,10 +125,14 @@ def terminal_text(data: dict) -> str:
     return "\n".join(lines)
 
 
+def _cell(value) -> str:
+    text = "\n".join(map(str, value)) if isinstance(value, (list, tuple)) else str(value)
+    return f"<td>{html.escape(text)}</td>"
+
+
 def _table(rows: list[dict], columns: list[tuple[str, str]]) -> str:
     head = "".join(f"<th>{html.escape(t)}</th>" for _, t in columns)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(r.get(k, '')))}</td>" for k, _ in columns) + "</tr>"
-                   for r in rows)
+    body = "".join("<tr>" + "".join(_cell(r.get(k, "")) for k, _ in columns) + "</tr>" for r in rows)
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
@@ -126,7 +140,8 @@ def html_page(data: dict) -> str:
     """audit.html: one self-contained page."""
     summary = html.escape(terminal_text(data).split("\nchecks")[0])
     checks = [{"check": n, "points": c["points"], "caught": c["catches"], "alone": len(c["alone"]),
-               "alone_diffs": "; ".join(c["alone_diffs"][:5]) + (" ..." if len(c["alone_diffs"]) > 5 else ""),
+               "alone_diffs": c["alone_diffs"][:8] + ([f"... {len(c['alone_diffs']) - 8} more"]
+                                                       if len(c["alone_diffs"]) > 8 else []),
                "equivalent marked down": len(c["marks_down_equivalent"])} for n, c in data["checks"].items()]
     cols = [("class", "truth"), ("diff", "mutant"), ("score", "score"), ("max_score", "of"), ("lost", "checks lost"),
             ("truth", "where it differs")]
@@ -134,7 +149,8 @@ def html_page(data: dict) -> str:
         "<!doctype html><meta charset='utf-8'><title>Grader audit</title>",
         "<style>body{font:14px system-ui,sans-serif;margin:2em;max-width:80em}table{border-collapse:collapse;"
         "margin:1em 0}td,th{border:1px solid #ccc;padding:3px 6px;text-align:left;vertical-align:top}"
-        "td{font-family:ui-monospace,monospace;font-size:12px}.bad{color:#a00}</style>",
+        "td{font-family:ui-monospace,monospace;font-size:12px;white-space:pre-wrap}pre{white-space:pre-wrap}"
+        ".bad{color:#a00}</style>",
         "<h1>Grader audit</h1>", f"<pre>{summary}</pre>",
         "<h2>Checks</h2>", _table(checks, [(k, k) for k in checks[0]] if checks else []),
         f"<h2 class='bad'>Escaped: {len(data['escaped'])}</h2>", _table(data["escaped"], cols),
