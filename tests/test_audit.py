@@ -127,16 +127,38 @@ def test_truth_of_the_zoo(reference_library):
         assert truth_of(path).klass == "equivalent", path.name
 
 
+@pytest.fixture
+def failing_bwrap(monkeypatch):
+    """A bwrap first on PATH that fails as it does without user namespaces
+    (in a folder anyone can reach: the build's uid must run it)."""
+    import os
+    import shutil
+    import tempfile
+    from grader.worker import sandbox
+    folder = Path(tempfile.mkdtemp(prefix="fake-bin-"))
+    folder.chmod(0o755)
+    (folder / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    (folder / "bwrap").chmod(0o755)
+    monkeypatch.setenv("PATH", f"{folder}:{os.environ['PATH']}")
+    sandbox.sandbox_problem.cache_clear()
+    sandbox.privilege_drop_problem.cache_clear()
+    yield
+    sandbox.sandbox_problem.cache_clear()
+    sandbox.privilege_drop_problem.cache_clear()
+    shutil.rmtree(folder, ignore_errors=True)
+
+
 @pytest.mark.sandbox
-def test_truth_in_privilege_drop_mode(tmp_path, reference_library, monkeypatch):
-    # The audit runs where grading runs: as root without bubblewrap too.
-    fake = tmp_path / "bin"
-    fake.mkdir()
-    (fake / "bwrap").write_text("#!/bin/sh\nexit 1\n")
-    (fake / "bwrap").chmod(0o755)
-    monkeypatch.setenv("PATH", f"{fake}:{__import__('os').environ['PATH']}")
-    change, klass = STATED[2]
-    assert truth_of(_variant(tmp_path, *change), sandbox=False).klass == klass
+def test_truth_in_bubblewrap_and_privilege_drop_mode(tmp_path, reference_library, request):
+    # The audit runs mutants where grading runs them: as root without bubblewrap too.
+    change, klass = STATED[3]          # a read past the face: the guard pages must see it in both modes
+    path = _variant(tmp_path, *change)
+    truth = truth_of(path)
+    assert (truth.klass, truth.isolation) == (klass, "bubblewrap")
+    request.getfixturevalue("failing_bwrap")
+    path.write_text(path.read_text() + "// rebuilt without bubblewrap\n")
+    truth = truth_of(path)
+    assert (truth.klass, truth.isolation) == (klass, "privilege-drop")
 
 
 # ---- the figures, on results made by hand ----------------------------------------------

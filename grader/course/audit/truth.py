@@ -82,6 +82,7 @@ class Truth:
     groups: list[str] = field(default_factory=list)   # where it differs from the reference
     example: str = ""                                  # the first difference or failure, in words
     seconds: float = 0.0
+    isolation: str = ""                                # how it ran: bubblewrap, privilege-drop, unsafe-none
 
     def to_json(self) -> dict:
         return asdict(self)
@@ -240,37 +241,43 @@ def judge(library: Path, sandbox: bool | None = None, allow_unsafe: bool = False
     """The truth of one built submission: its class and where it differs."""
     from ...worker.lookups import MODES
     from ...worker.runner import SubmissionRunner
-    differs: dict[str, str] = {}
     all_probes = probes()
     runner = SubmissionRunner(library, all_probes[0].faces, sandbox=MODES[sandbox], timeout_s=1.0,
                               max_failures=1, max_timeouts=1, budget_s=30.0, allow_unsafe=allow_unsafe)
     with runner:
-        for probe in all_probes:
-            if probe.group in differs and probe.group != "ordinary":
-                continue   # this group is known to differ: its other probes change nothing
-            runner.set_faces(probe.faces)
-            cube = reference.CubeMap(probe.faces)
-            if probe.face is None:
-                outcome = runner.fetch(probe.inputs, probe.placement)
-            else:
-                outcome = runner.read_texture(probe.face, probe.inputs, probe.placement)
-            if outcome.failures or outcome.gave_up:
-                failure = outcome.failures[0] if outcome.failures else None
-                klass = HANGING if failure is None or failure.kind == "timeout" else CRASHING
-                said = failure.describe() if failure else "gave up (the time budget ran out)"
-                return Truth(klass, sorted(set(differs) | {probe.group}, key=GROUPS.index),
-                             f"{probe.name}: {said}")
-            if not probe.judged:
-                continue
-            if probe.face is None:
-                acceptable = acceptable_colours(cube, probe.inputs)
-            else:
-                acceptable = cube.read_texture(np.full(len(probe.inputs), probe.face), probe.inputs)[:, None, :]
-            bad = _first_mismatch(outcome.values, acceptable)
-            if bad is not None:
-                differs.setdefault(probe.group, _describe(probe, bad, outcome.values, acceptable[:, 0]))
-                if probe.group == "ordinary":
-                    return Truth(WRONG, ["ordinary"], differs["ordinary"])
+        truth = _judge_with(runner, all_probes, {})
+        truth.isolation = runner.isolation
+        return truth
+
+
+def _judge_with(runner, all_probes: tuple[Probe, ...], differs: dict[str, str]) -> Truth:
+    """Run the probes in order; stop at a failure or at a difference on ordinary inputs."""
+    for probe in all_probes:
+        if probe.group in differs and probe.group != "ordinary":
+            continue   # this group is known to differ: its other probes change nothing
+        runner.set_faces(probe.faces)
+        cube = reference.CubeMap(probe.faces)
+        if probe.face is None:
+            outcome = runner.fetch(probe.inputs, probe.placement)
+        else:
+            outcome = runner.read_texture(probe.face, probe.inputs, probe.placement)
+        if outcome.failures or outcome.gave_up:
+            failure = outcome.failures[0] if outcome.failures else None
+            klass = HANGING if failure is None or failure.kind == "timeout" else CRASHING
+            said = failure.describe() if failure else "gave up (the time budget ran out)"
+            return Truth(klass, sorted(set(differs) | {probe.group}, key=GROUPS.index),
+                         f"{probe.name}: {said}")
+        if not probe.judged:
+            continue
+        if probe.face is None:
+            acceptable = acceptable_colours(cube, probe.inputs)
+        else:
+            acceptable = cube.read_texture(np.full(len(probe.inputs), probe.face), probe.inputs)[:, None, :]
+        bad = _first_mismatch(outcome.values, acceptable)
+        if bad is not None:
+            differs.setdefault(probe.group, _describe(probe, bad, outcome.values, acceptable[:, 0]))
+            if probe.group == "ordinary":
+                return Truth(WRONG, ["ordinary"], differs["ordinary"])
     if not differs:
         return Truth(EQUIVALENT)
     groups = sorted(differs, key=GROUPS.index)
