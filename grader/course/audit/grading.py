@@ -3,6 +3,7 @@ with the course's rubric or the one given, so the audit measures exactly what
 grading a class does."""
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,7 +37,14 @@ def grade_folder(folder: Path, out: Path, rubric: Path, jobs: int, options: dict
     # The one place the audit reaches grade-all (its module may move: fix the path here).
     from ...grade_all import grade_all
     points = check_points(rubric)
-    rows = grade_all(folder, out, jobs, dict(options, rubric=str(rubric)), progress)
+    # grade-all's key has the rubric's path, not its text (its own rubric is
+    # in the grader's files): a copy named by its hash makes an edited rubric
+    # regrade everything.
+    text = Path(rubric).read_bytes()
+    keyed = Path(out).parent / f"rubric-{hashlib.sha256(text).hexdigest()[:16]}.toml"
+    keyed.parent.mkdir(parents=True, exist_ok=True)
+    keyed.write_bytes(text)
+    rows = grade_all(folder, out, jobs, dict(options, rubric=str(keyed)), progress)
     graded = {}
     for r in rows:
         lost = [name for name, p in points.items() if p > 0 and name in r.checks and r.checks[name] < p - 1e-9]
