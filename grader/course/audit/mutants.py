@@ -151,7 +151,7 @@ def _number_variants(text: str) -> list[str]:
     if not m:
         return []
     body, suffix = m.groups()
-    is_float = any(c in body for c in ".eE") or "f" in suffix.lower() and "." in body
+    is_float = any(c in body for c in ".eE")
     try:
         value = float(body) if is_float else int(body)
     except ValueError:
