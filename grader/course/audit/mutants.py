@@ -222,7 +222,8 @@ def mutants_of(source: str, solution: str) -> list[Mutant]:
             declared = i > 0 and tokens[i - 1].kind in ("name", "keyword") and prev not in EXPRESSION_KEYWORDS
             for operator, new in ([] if declared else _name_variants(t.text, names)):
                 add(operator, t.start, t.end, new)
-            if prev in UNARY_CONTEXT and (i + 1 >= len(tokens) or tokens[i + 1].text not in ("=", "+=", "-=")):
+            # Not before an assignment, nor a braced initialiser (-FaceCoord{...} does not compile).
+            if prev in UNARY_CONTEXT and (i + 1 >= len(tokens) or tokens[i + 1].text not in ("=", "+=", "-=", "{")):
                 if i < 2 or tokens[i - 2].text not in (".", "->", "::") and prev not in ("-",):
                     add("sign", t.start, t.start, "-")   # a minus inserted before a name
     return out
