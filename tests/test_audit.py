@@ -179,7 +179,8 @@ def test_figures_count_escapes_false_fails_and_what_each_check_alone_catches():
                  _audited("w3", "wrong", 100, []),                  # escaped
                  _audited("e1", "equivalent", 100, []),
                  _audited("e2", "equivalent", 95, ["speed"]),       # falsely failed
-                 _audited("n1", "not-compiling", 0, [])],
+                 _audited("n1", "not-compiling", 0, []),
+                 Audited(Mutant("perfect", "sign", 4, "x", "-x", "// u1\n"), "u1", Truth("unjudged", example="boom"))],
         controls=[Audited(None, "control-perfect", Truth("equivalent"), Graded(100, 100, "graded"))],
         rubric=Path("rubric.toml"),
         checks={"read_texture": 25, "stability": 10, "renders": 20, "speed": 5},
@@ -195,9 +196,10 @@ def test_figures_count_escapes_false_fails_and_what_each_check_alone_catches():
     assert data["checks"]["read_texture"]["alone"] == [] and data["checks"]["read_texture"]["catches"] == 1
     assert data["checks"]["speed"]["marks_down_equivalent"] == ["e2"]
     assert data["caught_by_two_only"] == {"read_texture + renders": ["w1"]}
+    assert [r["id"] for r in data["unjudged"]] == ["u1"]   # listed, and in no rate
     text = terminal_text(data)
     assert "ESCAPED" in text and "perfect:3: a < b  =>  a <= b" in text
-    assert "FALSELY FAILED" in text
+    assert "FALSELY FAILED" in text and "NOT JUDGED" in text and "boom" in text
 
 
 def test_command_refuses_bad_arguments():

@@ -23,7 +23,7 @@ from pathlib import Path
 from ... import PROJECT_ROOT, score
 from .grading import Graded, check_points, grade_folder
 from .mutants import Mutant, all_mutants, sample, solution_name, solution_source
-from .truth import Truth, truth_of
+from .truth import NOT_COMPILING, UNJUDGED, Truth, truth_of
 
 DEFAULT_SOLUTIONS = (PROJECT_ROOT / "examples" / "perfect",
                      *sorted((PROJECT_ROOT / "tests" / "submissions" / "correct").glob("*.cpp")))
@@ -61,7 +61,10 @@ def _judge_all(paths: dict[str, Path], jobs: int, sandbox, allow_unsafe: bool, p
         pending = {pool.submit(truth_of, path, sandbox, allow_unsafe): name for name, path in paths.items()}
         import concurrent.futures as futures
         for done in futures.as_completed(pending):
-            truths[pending[done]] = done.result()
+            try:
+                truths[pending[done]] = done.result()
+            except Exception as e:   # the harness failed on this one: listed, never dropped, never a verdict
+                truths[pending[done]] = Truth(UNJUDGED, example=f"{type(e).__name__}: {e}"[:300])
             bar.advance()
     bar.close()
     return {name: truths[name] for name in paths}
@@ -119,7 +122,7 @@ def run_audit(solutions: list[Path] | None = None, *, mutants: int | None = 200,
     shutil.rmtree(to_grade, ignore_errors=True)
     to_grade.mkdir(parents=True)
     for name, truth in truths.items():
-        if truth.klass != "not-compiling":
+        if truth.klass not in (NOT_COMPILING, UNJUDGED):
             shutil.copyfile(paths[name], to_grade / paths[name].name)
     t = time.monotonic()
     options = {"sandbox": sandbox, "quick": quick, "allow_stale": True, "allow_unsafe": allow_unsafe}

@@ -17,7 +17,7 @@ from collections import Counter
 from pathlib import Path
 
 from .mutants import OPERATORS
-from .truth import BEHAVIOUR_CHANGING, CLASS_WORDS, CLASSES, EQUIVALENT
+from .truth import BEHAVIOUR_CHANGING, CLASS_WORDS, CLASSES, EQUIVALENT, UNJUDGED
 
 JSON_NAME = "audit.json"
 HTML_NAME = "audit.html"
@@ -79,6 +79,7 @@ def summarise(result) -> dict:
         "escaped": [_row(a) for a in escaped],
         "false_fails": [_row(a) for a in false_fails],
         "ungradable": [_row(a) for a in ungradable],
+        "unjudged": [_row(a) for a in result.mutants if a.truth.klass == UNJUDGED],
         "checks": checks,
         "caught_by_two_only": dict(sorted(pairs.items())),
         "mutants": [_row(a) for a in result.mutants],
@@ -112,7 +113,8 @@ def terminal_text(data: dict) -> str:
         lines.append(f"  caught only by {pair}: {len(ids)}")
     for title, rows in (("ESCAPED (wrong, full marks)", data["escaped"]),
                         ("FALSELY FAILED (equivalent, marked down)", data["false_fails"]),
-                        ("UNGRADABLE (the grader failed)", data["ungradable"])):
+                        ("UNGRADABLE (the grader failed)", data["ungradable"]),
+                        ("NOT JUDGED (the audit failed)", data.get("unjudged", []))):
         if rows:
             lines.append(f"{title}: {len(rows)}")
             for r in rows:

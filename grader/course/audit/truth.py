@@ -42,11 +42,13 @@ WRONG_NON_SQUARE = "wrong-non-square"
 CRASHING = "crashing"
 HANGING = "hanging"
 NOT_COMPILING = "not-compiling"
-CLASSES = (EQUIVALENT, WRONG, WRONG_EXTREME, WRONG_TIES, WRONG_NON_SQUARE, CRASHING, HANGING, NOT_COMPILING)
+UNJUDGED = "unjudged"           # the audit itself failed on it (a harness error): in no rate
+CLASSES = (EQUIVALENT, WRONG, WRONG_EXTREME, WRONG_TIES, WRONG_NON_SQUARE, CRASHING, HANGING, NOT_COMPILING,
+           UNJUDGED)
 CLASS_WORDS = {EQUIVALENT: "equivalent", WRONG: "wrong", WRONG_EXTREME: "wrong only at extreme lengths",
                WRONG_TIES: "wrong only at ties", WRONG_NON_SQUARE: "wrong only on non-square or 1 x 1 faces",
                CRASHING: "crashing (or reading outside a face)", HANGING: "hanging",
-               NOT_COMPILING: "not compiling"}
+               NOT_COMPILING: "not compiling", UNJUDGED: "not judged (the audit failed on it)"}
 # Mutants whose behaviour differs from the reference: the grader must mark them down.
 BEHAVIOUR_CHANGING = frozenset({WRONG, WRONG_EXTREME, WRONG_TIES, WRONG_NON_SQUARE, CRASHING, HANGING})
 
