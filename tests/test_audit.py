@@ -15,7 +15,7 @@ from conftest import CORRECT_SUBMISSION, PROJECT_ROOT, SUBMISSIONS
 from grader.course.audit import Audited, AuditResult
 from grader.course.audit.grading import Graded
 from grader.course.audit.mutants import Mutant, all_mutants, mutants_of, sample, tokenize
-from grader.course.audit.report import summarise, terminal_text
+from grader.course.audit.report import html_page, summarise, terminal_text
 from grader.course.audit.truth import Truth, truth_of
 
 PERFECT = PROJECT_ROOT / "examples" / "perfect" / "EnvironmentMap.cpp"
@@ -200,6 +200,8 @@ def test_figures_count_escapes_false_fails_and_what_each_check_alone_catches():
     text = terminal_text(data)
     assert "ESCAPED" in text and "perfect:3: a < b  =>  a <= b" in text
     assert "FALSELY FAILED" in text and "NOT JUDGED" in text and "boom" in text
+    page = html_page(data)   # diffs are C++: their < and & are escaped
+    assert "perfect:3: a &lt; b  =&gt;  a &lt;= b" in page and "a < b" not in page
 
 
 def test_command_refuses_bad_arguments():
