@@ -1,4 +1,4 @@
-"""The mutants graded as a class: through grade-all itself (grader.grade_all),
+"""The mutants graded as a class: through grade-all itself (grader.course.grade_all),
 with the course's rubric or the one given, so the audit measures exactly what
 grading a class does."""
 from __future__ import annotations
@@ -35,7 +35,7 @@ def grade_folder(folder: Path, out: Path, rubric: Path, jobs: int, options: dict
     """{submission name: Graded} for every .cpp in `folder`, graded into `out`
     by grade-all (resumable: what is graded under the same key is kept)."""
     # The one place the audit reaches grade-all (its module may move: fix the path here).
-    from ...grade_all import grade_all
+    from ..grade_all import grade_all
     points = check_points(rubric)
     # grade-all's key has the rubric's path, not its text (its own rubric is
     # in the grader's files): a copy named by its hash makes an edited rubric
