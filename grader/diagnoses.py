@@ -555,14 +555,24 @@ _ENTRIES = [
     ),
     DiagnosisInfo(
         "timed-output-wrong", "speed",
-        "Your lookups return wrong colours while they are being timed",
+        "Your lookups answer differently while they are being timed",
         "The speed check keeps the colours of every timed lookup and compares "
-        "them with the reference. Yours match far less often there than in the "
-        "untimed checks, so the time measured is not the time of a working "
-        "lookup and does not count.",
-        "fetchColor must do the same work whatever the faces' size or the "
-        "number of directions: no shortcuts for large batches or large faces, "
-        "no results kept from earlier calls.",
+        "them with your own code's untimed answers to the same directions. They "
+        "differ, so the time measured is not the time of the lookup the other "
+        "checks see and does not count.",
+        "fetchColor must do the same work whatever the number of directions or "
+        "whether it is timed: no shortcuts for large batches, no results kept "
+        "from earlier calls.",
+    ),
+    DiagnosisInfo(
+        "timing-faces-wrong", "speed",
+        "Your lookup is wrong on the faces the speed check times",
+        "On the speed check's large smooth faces, fetchColor's answers are "
+        "right (what your own readTexture gives at the handout's face and "
+        "(u, v)) far less often than in the sweep, so the time measured is not "
+        "the time of a working lookup and does not count.",
+        "fetchColor must do the same work whatever the faces' size or colours: "
+        "no cheaper path for large faces.",
     ),
 ]
 

@@ -109,6 +109,35 @@ def test_arrows_point_the_right_way_only_when_fetch_color_is_right(tmp_path):
     assert swapped.status == FAILED and {i for i, _ in ids(swapped)} <= {"arrow-wrong", "arrow-missing"} and ids(swapped)
 
 
+# ---- one strict judge, whatever readTexture does (issue 18) -------------------
+
+def test_being_hard_to_model_buys_no_fetch_color_points(tmp_path):
+    """readTexture wrong at one point only (no model fits it) and fetchColor
+    half a texel off: fetchColor scores what it scores over the handout's
+    readTexture (the old one-texel slack gave it the whole sweep)."""
+    attack = run(FakeLookups(fetch="half-texel-u", texture="one-point"), tmp_path / "a", "fetch_sweep", "stability")
+    control = run(FakeLookups(fetch="half-texel-u"), tmp_path / "b", "fetch_sweep", "stability")
+    assert "No lookup the grader can model" in attack["read_texture"].output
+    assert attack["fetch_sweep"].fraction < 0.1
+    for name in ("fetch_sweep", "stability"):
+        assert attack[name].fraction <= control[name].fraction, name
+
+
+def test_a_read_texture_that_crashes_everywhere_earns_fetch_color_nothing(tmp_path):
+    """fetchColor reads its texels itself (correctly) while readTexture,
+    called alone, always crashes: a correct fetchColor over that readTexture
+    would crash everywhere, so no direction is earned."""
+    results = run(FakeLookups(texture="crash-alone"), tmp_path, "fetch_sweep")
+    assert results["fetch_sweep"].fraction == 0.0
+    assert "not earned because your readTexture itself crashes" in results["fetch_sweep"].output
+
+
+def test_robustness_needs_a_working_lookup(tmp_path):
+    """Black never crashes, but earns no robustness points (as for speed)."""
+    r = run(FakeLookups(fetch="black"), tmp_path, "stability")["stability"]
+    assert r.status == SKIPPED and r.fraction == 0.0 and "at least 50%" in r.output
+
+
 def test_speed_is_not_timed_for_a_lookup_that_returns_black(tmp_path):
     results = run(FakeLookups(fetch="black"), tmp_path, "speed")
     assert results["speed"].status == SKIPPED and results["speed"].fraction == 0.0

@@ -1,5 +1,5 @@
-"""fetch_sweep leaves out the directions where the student's own readTexture
-(as fitted) reads past the faces; stability says when fetchColor is wrong
+"""fetch_sweep does not credit the directions where the student's own
+readTexture crashes at the handout's face and (u, v); stability says when fetchColor is wrong
 only next to the cube's edges, and its NaN detail blames no particular cause.
 
 Fakes in-process (tests/fake_lookups.py), no compiler.
@@ -32,13 +32,30 @@ class UnclampedLookups(FakeLookups):
         return tm.evaluate_in_buffer(UNCLAMPED, self.faces, faces, uv)
 
 
-def test_sweep_does_not_judge_fetch_color_where_its_read_texture_reads_past_the_faces(tmp_path):
+def test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the_faces(tmp_path):
+    """A correct fetchColor over an unclamped readTexture earns every direction
+    except those where that readTexture, called alone at the handout's face
+    and (u, v), reads past the face: there a correct fetchColor would crash
+    too, so crashing never earns points (issue 18)."""
+    from grader.checks.directions import sweep_sets
+    from grader.checks.sweeps import SWEEP_FACE_SIZE
     results = run(UnclampedLookups(), tmp_path, "fetch_sweep")
     texture, sweep = results["read_texture"], results["fetch_sweep"]
     assert texture.status == FAILED and ("unclamped-edge", None) in ids(texture)
-    # The crash is readTexture's; fetchColor is right wherever it can be judged.
-    assert sweep.status == PASSED and sweep.fraction == 1.0, sweep.output
-    assert "were not judged" in sweep.output
+    # Which directions need a read past the face, from the model of the
+    # unclamped lookup (the sweep itself never uses a model).
+    dirs = np.concatenate(list(sweep_sets(1234, fibonacci=20_000).values()))
+    w, h = SWEEP_FACE_SIZE
+    faces, uv = reference.direction_to_face(dirs)
+    past = np.zeros(len(dirs), bool)
+    for f in range(6):
+        rows = faces == f
+        past[rows] = tm.evaluate(UNCLAMPED, np.zeros((h, w, 3), np.float32), uv[rows])[1]
+    assert 0 < past.sum() < 0.05 * len(dirs)
+    assert sweep.status == FAILED
+    # Ties whose other face can be read stay earned: at most the past rows are lost.
+    assert 1 - past.mean() <= sweep.fraction < 1.0, (sweep.fraction, past.mean())
+    assert "not earned because your readTexture itself crashes" in sweep.output
 
 
 def test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture(tmp_path):

@@ -1,7 +1,9 @@
 """readTexture against the reference bilinear filter, and what is wrong when
-it differs: the lookup is fitted to a family of models (texture_model), and
-the fitted model is what the fetchColor checks read fetchColor's answers
-through, so a readTexture mistake never costs fetchColor's points."""
+it differs: the lookup is fitted to a family of models (texture_model) to
+name its mistakes. The fetchColor checks judge through the student's own
+readTexture called live (instruments.own_read), not through the model, so a
+readTexture mistake never costs fetchColor's points and being hard to model
+buys nothing."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -26,64 +28,12 @@ class ReadTextureFinding:
 
     @property
     def model(self) -> tm.TextureModel | None:
-        """The member that reproduces every answer (the handout's when ok), or None."""
+        """The member that reproduces every answer (the handout's when ok), or
+        None. For words only: fetchColor is judged through the student's own
+        readTexture called live (instruments.own_read), never through this."""
         if self.ok:
             return tm.HANDOUT
         return self.fit.model if self.fit is not None and self.fit.fits else None
-
-    def judging_filter(self) -> tuple[str, float]:
-        """The filter to judge fetchColor with, and the position tolerance in
-        texels. With a fitted model, fetchColor is judged exactly through it
-        (`instrument`), so no slack; otherwise it still earns credit if every
-        sample lands within a texel of the right spot."""
-        if self.model is not None:
-            return "bilinear", 0.0
-        if self.mistake == "nearest-neighbor":
-            return "nearest", 1.01
-        return "bilinear", 1.01
-
-    def instrument(self, cube: reference.CubeMap):
-        """`cube`, or a stand-in whose fetch goes through the student's own
-        readTexture model: what a correct fetchColor returns over this
-        readTexture. fetchColor checks compare with it."""
-        model = self.model
-        if model is None or model == tm.HANDOUT:
-            return cube
-        return ModelCube(cube, model)
-
-
-class ModelCube:
-    """A reference.CubeMap whose lookups are the fitted readTexture at the
-    reference's face and (u, v) (directions with no face: the reference's)."""
-
-    def __init__(self, cube: reference.CubeMap, model: tm.TextureModel):
-        self.cube, self.model, self.faces = cube, model, cube.faces
-
-    @property
-    def face_width(self) -> int:
-        return self.cube.face_width
-
-    @property
-    def face_height(self) -> int:
-        return self.cube.face_height
-
-    def fetch_with_faces(self, dirs: np.ndarray, filter: str = "bilinear"):
-        dirs = np.ascontiguousarray(dirs, np.float64).reshape(-1, 3)
-        rgb, faces = self.cube.fetch_with_faces(dirs, "bilinear")
-        _, uv = reference.direction_to_face(dirs)
-        rows = faces >= 0
-        if rows.any():
-            rgb = rgb.copy()
-            rgb[rows] = tm.evaluate_in_buffer(self.model, self.faces, faces[rows], uv[rows])[0]
-        return rgb, faces
-
-    def fetch(self, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
-        return self.fetch_with_faces(dirs, filter)[0]
-
-    def read_texture(self, faces: np.ndarray, uv: np.ndarray, filter: str = "bilinear") -> np.ndarray:
-        uv = np.asarray(uv, np.float64).reshape(-1, 2)
-        faces = np.broadcast_to(np.asarray(faces), (len(uv),))
-        return tm.evaluate_in_buffer(self.model, self.faces, faces, np.clip(uv, 0.0, 1.0))[0]
 
 
 # Square and non-square faces, so a W/H mix-up shows; faces one texel tall,
