@@ -257,6 +257,25 @@ _ENTRIES = [
         "bottom of the face).",
     ),
     DiagnosisInfo(
+        "signed-major", "mapping",
+        "You divide by the signed major component",
+        "On -X, -Y and -Z, and only there, u and v both run the wrong way: "
+        "those are the faces where the major component is negative, so "
+        "dividing by it (instead of by its magnitude m) flips both signs.",
+        "Divide by m = |major component| (fabs) and keep the signs of the "
+        "(u, v) table in README.md; do not flip the table's signs to make up "
+        "for it.",
+    ),
+    DiagnosisInfo(
+        "opengl-table", "mapping",
+        "You use OpenGL's cube-map table, not this assignment's",
+        "+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
+        "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
+        "of sc and tc per face, whose conventions differ from this "
+        "assignment's.",
+        "Take u and v for every face from the (u, v) table in README.md.",
+    ),
+    DiagnosisInfo(
         "uv-swapped", "mapping",
         "On this face, u and v are swapped",
         "Your code used the component that should give v for u and the other "
@@ -497,6 +516,29 @@ _ENTRIES = [
         "down, whatever fetchColor does.",
         "Index the texel at addr[3 * (y * W + x)] with y = 0 the bottom row, "
         "as README.md describes the buffer.",
+    ),
+    DiagnosisInfo(
+        "texture-u-flipped", "filtering",
+        "readTexture runs u from right to left",
+        "Your readTexture reads at 1 - u: on every face, whatever fetchColor "
+        "asks for, u = 0 gives the right column instead of the left one.",
+        "In readTexture, p's x is u times W (u = 0 is the left column, "
+        "x = 0); do not flip it there.",
+    ),
+    DiagnosisInfo(
+        "texture-v-flipped", "filtering",
+        "readTexture runs v from top to bottom",
+        "Your readTexture reads at 1 - v: on every face, whatever fetchColor "
+        "asks for, v = 0 gives the top row instead of the bottom one.",
+        "In readTexture, p's y is v times H (v = 0 is the bottom row, y = 0 "
+        "in the buffer); do not flip it there.",
+    ),
+    DiagnosisInfo(
+        "texture-uv-swapped", "filtering",
+        "readTexture uses u for the rows and v for the columns",
+        "Your readTexture takes the column from v and the row from u, on "
+        "every face whatever fetchColor asks for.",
+        "In readTexture, x comes from u (times W) and y from v (times H).",
     ),
     DiagnosisInfo(
         "columns-flipped", "filtering",

@@ -52,9 +52,9 @@ def test_a_correct_read_texture_passes(tmp_path):
     ("nearest", "nearest-neighbor"),
     ("half-texel", "half-texel-offset"),
     ("size-minus-one", "scaled-by-size-minus-one"),
-    ("u-flipped", "u-flipped"),
-    ("v-flipped", "v-flipped"),
-    ("uv-swapped", "uv-swapped"),
+    ("u-flipped", "texture-u-flipped"),
+    ("v-flipped", "texture-v-flipped"),
+    ("uv-swapped", "texture-uv-swapped"),
 ])
 def test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points(tmp_path, mistake, diagnosis):
     results = run(FakeLookups(texture=mistake), tmp_path, "fetch_sweep", "diagnosis")

@@ -26,7 +26,7 @@ from .. import reference
 from ..results import Diagnosis
 
 # Every id a candidate can give (tests/test_diagnosis_catalogue.py).
-DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range")
+DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table")
 from .compare import tolerance
 from .directions import fibonacci_sphere, tied_axes
 from .texture_model import Fit, TextureModel, evaluate_in_buffer
@@ -85,6 +85,41 @@ CANDIDATES = sorted((Candidate(*flags) for flags in itertools.product(
     (False, True), (False, True), (False, True), tuple(REMAPS), (False, True))), key=lambda c: c.cost)
 
 
+# ---- patterns over several faces ---------------------------------------------
+
+# One cause that explains the per-face mistakes of several faces at once:
+# per face, (swap, flip u, flip v); faces not listed must be right. Told as
+# one diagnosis with its cause and fix (the per-face ids in its detail), so
+# the advice does not lead to a compensating fix face by face (issue 19).
+PATTERNS = {
+    # m = the signed major component: on -X, -Y, -Z both s/m and t/m change sign.
+    "signed-major": ({1: (False, True, True), 3: (False, True, True), 5: (False, True, True)},
+                     "u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
+                     "signed major component, which is negative on those faces. Divide by m = |major "
+                     "component| and keep the table's signs."),
+    # OpenGL's table (sc, tc per face) against ASSIGNMENT.md's: +X, -X and -Z turned 180 degrees.
+    "opengl-table": ({0: (False, True, True), 1: (False, True, True), 5: (False, True, True)},
+                     "+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
+                     "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
+                     "table. Use the (u, v) table in README.md for every face."),
+}
+
+
+def find_pattern(faces: list) -> tuple[str, str, set[int]] | None:
+    """(id, words, faces it explains) when every face is analysed, on its own
+    face, and the faces' mistakes are exactly one PATTERNS entry."""
+    by_face = {v.face: v for v in faces}
+    if len(by_face) != 6 or not all(v.analysed and v.sampled == v.face and v.candidate is not None
+                                    and v.share >= SHARE and v.candidate.remap == "handout"
+                                    and not v.candidate.by_length for v in by_face.values()):
+        return None
+    flags = {f: (v.candidate.swap, v.candidate.flip_u, v.candidate.flip_v) for f, v in by_face.items()}
+    for pattern, (wrong, words) in PATTERNS.items():
+        if all(flags[f] == wrong.get(f, (False, False, False)) for f in range(6)):
+            return pattern, words, set(wrong)
+    return None
+
+
 # ---- results ---------------------------------------------------------------
 
 @dataclass
@@ -131,8 +166,16 @@ class FetchAnalysis:
             out.append(Diagnosis("not-normalized", "The answer changes with the direction's length, or (u, v) do "
                                  "not reach the face's edges: divide the face-plane coordinates by the major "
                                  "component's magnitude m."))
+        pattern = find_pattern(self.faces)
+        if pattern is not None:
+            pid, words, explained = pattern
+            per_face = "; ".join(f"{face_name(v.face)}: {', '.join(v.candidate.ids)}" for v in self.faces
+                                 if v.face in explained)
+            out.append(Diagnosis(pid, f"{words} (per face: {per_face}.)"))
         for v in self.faces:
             name = face_name(v.face)
+            if pattern is not None and v.face in pattern[2]:
+                continue                 # told once, by the pattern
             if v.crash is not None:
                 out.append(Diagnosis("face-not-analysed", f"Directions toward {name} could not be analysed "
                                      f"(crash at {v.crash}).", face=name))

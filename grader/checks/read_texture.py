@@ -112,9 +112,9 @@ def mistake_diagnoses(model: tm.TextureModel) -> list[Diagnosis]:
         "scaled-by-size-plus-one": f"readTexture uses {where}: the lattice is scaled by W + 1 instead of W.",
         "rows-flipped": "readTexture reads row H-1-y: y = 0 must be the bottom row (v = 0).",
         "columns-flipped": "readTexture reads column W-1-x: x = 0 must be the left column (u = 0).",
-        "u-flipped": "readTexture runs u from right to left (it uses 1 - u).",
-        "v-flipped": "readTexture runs v from top to bottom (it uses 1 - v; v = 0 must be the bottom row).",
-        "uv-swapped": "readTexture uses u for the vertical position and v for the horizontal one.",
+        "texture-u-flipped": "readTexture runs u from right to left (it uses 1 - u).",
+        "texture-v-flipped": "readTexture runs v from top to bottom (it uses 1 - v; v = 0 must be the bottom row).",
+        "texture-uv-swapped": "readTexture uses u for the vertical position and v for the horizontal one.",
         "width-height-swapped": "readTexture mixes up the face width and height (u is scaled by the height or v by the width).",
     }
     return [Diagnosis(i, detail.get(i, words)) for i in tm.mistake_ids(model)]
