@@ -257,6 +257,26 @@ _ENTRIES = [
         "bottom of the face).",
     ),
     DiagnosisInfo(
+        "uv-inset", "mapping",
+        "fetchColor moves (u, v) inward from the face's border",
+        "Read back from your answers, (u, v) run from a little above 0 to a "
+        "little below 1 on the faces: the face's outer texels are never "
+        "reached and the picture is slightly magnified. The handout's (u, v) "
+        "run from exactly 0 to 1; readTexture's clamp already keeps the "
+        "blend inside the face.",
+        "Pass fetchColor's (u, v) to readTexture as the table gives them, "
+        "without scaling or insetting them.",
+    ),
+    DiagnosisInfo(
+        "uv-offset", "mapping",
+        "fetchColor shifts (u, v) by a constant",
+        "Read back from your answers, fetchColor reads a fixed distance away "
+        "from the (u, v) the table gives, on every face.",
+        "Pass (1 + s/m)/2 and (1 + t/m)/2 to readTexture as they are: no "
+        "half-texel correction is needed, readTexture's p = (uW, vH) already "
+        "says where the texels are.",
+    ),
+    DiagnosisInfo(
         "signed-major", "mapping",
         "You divide by the signed major component",
         "On -X, -Y and -Z, and only there, u and v both run the wrong way: "

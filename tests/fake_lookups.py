@@ -14,6 +14,7 @@ fake's own readTexture.
     FakeLookups(fetch={"+X": "wrong-face:-X", "-X": "wrong-face:+X"})
     FakeLookups(fetch="not-normalized", texture="half-texel")
     FakeLookups(fetch="half-texel-u", texture="one-point")     # issue 18's attack
+    FakeLookups(fetch="inset", texture="scrambled")             # nothing models readTexture
 """
 from __future__ import annotations
 
@@ -42,6 +43,9 @@ TEXTURE_MISTAKES = {
     "one-point": ("bilinear", lambda uv, w, h: uv),
     # Crashes whenever it is called on its own (fetchColor here reads texels itself).
     "crash-alone": ("bilinear", lambda uv, w, h: uv),
+    # One texel, at a column scrambled by x -> 5x mod W: nothing like any model.
+    "scrambled": ("nearest", lambda uv, w, h: np.stack([((np.floor(np.minimum(uv[:, 0] * w, w - 1)) * 5) % w + 0.5) / w,
+                                                        uv[:, 1]], 1)),
 }
 
 # fetchColor mistakes per face, on the (u, v) the reference computes.
@@ -87,7 +91,11 @@ class FakeLookups:
         mistakes = self.fetch_mistakes
         if mistakes == "black":
             return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
-        if mistakes == "half-texel-u":
+        if mistakes == "inset":
+            # 1.5 texels in from every border, on every face.
+            size = np.array(self.faces.shape[2:0:-1], np.float64)
+            uv = (1.5 + uv * (size - 3)) / size
+        elif mistakes == "half-texel-u":
             # Half a texel off in u on every face.
             uv[:, 0] = uv[:, 0] + 0.5 / self.faces.shape[2]
         elif mistakes == "not-normalized":

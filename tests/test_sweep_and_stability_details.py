@@ -65,6 +65,26 @@ def test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture(tmp
     assert 0.75 < sweep.fraction < 0.9, sweep.fraction
 
 
+class UnfittableUnclampedLookups(UnclampedLookups):
+    """The unclamped readTexture, also wrong at (u, v) = (0.5, 0.5) called
+    alone: no model fits, so nothing predicts its reads into the next face."""
+
+    def read_texture(self, face, uv, placement="end"):
+        out = super().read_texture(face, uv, placement)
+        out.values[(np.asarray(uv).reshape(-1, 2) == 0.5).all(axis=1)] = 0.0
+        return out
+
+
+def test_reads_past_the_face_at_ties_are_not_blamed_on_the_tie_rule(tmp_path):
+    """A correct fetchColor (>= at ties) over an unclamped readTexture: at v = 1
+    the read lands in the next face's first row, which the direction does
+    not touch. That is readTexture's edge behaviour, not a tie sent astray,
+    even where no model of readTexture predicts it."""
+    results = run(UnfittableUnclampedLookups(), tmp_path, "diagnosis")
+    assert "No lookup the grader can model" in results["read_texture"].output
+    assert "tie-untouched-face" not in {i for i, _ in ids(results["diagnosis"])}, results["diagnosis"].output
+
+
 class BorderClampedLookups(FakeLookups):
     """fetchColor clamps (u, v) to [1/W, 1 - 1/W]: wrong only within one
     texel of each face's border."""

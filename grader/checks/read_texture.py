@@ -120,11 +120,86 @@ def mistake_diagnoses(model: tm.TextureModel) -> list[Diagnosis]:
     return [Diagnosis(i, detail.get(i, words)) for i in tm.mistake_ids(model)]
 
 
+# ---- readTexture described by measurement -------------------------------------
+
+# A fit explaining at least this share of the answers is named (with the
+# share); below it no model is stated, only what was measured.
+NAMED_FIT = 0.9
+WORKED_SIZE = (16, 16)
+
+
+def texel_weights(read, face: int, w: int, h: int) -> np.ndarray | None:
+    """(h, w) the weight of each texel of `face` in one readTexture answer,
+    measured with impulse textures (one texel 1 per channel, the rest 0;
+    three texels per texture): `read(faces)` returns that answer (3,), or
+    None when it crashed."""
+    n = w * h
+    weights = np.zeros(n)
+    for first in range(0, n, 3):
+        faces = np.zeros((6, h, w, 3), np.float32)
+        flat = faces[face].reshape(-1, 3)
+        for c in range(min(3, n - first)):
+            flat[first + c, c] = 1.0
+        rgb = read(faces)
+        if rgb is None or not np.isfinite(rgb).all():
+            return None
+        weights[first:first + 3] = rgb[:min(3, n - first)]
+    return weights.reshape(h, w)
+
+
+def _coordinate(c: float, n: int) -> str:
+    k = c * n
+    return f"{int(round(k))}/{n}" if abs(k - round(k)) < 1e-9 else f"{c:.4g}"
+
+
+def _texels_in_words(weights: np.ndarray) -> str:
+    ys, xs = np.nonzero(np.abs(weights) > 0.005)
+    items = sorted(zip(xs, ys, weights[ys, xs]), key=lambda t: (-abs(t[2]), t[1], t[0]))
+    if not items:
+        return "reads no texel of the face (every weight is 0)"
+    if len(items) == 1 and abs(items[0][2] - 1) < 0.005:
+        return f"reads texel ({items[0][0]}, {items[0][1]}) alone"
+    shown = items[:6]
+    texels = ", ".join(f"({x}, {y})" for x, y, _ in shown[:-1]) + f" and ({shown[-1][0]}, {shown[-1][1]})" \
+        if len(shown) > 1 else f"({shown[0][0]}, {shown[0][1]})"
+    wts = ", ".join(f"{wt:.2f}" for _, _, wt in shown[:-1]) + (f" and {shown[-1][2]:.2f}" if len(shown) > 1 else f"{shown[0][2]:.2f}")
+    more = f" (and {len(items) - 6} more texels)" if len(items) > 6 else ""
+    return f"mixes {texels} with weights {wts}{more}"
+
+
+def worked_case(lookups, face: int, u: float, v: float) -> str:
+    """One readTexture call in numbers: which texels the handout reads at
+    (u, v) and which the student's does, with their weights."""
+    w, h = WORKED_SIZE
+
+    def theirs(faces):
+        lookups.set_faces(faces)
+        out = lookups.read_texture(face, np.array([[u, v]]))
+        return np.asarray(out.values, np.float64)[0] if bool(np.asarray(out.evaluated)[0]) else None
+
+    def handout(faces):
+        return reference.CubeMap(faces).read_texture(face, np.array([[u, v]]), "bilinear")[0]
+
+    ref, sub = texel_weights(handout, face, w, h), texel_weights(theirs, face, w, h)
+    where = f"At u = {_coordinate(u, w)}, v = {_coordinate(v, h)} on a {w} x {h} face the handout {_texels_in_words(ref)}"
+    if sub is None:
+        return where + "; yours crashes there."
+    return where + f"; yours {_texels_in_words(sub)}."
+
+
+def _single_texel(values: np.ndarray, texels: np.ndarray) -> np.ndarray:
+    """(n,) each answer is exactly one texel's colour (a lookup that never blends)."""
+    flat = texels.reshape(-1, 3).astype(np.float64)
+    with np.errstate(invalid="ignore"):
+        return (np.abs(values[:, None, :] - flat[None]) <= 1e-6).all(axis=2).any(axis=1)
+
+
 @check()
 def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
-    total = matched = 0
+    total = matched = single = answered = 0
     lines, diagnoses = [], []
+    worked_at: tuple[int, float, float] | None = None
     for w, h in FACE_SIZES:
         uv = sample_points(w, h, ctx.seed)
         for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
@@ -139,6 +214,14 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                     total += len(uv)
                     matched += int(cmp.ok.sum())
                     diagnoses += failure_diagnoses(outcome.failures)
+                    ran = np.asarray(outcome.evaluated, bool) & np.isfinite(outcome.values).all(axis=1)
+                    if kind == "random":
+                        answered += int(ran.sum())
+                        single += int(_single_texel(outcome.values[ran], faces[face]).sum())
+                    if worked_at is None and (w, h) == WORKED_SIZE and kind == "coordinate" and placement == "end":
+                        wrong = [i for i in cmp.failures if ran[i]]
+                        if wrong:
+                            worked_at = (face, float(uv[wrong[0], 0]), float(uv[wrong[0], 1]))
                     if cmp.fraction < 1.0 and len(lines) < 6:
                         name = reference.FACE_NAMES[face]
                         side = "after" if placement == "end" else "before"
@@ -152,6 +235,17 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     # name (several at once), independent of any crash it also causes.
     fit = tm.fit(ctx.lookups, ctx.seed) if matched < total else None
     found = mistake_diagnoses(fit.model) if fit is not None and fit.fits else []
+    named = fit is not None and not fit.fits and not fit.constant and fit.share >= NAMED_FIT
+    if named:
+        # Near fits are named, with the share they explain (never at a low fit).
+        found = [Diagnosis(d.id, f"{d.detail} (The closest lookup the grader can model explains "
+                                 f"{fit.share:.0%} of your readTexture's answers.)") for d in mistake_diagnoses(fit.closest)]
+    if (fit is not None and not fit.fits and answered and single == answered
+            and not any(d.id == "nearest-neighbor" for d in found)):
+        # Measured, not modelled: every answer on random texels is one texel's colour.
+        found.append(Diagnosis("nearest-neighbor", f"readTexture never blends: each of its {answered} answers on "
+                               "random texels is exactly one texel's colour (nearest neighbour, or weights "
+                               "that are always 0 or 1)."))
     result.diagnoses = unique_diagnoses(found + diagnoses)
     mistake = found[0].id if found else None
     if matched < total:
@@ -160,9 +254,13 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
             model_text = "readTexture returns the same colour wherever it reads."
         elif fit.fits:
             model_text = "What your readTexture does, found from textures that encode their positions. " + tm.describe_model(fit.model)
-        else:
+        elif named:
             model_text = (f"No lookup the grader can model reproduces all your readTexture's answers. The closest "
                           f"explains {fit.share:.0%} of them: " + tm.describe_model(fit.closest))
+        else:
+            # Below NAMED_FIT a model would be a guess: one call, measured.
+            model_text = "No lookup the grader can model reproduces your readTexture's answers. " + (
+                worked_case(ctx.lookups, *worked_at) if worked_at is not None else "")
         result.output = (f"{total - matched} of {total} readTexture calls differ from the reference bilinear filter.\n\n"
                          + model_text + "\n\n" + "\n".join(lines))
     else:

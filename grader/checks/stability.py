@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..results import FAILED, CheckResult, Diagnosis
-from . import Needs, check
+from . import check
 from .compare import describe_direction, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import corners, edges
@@ -94,10 +94,9 @@ def edge_pairs(k: int = 8, offset: float = 1e-7):
 
 
 # A lookup that returns black never crashes: robustness, like speed, is
-# scored only for a lookup that works.
-@check(requires=(read_texture, Needs(fetch_sweep, passing=lambda sweep: sweep.works,
-                                     why=f"robustness is scored once fetchColor matches the reference on at "
-                                         f"least {WORKING:.0%} of the sweep directions.")))
+# scored only for a lookup that works. It still runs, so the crashes and NaNs
+# it finds are named.
+@check(requires=(read_texture, fetch_sweep))
 def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding, sweep: SweepFinding) -> None:
     """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
     # Texels that encode their position; every answer judged through the
@@ -152,14 +151,17 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     smooth_tol = tolerance(FACE_SIZE, FACE_SIZE, 1.0)
     a, b, edge = edge_pairs()
     out_a, out_b = ctx.lookups.fetch(a), ctx.lookups.fetch(b)
-    own_a = own_read.judge(ctx.lookups, a, out_a.values, smooth_tol, size).expected
-    own_b = own_read.judge(ctx.lookups, b, out_b.values, smooth_tol, size).expected
+    judged_a = own_read.judge(ctx.lookups, a, out_a.values, smooth_tol, size)
+    judged_b = own_read.judge(ctx.lookups, b, out_b.values, smooth_tol, size)
     with np.errstate(invalid="ignore"):
-        ref_jump = np.abs(own_a - own_b).max(axis=1)
+        ref_jump = np.abs(judged_a.expected - judged_b.expected).max(axis=1)
         sub_jump = np.abs(out_a.values - out_b.values).max(axis=1)
-    # Where the student's readTexture crashes there, a correct fetchColor has
-    # no jump to compare with: that pair is not earned (NaN fails).
-    bad = ~(sub_jump <= ref_jump + 2 * smooth_tol)
+    # Both sides what a correct fetchColor gives (a readTexture that jumps at
+    # a texel boundary may jump at the float-level (u, v) difference), or a
+    # jump no larger than a correct fetchColor's. Where the student's
+    # readTexture crashes there is nothing to compare with: the pair is not
+    # earned (NaN fails).
+    bad = ~(judged_a.ok & judged_b.ok) & ~(sub_jump <= ref_jump + 2 * smooth_tol)
     bad_edges = sorted({int(e) for e in edge[bad]})
     parts.append(("no seam larger than the reference's at the 12 edges", 12, 12 - len(bad_edges)))
     if bad_edges:
@@ -175,4 +177,8 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     result.output = "\n".join(table)
     if ok < total:
         result.status = FAILED
+    if not sweep.works:
+        result.status, result.fraction = FAILED, 0.0
+        result.output = (f"Robustness is scored once fetchColor matches the reference on at least {WORKING:.0%} of "
+                         f"the sweep directions (yours: {sweep.fraction:.0%}). What was found:\n\n" + result.output)
 
