@@ -7,6 +7,7 @@ Fakes in-process (tests/fake_lookups.py), no compiler.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from fake_lookups import FACES, FakeLookups
 from grader import reference
@@ -131,3 +132,16 @@ def test_nan_detail_does_not_blame_a_squared_length(tmp_path):
     nan = [d for d in r.diagnoses if d.id == "nan-output"]
     assert len(nan) == 1, ids(r)
     assert "squared" not in nan[0].detail and "finite and not zero" in nan[0].detail
+
+
+@pytest.mark.sandbox
+def test_honestly_wrong_everywhere_is_not_timed_output_wrong(tmp_path):
+    """+Y and -Y swapped over a nearest readTexture: wrong the same way timed
+    or not, on the timing faces as in the sweep. Speed times it; neither
+    timed-output-wrong nor timing-faces-wrong (issue 19: one id, one meaning)."""
+    fake = FakeLookups(fetch={"+Y": "wrong-face:-Y", "-Y": "wrong-face:+Y"}, texture="nearest")
+    results = run(fake, tmp_path, "speed")
+    assert 0.5 <= results["fetch_sweep"].fraction < 0.9
+    speed = results["speed"]
+    assert not {"timed-output-wrong", "timing-faces-wrong"} & {i for i, _ in ids(speed)}, speed.output
+    assert speed.metrics["timed_agrees_with_untimed"] == 1.0
