@@ -76,11 +76,25 @@ class UnfittableUnclampedLookups(UnclampedLookups):
         return out
 
 
+def test_an_edge_read_into_the_next_face_is_told_from_a_tie_sent_astray():
+    """The rule itself: an answer from face k + 1's first row, in the column
+    touched face k's u gives, is readTexture reading past k (faces one above
+    the other in the buffer); another column, row or face is not."""
+    from grader.checks.face_recovery import FACE_SIZE, _edge_read
+    touched = np.zeros((5, 6), bool)
+    touched[:, 0] = touched[:, 2] = True                  # an edge of +X and +Y
+    column = np.full((5, 6), np.nan)
+    column[:, 0], column[:, 2] = 7.0, 20.0
+    faces = np.array([1, 1, 3, 1, 4])                     # -X, -X, -Y, -X, +Z
+    px = np.array([7.0, 12.0, 20.0, 7.2, 7.0])
+    py = np.array([0.0, 0.0, 0.0, FACE_SIZE - 1.0, 0.0])
+    assert _edge_read(faces, px, py, touched, column).tolist() == [True, False, True, False, False]
+
+
 def test_reads_past_the_face_at_ties_are_not_blamed_on_the_tie_rule(tmp_path):
-    """A correct fetchColor (>= at ties) over an unclamped readTexture: at v = 1
-    the read lands in the next face's first row, which the direction does
-    not touch. That is readTexture's edge behaviour, not a tie sent astray,
-    even where no model of readTexture predicts it."""
+    """A correct fetchColor (>= at ties) over an unclamped readTexture no model
+    fits: no tie is said to be sent to an untouched face (a guard on the
+    whole path; the rule is tested above)."""
     results = run(UnfittableUnclampedLookups(), tmp_path, "diagnosis")
     assert "No lookup the grader can model" in results["read_texture"].output
     assert "tie-untouched-face" not in {i for i, _ in ids(results["diagnosis"])}, results["diagnosis"].output
