@@ -627,6 +627,17 @@ _ENTRIES = [
         "from earlier calls.",
     ),
     DiagnosisInfo(
+        "texture-context-dependent", "filtering",
+        "Your readTexture answers differently on the faces fetchColor is judged on",
+        "fetchColor is judged through your own readTexture, called on its own at "
+        "the face and (u, v) the handout's table gives. On the faces fetchColor "
+        "is judged on, your readTexture differs from the handout's far more often "
+        "than in the readTexture check, so it is not believed there and "
+        "fetchColor is judged against the handout's readTexture instead.",
+        "readTexture must compute the same thing whoever calls it and whatever "
+        "the faces' size: no separate paths.",
+    ),
+    DiagnosisInfo(
         "timing-faces-wrong", "speed",
         "Your lookup is wrong on the faces the speed check times",
         "On the speed check's large smooth faces, fetchColor's answers are "

@@ -126,6 +126,18 @@ def test_an_unfittable_read_texture_buys_fetch_color_no_points(tmp_path):
     assert fetch_points(attack) <= fetch_points(control) + 0.1
 
 
+def test_a_read_texture_that_answers_the_judge_differently_buys_nothing(tmp_path):
+    """readTexture, called on its own on the judges' face sizes (not from
+    fetchColor), shifts u as fetchColor does: the live judge would see a
+    fetchColor "right over its own readTexture" (71.56 before the guard).
+    The readTexture check found it honest on other sizes, so the live answers
+    are not believed there."""
+    attack = grade(ATTACKS / "direct-call-cheat.cpp", tmp_path / "a", GradeOptions(quick=True))
+    control = grade(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
+    assert "texture-context-dependent" in {d.id for d in attack.diagnoses}
+    assert attack.score <= control.score, (attack.score, control.score)
+
+
 def test_a_cheap_path_on_the_timing_faces_fails_speed_behind_an_unfittable_read_texture(tmp_path):
     result = grade(ATTACKS / "cheap-timing-faces_one-point-read.cpp", tmp_path, GradeOptions(quick=True))
     speed = {c.name: c for c in result.checks}["speed"]

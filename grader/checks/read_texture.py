@@ -25,6 +25,16 @@ class ReadTextureFinding:
     ok: bool                    # every readTexture call matched the reference
     mistake: str | None = None  # the first diagnosis id of the fitted model's mistakes, if any
     fit: tm.Fit | None = None   # the student's readTexture as a member of the model family
+    fraction: float = 1.0       # share of the check's calls that matched the handout's
+    by_size: tuple[float, ...] = ()   # that share per face size (FACE_SIZES)
+
+    @property
+    def mismatch(self) -> float:
+        """The smallest share of calls that differed from the handout's over
+        the face sizes tried: what the judges may expect on faces of their
+        own (a readTexture honest on some sizes and not on others is told
+        by its best size; instruments.own_read)."""
+        return 1.0 - max(self.by_size or (self.fraction,))
 
     @property
     def model(self) -> tm.TextureModel | None:
@@ -200,7 +210,9 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     total = matched = single = answered = 0
     lines, diagnoses = [], []
     worked_at: tuple[int, float, float] | None = None
+    by_size = []
     for w, h in FACE_SIZES:
+        size_total, size_matched = total, matched
         uv = sample_points(w, h, ctx.seed)
         for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
             cube = reference.CubeMap(faces)
@@ -228,6 +240,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                         lines.append(f"Face {name}, {w}x{h} {kind} texels, inaccessible memory right {side} them:")
                         lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
                                              outcome.values, expected, limit=3))
+        by_size.append((matched - size_matched) / max(total - size_total, 1))
     result.fraction = matched / total if total else 0.0
     result.metrics["cases"] = total
     result.metrics["matched"] = matched
@@ -265,4 +278,5 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                          + model_text + "\n\n" + "\n".join(lines))
     else:
         result.output = f"All {total} readTexture calls match the reference (u, v at 0, 1, texel boundaries, centres and random points)."
-    return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit)
+    return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit, fraction=result.fraction,
+                              by_size=tuple(by_size))

@@ -103,7 +103,9 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # student's own readTexture at the reference's face and (u, v)
     # (instruments.own_read): no slack, whether or not readTexture fits a model.
     size = (FACE_SIZE, FACE_SIZE)
-    ctx.lookups.set_faces(coordinate_faces(FACE_SIZE, FACE_SIZE))
+    texels = coordinate_faces(FACE_SIZE, FACE_SIZE)
+    ctx.lookups.set_faces(texels)
+    trust = dict(texels=texels, texture_mismatch=texture.mismatch)
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0)
     parts, diagnoses = [], []
 
@@ -122,7 +124,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
         # The cause (float conversion, a squared length, a division by the
         # length) is named by its own diagnosis beside this one; here only what happened.
         diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero."))
-    verdict = own_read.judge(ctx.lookups, extreme, outcome.values, tol, size)
+    verdict = own_read.judge(ctx.lookups, extreme, outcome.values, tol, size, **trust)
     parts.append(("tiny and huge directions give the reference colour", len(extreme), int(verdict.ok.sum())))
     group = "tiny and huge directions"
     result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), outcome.values, verdict.expected,
@@ -133,7 +135,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     ties = ulp_moved(np.concatenate([corners(), edges(4)]))
     outcome = ctx.lookups.fetch(ties)
     diagnoses += failure_diagnoses(outcome.failures)
-    verdict = own_read.judge(ctx.lookups, ties, outcome.values, tol, size)
+    verdict = own_read.judge(ctx.lookups, ties, outcome.values, tol, size, **trust)
     parts.append(("edges and corners moved by one ulp", len(ties), int(verdict.ok.sum())))
 
     # Where the answers are wrong: only within a texel of the cube's edges?
@@ -147,12 +149,14 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # direction through it), the jump across each edge is no larger than a
     # correct fetchColor's over the same readTexture: the student's own
     # readTexture at the reference's (face, u, v) either side of the edge.
-    ctx.lookups.set_faces(0.5 + 0.5 * texel_directions(FACE_SIZE))
+    smooth = (0.5 + 0.5 * texel_directions(FACE_SIZE)).astype(np.float32)
+    ctx.lookups.set_faces(smooth)
+    trust = dict(texels=smooth, texture_mismatch=texture.mismatch)
     smooth_tol = tolerance(FACE_SIZE, FACE_SIZE, 1.0)
     a, b, edge = edge_pairs()
     out_a, out_b = ctx.lookups.fetch(a), ctx.lookups.fetch(b)
-    judged_a = own_read.judge(ctx.lookups, a, out_a.values, smooth_tol, size)
-    judged_b = own_read.judge(ctx.lookups, b, out_b.values, smooth_tol, size)
+    judged_a = own_read.judge(ctx.lookups, a, out_a.values, smooth_tol, size, **trust)
+    judged_b = own_read.judge(ctx.lookups, b, out_b.values, smooth_tol, size, **trust)
     with np.errstate(invalid="ignore"):
         ref_jump = np.abs(judged_a.expected - judged_b.expected).max(axis=1)
         sub_jump = np.abs(out_a.values - out_b.values).max(axis=1)

@@ -51,7 +51,13 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
         diagnoses += failure_diagnoses(outcomes[name].failures)
     all_dirs = np.concatenate(list(sets.values()))
     all_values = np.concatenate([np.asarray(o.values, np.float64) for o in outcomes.values()])
-    verdict = own_read.judge(ctx.lookups, all_dirs, all_values, tolerance(w, h, float(max(w, h) + 1)), (w, h))
+    verdict = own_read.judge(ctx.lookups, all_dirs, all_values, tolerance(w, h, float(max(w, h) + 1)), (w, h),
+                             texels=faces, texture_mismatch=texture.mismatch)
+    if verdict.context_dependent:
+        diagnoses.append(Diagnosis("texture-context-dependent",
+                                   "Called on its own on these faces, your readTexture differs from the handout's "
+                                   "far more often than in the readTexture check, so fetchColor is judged against "
+                                   "the handout's readTexture here."))
     ref_faces_all = own_read.reference_faces(all_dirs)
 
     rows = []

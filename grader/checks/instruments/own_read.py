@@ -28,6 +28,15 @@ from ..compare import compare, tied_face_uv
 # the reference's by a few float ulps of 1: 4 * 2^-24.
 FLOAT_STEP = 4.0 * 2.0 ** -24
 MOVES = tuple((du, dv) for du in (-1, 0, 1) for dv in (-1, 0, 1) if (du, dv) != (0, 0))
+# readTexture called on its own can tell the judge's calls from fetchColor's
+# (a flag set in fetchColor) and the judge's faces from the read_texture
+# check's (their size). One the read_texture check found (nearly) the
+# handout's on some face size, that differs from the handout's on most of
+# the judge's faces, is not believed there: fetchColor is judged against the
+# handout's readTexture instead. Honest mistakes differ about as often on
+# every size (nearest neighbour on all of them), or rarely (an edge rule).
+HONEST_SOMEWHERE = 0.05   # the read_texture check's best face size differs on at most this share
+DIFFERS_HERE = 0.5        # ... and the judge's faces on more than this
 
 
 @dataclass
@@ -37,6 +46,7 @@ class Judgement:
     expected: np.ndarray      # (n, 3) the student's readTexture at the reference's face and (u, v) (NaN: crashed)
     unreadable: np.ndarray    # (n,) the student's readTexture crashed (or gave NaN) on every face the direction touches
     error: np.ndarray         # (n,) distance to the nearest acceptable colour
+    context_dependent: bool = False   # judged against the handout's readTexture: the live one was not believed
 
     @property
     def fraction(self) -> float:
@@ -81,15 +91,38 @@ def read_at(lookups, faces: np.ndarray, uv: np.ndarray, size: tuple[int, int]) -
     return out
 
 
-def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, int]) -> Judgement:
+def _handout(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """The handout's readTexture (the reference's bilinear) at faces[i], uv[i]; NaN where no face."""
+    out = np.full((len(uv), 3), np.nan)
+    rows = faces >= 0
+    if rows.any():
+        out[rows] = reference.CubeMap(texels).read_texture(faces[rows], uv[rows], "bilinear")
+    return out
+
+
+def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, int],
+          texels: np.ndarray | None = None, texture_mismatch: float | None = None) -> Judgement:
     """fetchColor's answers `values` (n, 3) for `dirs` (n, 3) against the
-    student's readTexture, on the faces currently set (of `size` (W, H))."""
+    student's readTexture, on the faces currently set (of `size` (W, H)).
+    With `texels` (those faces) and `texture_mismatch` (the share of the
+    read_texture check's calls that differed from the handout), a live
+    readTexture that differs far more often here is not believed
+    (HONEST_SOMEWHERE, DIFFERS_HERE)."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     values = np.asarray(values, np.float64).reshape(-1, 3)
     faces, uv = tied_face_uv(dirs)                     # (n, k) faces, (n, k, 2): the reference's first
     n, k = faces.shape
     flat_faces, flat_uv = faces.reshape(-1), uv.reshape(-1, 2)
     exact = read_at(lookups, flat_faces, flat_uv, size).reshape(n, k, 3)
+    if texels is not None and texture_mismatch is not None:
+        handout = _handout(texels, flat_faces, flat_uv).reshape(n, k, 3)
+        seen = np.isfinite(exact[:, 0]).all(axis=1)
+        with np.errstate(invalid="ignore"):
+            differs = ~(np.abs(exact[:, 0] - handout[:, 0]) <= tol).all(axis=1)
+        if texture_mismatch <= HONEST_SOMEWHERE and seen.any() and float(differs[seen].mean()) > DIFFERS_HERE:
+            cmp = compare(values, handout, tol)
+            return Judgement(ok=cmp.ok, expected=handout[:, 0], unreadable=np.zeros(n, bool), error=cmp.error,
+                             context_dependent=True)
     cmp = compare(values, exact, tol)
     ok, error = cmp.ok.copy(), cmp.error.copy()
     # Where the answer differs: readTexture may jump at a texel boundary the
