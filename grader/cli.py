@@ -23,6 +23,7 @@ COMMANDS = {
     "prairielearn": "grade /grade/student for PrairieLearn's external grader",
     "cubemap": "generate and convert environment maps",
     "study": "speed against accuracy of the lookup methods",
+    "audit": "measure the grader: grade mutants of correct solutions and count what escapes",
 }
 
 

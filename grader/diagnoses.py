@@ -257,6 +257,45 @@ _ENTRIES = [
         "bottom of the face).",
     ),
     DiagnosisInfo(
+        "uv-inset", "mapping",
+        "fetchColor moves (u, v) inward from the face's border",
+        "Read back from your answers, (u, v) run from a little above 0 to a "
+        "little below 1 on the faces: the face's outer texels are never "
+        "reached and the picture is slightly magnified. The handout's (u, v) "
+        "run from exactly 0 to 1; readTexture's clamp already keeps the "
+        "blend inside the face.",
+        "Pass fetchColor's (u, v) to readTexture as the table gives them, "
+        "without scaling or insetting them.",
+    ),
+    DiagnosisInfo(
+        "uv-offset", "mapping",
+        "fetchColor shifts (u, v) by a constant",
+        "Read back from your answers, fetchColor reads a fixed distance away "
+        "from the (u, v) the table gives, on every face.",
+        "Pass (1 + s/m)/2 and (1 + t/m)/2 to readTexture as they are: no "
+        "half-texel correction is needed, readTexture's p = (uW, vH) already "
+        "says where the texels are.",
+    ),
+    DiagnosisInfo(
+        "signed-major", "mapping",
+        "You divide by the signed major component",
+        "On -X, -Y and -Z, and only there, u and v both run the wrong way: "
+        "those are the faces where the major component is negative, so "
+        "dividing by it (instead of by its magnitude m) flips both signs.",
+        "Divide by m = |major component| (fabs) and keep the signs of the "
+        "(u, v) table in README.md; do not flip the table's signs to make up "
+        "for it.",
+    ),
+    DiagnosisInfo(
+        "opengl-table", "mapping",
+        "You use OpenGL's cube-map table, not this assignment's",
+        "+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
+        "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
+        "of sc and tc per face, whose conventions differ from this "
+        "assignment's.",
+        "Take u and v for every face from the (u, v) table in README.md.",
+    ),
+    DiagnosisInfo(
         "uv-swapped", "mapping",
         "On this face, u and v are swapped",
         "Your code used the component that should give v for u and the other "
@@ -499,6 +538,29 @@ _ENTRIES = [
         "as README.md describes the buffer.",
     ),
     DiagnosisInfo(
+        "texture-u-flipped", "filtering",
+        "readTexture runs u from right to left",
+        "Your readTexture reads at 1 - u: on every face, whatever fetchColor "
+        "asks for, u = 0 gives the right column instead of the left one.",
+        "In readTexture, p's x is u times W (u = 0 is the left column, "
+        "x = 0); do not flip it there.",
+    ),
+    DiagnosisInfo(
+        "texture-v-flipped", "filtering",
+        "readTexture runs v from top to bottom",
+        "Your readTexture reads at 1 - v: on every face, whatever fetchColor "
+        "asks for, v = 0 gives the top row instead of the bottom one.",
+        "In readTexture, p's y is v times H (v = 0 is the bottom row, y = 0 "
+        "in the buffer); do not flip it there.",
+    ),
+    DiagnosisInfo(
+        "texture-uv-swapped", "filtering",
+        "readTexture uses u for the rows and v for the columns",
+        "Your readTexture takes the column from v and the row from u, on "
+        "every face whatever fetchColor asks for.",
+        "In readTexture, x comes from u (times W) and y from v (times H).",
+    ),
+    DiagnosisInfo(
         "columns-flipped", "filtering",
         "readTexture reads the columns right to left",
         "Your lookup reads column W-1-x (or uses 1 - u) where the handout's "
@@ -555,14 +617,35 @@ _ENTRIES = [
     ),
     DiagnosisInfo(
         "timed-output-wrong", "speed",
-        "Your lookups return wrong colours while they are being timed",
+        "Your lookups answer differently while they are being timed",
         "The speed check keeps the colours of every timed lookup and compares "
-        "them with the reference. Yours match far less often there than in the "
-        "untimed checks, so the time measured is not the time of a working "
-        "lookup and does not count.",
-        "fetchColor must do the same work whatever the faces' size or the "
-        "number of directions: no shortcuts for large batches or large faces, "
-        "no results kept from earlier calls.",
+        "them with your own code's untimed answers to the same directions. They "
+        "differ, so the time measured is not the time of the lookup the other "
+        "checks see and does not count.",
+        "fetchColor must do the same work whatever the number of directions or "
+        "whether it is timed: no shortcuts for large batches, no results kept "
+        "from earlier calls.",
+    ),
+    DiagnosisInfo(
+        "texture-context-dependent", "filtering",
+        "Your readTexture answers differently on the faces fetchColor is judged on",
+        "fetchColor is judged through your own readTexture, called on its own at "
+        "the face and (u, v) the handout's table gives. On the faces fetchColor "
+        "is judged on, your readTexture differs from the handout's far more often "
+        "than in the readTexture check, so it is not believed there and "
+        "fetchColor is judged against the handout's readTexture instead.",
+        "readTexture must compute the same thing whoever calls it and whatever "
+        "the faces' size: no separate paths.",
+    ),
+    DiagnosisInfo(
+        "timing-faces-wrong", "speed",
+        "Your lookup is wrong on the faces the speed check times",
+        "On the speed check's large smooth faces, fetchColor's answers are "
+        "right (what your own readTexture gives at the handout's face and "
+        "(u, v)) far less often than in the sweep, so the time measured is not "
+        "the time of a working lookup and does not count.",
+        "fetchColor must do the same work whatever the faces' size or colours: "
+        "no cheaper path for large faces.",
     ),
     DiagnosisInfo(
         "refused-source", "build",

@@ -13,6 +13,8 @@ fake's own readTexture.
     FakeLookups(fetch={"+X": "u-flipped"})                # fetchColor mistake on one face
     FakeLookups(fetch={"+X": "wrong-face:-X", "-X": "wrong-face:+X"})
     FakeLookups(fetch="not-normalized", texture="half-texel")
+    FakeLookups(fetch="half-texel-u", texture="one-point")     # issue 18's attack
+    FakeLookups(fetch="inset", texture="scrambled")             # nothing models readTexture
 """
 from __future__ import annotations
 
@@ -36,6 +38,14 @@ TEXTURE_MISTAKES = {
     # the worker reports an out-of-bounds read there; elsewhere it is right.
     "out-of-bounds": ("bilinear", lambda uv, w, h: uv),
     "black": ("bilinear", lambda uv, w, h: uv),
+    # The handout's except one answer, at (u, v) = (0.5, 0.5): black. No model
+    # of the family reproduces it (issue 18's "unfittable" readTexture).
+    "one-point": ("bilinear", lambda uv, w, h: uv),
+    # Crashes whenever it is called on its own (fetchColor here reads texels itself).
+    "crash-alone": ("bilinear", lambda uv, w, h: uv),
+    # One texel, at a column scrambled by x -> 5x mod W: nothing like any model.
+    "scrambled": ("nearest", lambda uv, w, h: np.stack([((np.floor(np.minimum(uv[:, 0] * w, w - 1)) * 5) % w + 0.5) / w,
+                                                        uv[:, 1]], 1)),
 }
 
 # fetchColor mistakes per face, on the (u, v) the reference computes.
@@ -68,6 +78,8 @@ class FakeLookups:
         uv = np.asarray(uv, np.float64).reshape(-1, 2)
         faces = np.full(len(uv), face, np.int32)
         values, failed = self._read(faces, uv)
+        if self.texture == "crash-alone":
+            failed = np.ones(len(uv), bool)
         return self._outcome(values, failed, lambda i: f"readTexture(face {FACES[face]}, u = {uv[i, 0]!r}, v = {uv[i, 1]!r})",
                              "readTexture")
 
@@ -79,7 +91,14 @@ class FakeLookups:
         mistakes = self.fetch_mistakes
         if mistakes == "black":
             return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
-        if mistakes == "not-normalized":
+        if mistakes == "inset":
+            # 1.5 texels in from every border, on every face.
+            size = np.array(self.faces.shape[2:0:-1], np.float64)
+            uv = (1.5 + uv * (size - 3)) / size
+        elif mistakes == "half-texel-u":
+            # Half a texel off in u on every face.
+            uv[:, 0] = uv[:, 0] + 0.5 / self.faces.shape[2]
+        elif mistakes == "not-normalized":
             # Divided by the length instead of the major component's magnitude.
             with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
                 ratio = np.abs(dirs).max(axis=1) / np.linalg.norm(dirs, axis=1)
@@ -116,6 +135,8 @@ class FakeLookups:
             failed = (uv >= 1.0).any(axis=1)
         if self.texture == "black":
             values[:] = 0.0
+        if self.texture == "one-point":
+            values[(uv == 0.5).all(axis=1)] = 0.0
         return values, failed
 
     def _outcome(self, values, failed, describe, function: str) -> Outcome:

@@ -22,7 +22,7 @@ ZOO = Path(__file__).parent / "submissions" / "runtime_attacks"
 EXPECTED = {
     "guard_mprotect": "forbidden-syscall",     # mprotect on the guard pages
     "forged_reply": "protocol",                # an ARGUMENT reply written by the submission
-    "timed_black": "timed-output-wrong",       # black on the timing faces only
+    "timed_black": "timing-faces-wrong",       # black on the timing faces only (timed or not)
     "timed_cache": "slow",                     # a cache of answers never hits fresh directions
     "clock_got": "forbidden-syscall",          # the worker's pages made writable at load
     "thread_bomb": "exception",                # idle threads until refused: std::thread throws while loading

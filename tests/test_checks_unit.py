@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
+from grader import reference
 from grader.checks import CheckDefinitionError, Needs, all_checks, check, run_checks
 from grader.checks.context import CheckContext
 from grader.results import ERROR, FAILED, PASSED, SKIPPED, CheckResult, Diagnosis
@@ -52,9 +53,9 @@ def test_a_correct_read_texture_passes(tmp_path):
     ("nearest", "nearest-neighbor"),
     ("half-texel", "half-texel-offset"),
     ("size-minus-one", "scaled-by-size-minus-one"),
-    ("u-flipped", "u-flipped"),
-    ("v-flipped", "v-flipped"),
-    ("uv-swapped", "uv-swapped"),
+    ("u-flipped", "texture-u-flipped"),
+    ("v-flipped", "texture-v-flipped"),
+    ("uv-swapped", "texture-uv-swapped"),
 ])
 def test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points(tmp_path, mistake, diagnosis):
     results = run(FakeLookups(texture=mistake), tmp_path, "fetch_sweep", "diagnosis")
@@ -107,6 +108,85 @@ def test_arrows_point_the_right_way_only_when_fetch_color_is_right(tmp_path):
     assert (right.status, right.fraction, ids(right)) == (PASSED, 1.0, set())
     swapped = run(FakeLookups(fetch={"+X": "wrong-face:-X", "-X": "wrong-face:+X"}), tmp_path / "b", "arrows")["arrows"]
     assert swapped.status == FAILED and {i for i, _ in ids(swapped)} <= {"arrow-wrong", "arrow-missing"} and ids(swapped)
+
+
+# ---- one strict judge, whatever readTexture does (issue 18) -------------------
+
+def test_being_hard_to_model_buys_no_fetch_color_points(tmp_path):
+    """readTexture wrong at one point only (no model fits it) and fetchColor
+    half a texel off: fetchColor scores what it scores over the handout's
+    readTexture (the old one-texel slack gave it the whole sweep)."""
+    attack = run(FakeLookups(fetch="half-texel-u", texture="one-point"), tmp_path / "a", "fetch_sweep", "stability")
+    control = run(FakeLookups(fetch="half-texel-u"), tmp_path / "b", "fetch_sweep", "stability")
+    assert "No lookup the grader can model" in attack["read_texture"].output
+    assert attack["fetch_sweep"].fraction < 0.1
+    for name in ("fetch_sweep", "stability"):
+        assert attack[name].fraction <= control[name].fraction, name
+
+
+def test_a_read_texture_that_crashes_everywhere_earns_fetch_color_nothing(tmp_path):
+    """fetchColor reads its texels itself (correctly) while readTexture,
+    called alone, always crashes: a correct fetchColor over that readTexture
+    would crash everywhere, so no direction is earned."""
+    results = run(FakeLookups(texture="crash-alone"), tmp_path, "fetch_sweep")
+    assert results["fetch_sweep"].fraction == 0.0
+    assert "not earned because your readTexture itself crashes" in results["fetch_sweep"].output
+
+
+def test_robustness_needs_a_working_lookup(tmp_path):
+    """Black never crashes, but earns no robustness points (as for speed)."""
+    r = run(FakeLookups(fetch="black"), tmp_path, "stability")["stability"]
+    assert r.status == FAILED and r.fraction == 0.0 and "at least 50%" in r.output
+
+
+# ---- fetchColor read back without a model of readTexture (issue 19) -----------
+
+def test_fetch_color_is_analysed_when_read_texture_is_almost_right(tmp_path):
+    """readTexture wrong at one point only: no model fits, and fetchColor's
+    flip is still named, read back through readTexture itself."""
+    r = run(FakeLookups(fetch={"+X": "u-flipped"}, texture="one-point"), tmp_path, "diagnosis")["diagnosis"]
+    assert ids(r) == {("u-flipped", "+X")}, r.output
+
+
+def test_an_inset_is_named_once_and_orientation_is_told_under_it(tmp_path):
+    from grader.checks.face_recovery import analyse
+    from grader.checks.texture_model import HANDOUT, Fit
+    fake = FakeLookups(fetch="inset")
+    r = run(fake, tmp_path, "diagnosis")["diagnosis"]
+    assert ids(r) == {("uv-inset", None)}, r.output
+    analysis = analyse(fake, Fit(HANDOUT, HANDOUT, 1.0, 0), quick=True)
+    for v in analysis.faces:
+        assert v.affine is not None and v.affine.orientation_ids == []
+        assert abs(v.affine.scale[0] - 29 / 32) < 0.01 and abs(v.affine.offset[0] * 32 - 1.5) < 0.1
+
+
+def test_fetch_color_is_read_back_through_a_read_texture_nothing_models(tmp_path):
+    """A scrambled readTexture (no model comes near) still tells where
+    fetchColor read: the inset is found, and nothing is said to be unclamped."""
+    results = run(FakeLookups(fetch="inset", texture="scrambled"), tmp_path, "diagnosis")
+    assert ("uv-inset", None) in ids(results["diagnosis"]), results["diagnosis"].output
+    texture = results["read_texture"]
+    # A low fit states no model: one call in numbers instead.
+    assert "At u = " in texture.output and "not clamped" not in texture.output and "blends" not in texture.output
+    assert ("nearest-neighbor", None) in ids(texture)       # measured: every answer is one texel
+    assert {d for d in ids(texture) if d[0] not in ("nearest-neighbor",)} == set(), ids(texture)
+
+
+def test_a_constant_read_texture_leaves_fetch_color_unanalysed(tmp_path):
+    r = run(FakeLookups(texture="black"), tmp_path, "diagnosis")["diagnosis"]
+    assert ("fetch-not-analysed", None) in ids(r)
+
+
+def test_texel_weights_say_which_texels_one_call_reads():
+    from grader.checks.read_texture import texel_weights, worked_case
+    fake = FakeLookups(texture="nearest")
+    u, v = 1.5 / 16, 14.5 / 16
+    handout = texel_weights(lambda faces: reference.CubeMap(faces).read_texture(0, np.array([[u, v]]), "bilinear")[0],
+                            0, 16, 16)
+    assert np.allclose(handout[14:16, 1:3], 0.25) and abs(handout.sum() - 1) < 1e-9
+    text = worked_case(fake, 0, u, v)
+    assert text == ("At u = 0.09375, v = 0.9062 on a 16 x 16 face the handout mixes (1, 14), (2, 14), (1, 15) and "
+                    "(2, 15) with weights 0.25, 0.25, 0.25 and 0.25; yours reads texel (1, 14) alone."), text
 
 
 def test_speed_is_not_timed_for_a_lookup_that_returns_black(tmp_path):

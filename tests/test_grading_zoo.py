@@ -125,10 +125,12 @@ def test_grading_twice_gives_the_same_score_and_reports(tmp_path):
 
 
 def test_the_untouched_template_scores_little_and_says_why(tmp_path):
-    """Returning black earns no fetchColor, arrow, render or speed points."""
+    """Returning black earns no fetchColor, arrow, robustness, render or speed points:
+    it never crashes, but robustness needs a lookup that works, as speed does."""
     result = grade(Path(__file__).parent.parent / "student_template" / "EnvironmentMap.cpp", tmp_path,
                    GradeOptions(quick=True))
     assert {d.id for d in result.diagnoses} == {"not-implemented", "nearest-neighbor"}
     by_name = {c.name: c.score for c in result.checks}
     assert by_name["fetch_sweep"] == by_name["arrows"] == by_name["renders"] == by_name["speed"] == 0
+    assert by_name["stability"] == 0
     assert result.score < 15

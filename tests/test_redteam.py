@@ -12,9 +12,9 @@ Attacks that worked before (and the fix):
   it scored 100. Now a library over 64 MiB is refused (forbidden-object).
 - fast_when_timed: ten times slow, except on the speed check's 256 x 256
   faces (told by their size) where it took the nearest texel, within the 1%
-  the timed colours were checked to: 5 / 5. Timed colours are now judged
-  as the sweep judges them, through the student's own readTexture
-  (grader/checks/speed.py timed_tolerance).
+  the timed colours were checked to: 5 / 5. The timing faces are now judged
+  as the sweep judges them, through the student's own readTexture called
+  live (grader/checks/speed.py, timing-faces-wrong).
 - black_on_axes: wrong on 6 of ~127,000 sweep directions scored 30 / 30 on
   a *failed* check (rounding to 0.01 point). Now a failed check never shows
   full points (grader/score.py).
@@ -137,7 +137,7 @@ def test_a_cheaper_path_on_the_timing_faces_fails_the_speed_check(tmp_path):
                                                                            only=("speed",)))
     (speed,) = result.checks
     assert speed.status == FAILED and speed.score == 0
-    assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]
+    assert [d.id for d in speed.diagnoses] == ["timing-faces-wrong"]
     assert speed.metrics["timed_match"] < 0.5
 
 

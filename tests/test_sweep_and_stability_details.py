@@ -1,5 +1,5 @@
-"""fetch_sweep leaves out the directions where the student's own readTexture
-(as fitted) reads past the faces; stability says when fetchColor is wrong
+"""fetch_sweep does not credit the directions where the student's own
+readTexture crashes at the handout's face and (u, v); stability says when fetchColor is wrong
 only next to the cube's edges, and its NaN detail blames no particular cause.
 
 Fakes in-process (tests/fake_lookups.py), no compiler.
@@ -7,6 +7,7 @@ Fakes in-process (tests/fake_lookups.py), no compiler.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from fake_lookups import FACES, FakeLookups
 from grader import reference
@@ -32,13 +33,30 @@ class UnclampedLookups(FakeLookups):
         return tm.evaluate_in_buffer(UNCLAMPED, self.faces, faces, uv)
 
 
-def test_sweep_does_not_judge_fetch_color_where_its_read_texture_reads_past_the_faces(tmp_path):
+def test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the_faces(tmp_path):
+    """A correct fetchColor over an unclamped readTexture earns every direction
+    except those where that readTexture, called alone at the handout's face
+    and (u, v), reads past the face: there a correct fetchColor would crash
+    too, so crashing never earns points (issue 18)."""
+    from grader.checks.directions import sweep_sets
+    from grader.checks.sweeps import SWEEP_FACE_SIZE
     results = run(UnclampedLookups(), tmp_path, "fetch_sweep")
     texture, sweep = results["read_texture"], results["fetch_sweep"]
     assert texture.status == FAILED and ("unclamped-edge", None) in ids(texture)
-    # The crash is readTexture's; fetchColor is right wherever it can be judged.
-    assert sweep.status == PASSED and sweep.fraction == 1.0, sweep.output
-    assert "were not judged" in sweep.output
+    # Which directions need a read past the face, from the model of the
+    # unclamped lookup (the sweep itself never uses a model).
+    dirs = np.concatenate(list(sweep_sets(1234, fibonacci=20_000).values()))
+    w, h = SWEEP_FACE_SIZE
+    faces, uv = reference.direction_to_face(dirs)
+    past = np.zeros(len(dirs), bool)
+    for f in range(6):
+        rows = faces == f
+        past[rows] = tm.evaluate(UNCLAMPED, np.zeros((h, w, 3), np.float32), uv[rows])[1]
+    assert 0 < past.sum() < 0.05 * len(dirs)
+    assert sweep.status == FAILED
+    # Ties whose other face can be read stay earned: at most the past rows are lost.
+    assert 1 - past.mean() <= sweep.fraction < 1.0, (sweep.fraction, past.mean())
+    assert "not earned because your readTexture itself crashes" in sweep.output
 
 
 def test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture(tmp_path):
@@ -46,6 +64,40 @@ def test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture(tmp
     assert sweep.status == FAILED
     # +X is about a sixth of the sphere; the rest stays right.
     assert 0.75 < sweep.fraction < 0.9, sweep.fraction
+
+
+class UnfittableUnclampedLookups(UnclampedLookups):
+    """The unclamped readTexture, also wrong at (u, v) = (0.5, 0.5) called
+    alone: no model fits, so nothing predicts its reads into the next face."""
+
+    def read_texture(self, face, uv, placement="end"):
+        out = super().read_texture(face, uv, placement)
+        out.values[(np.asarray(uv).reshape(-1, 2) == 0.5).all(axis=1)] = 0.0
+        return out
+
+
+def test_an_edge_read_into_the_next_face_is_told_from_a_tie_sent_astray():
+    """The rule itself: an answer from face k + 1's first row, in the column
+    touched face k's u gives, is readTexture reading past k (faces one above
+    the other in the buffer); another column, row or face is not."""
+    from grader.checks.face_recovery import FACE_SIZE, _edge_read
+    touched = np.zeros((5, 6), bool)
+    touched[:, 0] = touched[:, 2] = True                  # an edge of +X and +Y
+    column = np.full((5, 6), np.nan)
+    column[:, 0], column[:, 2] = 7.0, 20.0
+    faces = np.array([1, 1, 3, 1, 4])                     # -X, -X, -Y, -X, +Z
+    px = np.array([7.0, 12.0, 20.0, 7.2, 7.0])
+    py = np.array([0.0, 0.0, 0.0, FACE_SIZE - 1.0, 0.0])
+    assert _edge_read(faces, px, py, touched, column).tolist() == [True, False, True, False, False]
+
+
+def test_reads_past_the_face_at_ties_are_not_blamed_on_the_tie_rule(tmp_path):
+    """A correct fetchColor (>= at ties) over an unclamped readTexture no model
+    fits: no tie is said to be sent to an untouched face (a guard on the
+    whole path; the rule is tested above)."""
+    results = run(UnfittableUnclampedLookups(), tmp_path, "diagnosis")
+    assert "No lookup the grader can model" in results["read_texture"].output
+    assert "tie-untouched-face" not in {i for i, _ in ids(results["diagnosis"])}, results["diagnosis"].output
 
 
 class BorderClampedLookups(FakeLookups):
@@ -94,3 +146,16 @@ def test_nan_detail_does_not_blame_a_squared_length(tmp_path):
     nan = [d for d in r.diagnoses if d.id == "nan-output"]
     assert len(nan) == 1, ids(r)
     assert "squared" not in nan[0].detail and "finite and not zero" in nan[0].detail
+
+
+@pytest.mark.sandbox
+def test_honestly_wrong_everywhere_is_not_timed_output_wrong(tmp_path):
+    """+Y and -Y swapped over a nearest readTexture: wrong the same way timed
+    or not, on the timing faces as in the sweep. Speed times it; neither
+    timed-output-wrong nor timing-faces-wrong (issue 19: one id, one meaning)."""
+    fake = FakeLookups(fetch={"+Y": "wrong-face:-Y", "-Y": "wrong-face:+Y"}, texture="nearest")
+    results = run(fake, tmp_path, "speed")
+    assert 0.5 <= results["fetch_sweep"].fraction < 0.9
+    speed = results["speed"]
+    assert not {"timed-output-wrong", "timing-faces-wrong"} & {i for i, _ in ids(speed)}, speed.output
+    assert speed.metrics["timed_agrees_with_untimed"] == 1.0

@@ -32,31 +32,52 @@ def tolerance(face_width: int, face_height: int, magnitude: np.ndarray | float) 
     return 4.0 * (2.0 * size + 8.0) * FLOAT_EPS * np.maximum(magnitude, 1e-30) + 1e-12
 
 
+def _nudged(dirs: np.ndarray, axis: int) -> np.ndarray:
+    """`dirs` with component `axis` made strictly the largest in magnitude,
+    so the reference alone decides the face; (u, v) move by ~1e-9 texel."""
+    nudged = np.array(dirs, np.float64)
+    # Scale by a power of two (exact, so (u, v) do not move) until the
+    # largest component is in [0.5, 1): a denormal direction has too few
+    # bits for a nudge to stay small.
+    with np.errstate(invalid="ignore"):
+        _, exponent = np.frexp(np.abs(nudged).max(axis=1))
+    nudged = np.ldexp(nudged, -exponent[:, None])
+    m = np.abs(nudged).max(axis=1)
+    nudged[:, axis] = np.copysign(m * (1.0 + NUDGE), nudged[:, axis])
+    return nudged
+
+
 def tie_alternatives(cube: reference.CubeMap, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
     """(n, 3, 3) acceptable colours for each direction: the reference colour on
     each face the direction touches (ASSIGNMENT.md: at ties every touching face
-    is correct). Rows for faces not touched are NaN. Found by nudging each tied
-    component to be strictly largest, so the reference alone decides the colour
-    on that face; the nudge moves (u, v) by ~1e-9 texel."""
+    is correct). Rows for faces not touched are NaN."""
     dirs = np.asarray(dirs, np.float64)
     tied = tied_axes(dirs)
     out = np.full((len(dirs), 3, 3), np.nan)
     for axis in range(3):
         rows = np.flatnonzero(tied[:, axis])
-        if len(rows) == 0:
-            continue
-        nudged = dirs[rows].copy()
-        # Scale by a power of two (exact, so (u, v) do not move) until the
-        # largest component is in [0.5, 1): a denormal direction has too few
-        # bits for a nudge to stay small.
-        with np.errstate(invalid="ignore"):
-            _, exponent = np.frexp(np.abs(nudged).max(axis=1))
-        nudged = np.ldexp(nudged, -exponent[:, None])
-        # Make this component strictly the largest in magnitude.
-        m = np.abs(nudged).max(axis=1)
-        nudged[:, axis] = np.copysign(m * (1.0 + NUDGE), nudged[:, axis])
-        out[rows, axis] = cube.fetch(nudged, filter)
+        if len(rows):
+            out[rows, axis] = cube.fetch(_nudged(dirs[rows], axis), filter)
     return out
+
+
+def tied_face_uv(dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(faces (n, 4), uv (n, 4, 2)): the reference's face and (u, v) for each
+    direction first, then each face a tied direction also touches (found as
+    in tie_alternatives); -1 (and NaN) where there is none."""
+    dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+    faces = np.full((len(dirs), 4), -1, np.int64)
+    uv = np.full((len(dirs), 4, 2), np.nan)
+    f, fuv = reference.direction_to_face(dirs)
+    faces[:, 0], uv[:, 0] = f, np.where((f >= 0)[:, None], fuv, np.nan)
+    tied = tied_axes(dirs)
+    tied &= (tied.sum(axis=1) >= 2)[:, None]          # only real ties: elsewhere it is the first face again
+    for axis in range(3):
+        rows = np.flatnonzero(tied[:, axis])
+        if len(rows):
+            f, fuv = reference.direction_to_face(_nudged(dirs[rows], axis))
+            faces[rows, axis + 1], uv[rows, axis + 1] = f, np.where((f >= 0)[:, None], fuv, np.nan)
+    return faces, uv
 
 
 @dataclass

@@ -12,10 +12,11 @@ from ..results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
 from .face_recovery import CANDIDATES, analyse
+from .face_recovery import DIAGNOSIS_IDS as _READ_BACK_IDS
 from .read_texture import ReadTextureFinding, read_texture
 
 # Every id the per-face analysis can give from a candidate (tests/test_diagnosis_catalogue.py).
-DIAGNOSIS_IDS = tuple(sorted({i for c in CANDIDATES for i in c.ids}))
+DIAGNOSIS_IDS = tuple(sorted({i for c in CANDIDATES for i in c.ids} | set(_READ_BACK_IDS)))
 
 
 @check(requires=(read_texture,))
@@ -33,7 +34,8 @@ def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
         return
     result.status, result.fraction = FAILED, 0.0
     how = {"fitted": "read back through a model of your readTexture that reproduces all its answers",
-           "closest": "read back through the closest model of your readTexture (it does not reproduce all its answers, so this is less certain)"}
+           "closest": "read back through the closest model of your readTexture (it does not reproduce all its answers, so this is less certain)",
+           "read back": "read back by calling your readTexture itself at known (u, v) (no model of it reproduces all its answers)"}
     if analysis.instrument == "none":
         result.output = analysis.reason
         return

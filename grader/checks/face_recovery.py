@@ -26,11 +26,14 @@ from .. import reference
 from ..results import Diagnosis
 
 # Every id a candidate can give (tests/test_diagnosis_catalogue.py).
-DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range")
+DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",
+                 "uv-inset", "uv-offset", "uv-mismatch")
 from .compare import tolerance
 from .directions import fibonacci_sphere, tied_axes
 from .texture_model import Fit, TextureModel, evaluate_in_buffer
 from .textures import coordinate_faces, decode_sample_coordinates
+from .instruments.readback import AffineMap, calibrate, fit_affine
+from .instruments import readback
 
 FACE_SIZE = 32
 SHARE = 0.9          # a candidate must explain 90% of a face's directions
@@ -85,6 +88,38 @@ CANDIDATES = sorted((Candidate(*flags) for flags in itertools.product(
     (False, True), (False, True), (False, True), tuple(REMAPS), (False, True))), key=lambda c: c.cost)
 
 
+# ---- patterns over several faces ---------------------------------------------
+
+# One cause that explains the per-face mistakes of several faces at once:
+# per face, (swap, flip u, flip v); faces not listed must be right. Told as
+# one diagnosis with its cause and fix (the per-face ids in its detail), so
+# the advice does not lead to a compensating fix face by face (issue 19).
+PATTERNS = {
+    # m = the signed major component: on -X, -Y, -Z both s/m and t/m change sign.
+    "signed-major": ({1: (False, True, True), 3: (False, True, True), 5: (False, True, True)},
+                     "u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
+                     "signed major component, which is negative on those faces. Divide by m = |major "
+                     "component| and keep the table's signs."),
+    # OpenGL's table (sc, tc per face) against ASSIGNMENT.md's: +X, -X and -Z turned 180 degrees.
+    "opengl-table": ({0: (False, True, True), 1: (False, True, True), 5: (False, True, True)},
+                     "+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
+                     "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
+                     "table. Use the (u, v) table in README.md for every face."),
+}
+
+
+def find_pattern(faces: list) -> tuple[str, str, set[int]] | None:
+    """(id, words, faces it explains) when every face is analysed, on its own
+    face, and the faces' mistakes are exactly one PATTERNS entry."""
+    flags = {v.face: v.flags() for v in faces}
+    if len(flags) != 6 or any(f is None for f in flags.values()):
+        return None
+    for pattern, (wrong, words) in PATTERNS.items():
+        if all(flags[f] == wrong.get(f, (False, False, False)) for f in range(6)):
+            return pattern, words, set(wrong)
+    return None
+
+
 # ---- results ---------------------------------------------------------------
 
 @dataclass
@@ -97,6 +132,7 @@ class FaceVerdict:
     share: float = 0.0              # directions the best candidate explains
     crash: str | None = None        # the input that crashed, when it kept the face from being analysed
     example: str = ""               # for a face no candidate explains: one direction, its (u, v) and the recovered one
+    affine: "AffineMap | None" = None   # the (u, v) read back without a model, when it explains the face
 
     @property
     def analysed(self) -> bool:
@@ -104,8 +140,22 @@ class FaceVerdict:
 
     @property
     def correct(self) -> bool:
+        if self.affine is not None:
+            return self.analysed and self.sampled == self.face and not self.affine.orientation_ids and self.affine.kind is None
         return (self.analysed and self.sampled == self.face and self.candidate is not None
                 and not self.candidate.ids and not self.candidate.by_length)
+
+    def flags(self) -> tuple[bool, bool, bool] | None:
+        """(swap, flip u, flip v) when the face's only mistakes are its orientation."""
+        if not self.analysed or self.sampled != self.face:
+            return None
+        if self.affine is not None:
+            a = self.affine
+            return (a.swap, a.flip_u, a.flip_v) if a.kind is None else None
+        c = self.candidate
+        if c is None or self.share < SHARE or c.remap != "handout" or c.by_length:
+            return None
+        return c.swap, c.flip_u, c.flip_v
 
 
 @dataclass
@@ -131,8 +181,29 @@ class FetchAnalysis:
             out.append(Diagnosis("not-normalized", "The answer changes with the direction's length, or (u, v) do "
                                  "not reach the face's edges: divide the face-plane coordinates by the major "
                                  "component's magnitude m."))
+        pattern = find_pattern(self.faces)
+        if pattern is not None:
+            pid, words, explained = pattern
+            per_face = "; ".join(f"{face_name(v.face)}: " + ", ".join(
+                name for name, on in zip(("uv-swapped", "u-flipped", "v-flipped"), v.flags()) if on)
+                for v in self.faces if v.face in explained)
+            out.append(Diagnosis(pid, f"{words} (per face: {per_face}.)"))
+        # One (u, v) mistake shared by every face read back (an inset, an offset): told once.
+        read_back = [v for v in self.faces if v.analysed and v.affine is not None]
+        kinds = {v.affine.kind for v in read_back}
+        shared = next(iter(kinds)) if (len(kinds) == 1 and len(read_back) >= 2 and None not in kinds
+                                       and len(read_back) == sum(v.analysed for v in self.faces)) else None
+        if shared in ("uv-inset", "uv-offset"):
+            example = read_back[0].affine
+            what = {"uv-inset": "moves (u, v) inward, toward the face's centre",
+                    "uv-offset": "shifts (u, v) by a constant"}[shared]
+            out.append(Diagnosis(shared, f"On every face fetchColor {what}: it reads at {example.words()} "
+                                 f"(on {face_name(read_back[0].face)}; {example.size[0]} x {example.size[1]} "
+                                 f"texels). The handout's (u, v) run from exactly 0 to 1 across the face."))
         for v in self.faces:
             name = face_name(v.face)
+            if pattern is not None and v.face in pattern[2]:
+                continue                 # told once, by the pattern
             if v.crash is not None:
                 out.append(Diagnosis("face-not-analysed", f"Directions toward {name} could not be analysed "
                                      f"(crash at {v.crash}).", face=name))
@@ -146,6 +217,14 @@ class FetchAnalysis:
             if v.sampled != v.face:
                 out.append(Diagnosis("wrong-face", f"Directions toward {name} sample the {face_name(v.sampled)} face.",
                                      face=name))
+            if v.affine is not None:
+                for mistake in v.affine.orientation_ids:
+                    out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
+                kind = v.affine.kind
+                if kind is not None and kind != shared:
+                    out.append(Diagnosis(kind, f"On the {name} face, fetchColor reads at {v.affine.words()} "
+                                         "(read back from your answers) instead of the handout's (u, v).", face=name))
+                continue
             if v.share >= SHARE and v.candidate is not None:
                 for mistake in v.candidate.ids:
                     out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
@@ -171,6 +250,11 @@ class FetchAnalysis:
                 rows.append(f"| {face_name(v.face)} | too few answers ({v.answered}) | | |")
             else:
                 sampled = face_name(v.sampled) if v.sampled is not None else "none"
+                if v.affine is not None:
+                    ids = ", ".join(v.affine.orientation_ids + ([v.affine.kind] if v.affine.kind else [])) or "none"
+                    rows.append(f"| {face_name(v.face)} | {sampled} | {ids} (read back: {v.affine.words()}) | "
+                                f"{v.affine.explained:.0%} |")
+                    continue
                 if v.candidate is not None and v.share >= SHARE:
                     ids = ", ".join(v.candidate.ids + (["divides by |d|, not m"] if v.candidate.by_length else [])) or "none"
                 else:
@@ -224,14 +308,30 @@ def _instrument(fit: Fit) -> tuple[str, TextureModel | None, str]:
                           "back as a face and (u, v). Fix readTexture first.")
 
 
+NOT_READ_BACK = ("fetchColor could not be analysed: readTexture returns the same colour wherever it reads, or "
+                 "crashes on most of a face, so its answers do not tell which face or (u, v) fetchColor asked "
+                 "for. Fix readTexture first.")
+
+
 def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
-    """Face by face, what fetchColor does, read through the fitted readTexture."""
-    kind, model, reason = _instrument(fit)
-    if model is None:
-        return FetchAnalysis(kind, reason)
+    """Face by face, what fetchColor does: through the fitted readTexture
+    when one fits, and otherwise (or where no candidate explains a face) read
+    back without a model (instruments.readback)."""
+    kind, model, _ = _instrument(fit)
     faces = coordinate_faces(FACE_SIZE, FACE_SIZE)
     lookups.set_faces(faces)
-    inst = Instrument(model, faces)
+    calibration: list = []          # computed once, when first needed
+
+    def calibrated():
+        if not calibration:
+            calibration.append(calibrate(lookups, faces))
+        return calibration[0]
+
+    if model is None:
+        if fit.constant or calibrated() is None:
+            return FetchAnalysis("none", NOT_READ_BACK)
+        kind = "read back"
+    inst = Instrument(model, faces) if model is not None else None
     out = FetchAnalysis(kind)
 
     dirs = fibonacci_sphere(6000 if quick else 20_000)
@@ -281,20 +381,48 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
         verdict.sampled = g
         idx = np.flatnonzero(rows)
         best, best_share = None, -1.0
-        for cand in CANDIDATES:
+        for cand in (CANDIDATES if inst is not None else ()):
             ok = inst.explains(np.full(len(idx), g), cand.uv(ref_uv[idx], m_over_len[idx]), values[idx])
             share = float(ok.mean())
             if share > best_share + 1e-12:
                 best, best_share = cand, share
             if share >= 0.999:
                 break
-        verdict.candidate, verdict.share = best, best_share
-        if best_share < SHARE:
+        verdict.candidate, verdict.share = best, max(best_share, 0.0)
+        if best_share >= SHARE:
+            continue
+        # No candidate explains it (or no model): read (u, v) back and fit a map.
+        cal = calibrated()
+        if cal is not None:
+            read_face, read_uv = cal.read_back(values[idx])
+            on_g = read_face == g
+            affine = fit_affine(ref_uv[idx][on_g], read_uv[on_g], cal.size) if on_g.sum() >= SHARE * len(idx) else None
+            if affine is not None and affine.explained >= readback.EXPLAINED and affine.kind != "uv-mismatch":
+                # The read-back map, not the model's best (failed) candidate, describes the face.
+                verdict.affine, verdict.share, verdict.candidate = affine, affine.explained, None
+                continue
+            if affine is not None:
+                verdict.share = max(verdict.share, affine.explained)
+                verdict.example = _read_back_example(dirs, idx, g, ref_uv, read_uv, on_g)
+        if inst is not None and not verdict.example:
             verdict.example = _example(inst, dirs, idx, g, ref_uv, values, best, m_over_len)
 
-    _lengths(lookups, dirs[clear][:: max(1, int(clear.sum()) // 1500)], inst, out)
+    tol = inst.tol if inst is not None else float(tolerance(FACE_SIZE, FACE_SIZE, float(FACE_SIZE + 1)))
+    _lengths(lookups, dirs[clear][:: max(1, int(clear.sum()) // 1500)], tol, out)
     _ties(lookups, inst, out)
     return out
+
+
+def _read_back_example(dirs, idx, g: int, ref_uv, read_uv, on_g) -> str:
+    """One direction in words: the (u, v) the handout gives, and where it was read."""
+    rows = np.flatnonzero(on_g & np.isfinite(read_uv).all(axis=1))
+    if not len(rows):
+        return ""
+    j = rows[len(rows) // 2]
+    i = int(idx[j])
+    d = ", ".join(f"{x:.4g}" for x in dirs[i])
+    return (f"For example fetchColor(Vector3({d})) should read (u, v) = ({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f}) "
+            f"on {face_name(g)}; it read about ({read_uv[j, 0]:.3f}, {read_uv[j, 1]:.3f}).")
 
 
 def recover_uv(inst: Instrument, face: int, answer: np.ndarray, steps: int = 2048):
@@ -360,12 +488,12 @@ FLOAT_TINY, FLOAT_HUGE = 1e-41, 1e39
 SQUARE_HUGE, SQUARE_TINY = 1e155, 1e-170
 
 
-def _lengths(lookups, dirs: np.ndarray, inst: Instrument, out: FetchAnalysis) -> None:
+def _lengths(lookups, dirs: np.ndarray, tol: float, out: FetchAnalysis) -> None:
     base = np.asarray(lookups.fetch(dirs).values, np.float64)
     broken = {}
     for scale in (10.0, FLOAT_TINY, FLOAT_HUGE, SQUARE_HUGE, SQUARE_TINY):
         got = np.asarray(lookups.fetch(dirs * scale).values, np.float64)
-        ok = _consistent(got, base, inst.tol)
+        ok = _consistent(got, base, tol)
         judged = np.isfinite(base).all(axis=1)
         broken[scale] = float(np.mean(~ok[judged])) if judged.any() else 0.0
     if broken[10.0] > 0.1:
@@ -417,19 +545,49 @@ def tie_directions() -> np.ndarray:
     return np.concatenate(out)
 
 
-def _ties(lookups, inst: Instrument, out: FetchAnalysis) -> None:
+def _edge_read(faces: np.ndarray, px: np.ndarray, py: np.ndarray, touched: np.ndarray,
+               column: np.ndarray) -> np.ndarray:
+    """Answers explained by readTexture's own edge behaviour: a read past a
+    touched face's last row lands in the next face's first row of the buffer
+    (faces one above the other, ASSIGNMENT.md), one before its first row in
+    the previous face's last row, in the column that face's u gives
+    (`column` (n, 6): u W per touched face). Not a tie sent astray."""
+    h = FACE_SIZE
+    rows = np.arange(len(faces))
+    out = np.zeros(len(faces), bool)
+    for step, row_ok in ((1, py <= 1.0), (-1, py >= h - 2.0)):
+        k = faces - step                                   # the touched face it would have read past
+        valid = (faces >= 0) & (k >= 0) & (k <= 5) & row_ok
+        kk = np.clip(k, 0, 5)
+        with np.errstate(invalid="ignore"):
+            same_column = np.abs(column[rows, kk] - px) <= 1.5
+        out |= valid & touched[rows, kk] & same_column
+    return out
+
+
+TIE_BATCH = 4   # tie directions per fetch: a crash at one (a read past the face) cannot starve the rest
+
+
+def _ties(lookups, inst: Instrument | None, out: FetchAnalysis) -> None:
     """Ties sent to a face the direction does not touch. An answer counts as
-    right when the fitted readTexture gives it on one of the touched faces at
-    the handout's (u, v): an unclamped readTexture reading into the next face
-    at u = 1 is readTexture's mistake, not a wrong face."""
+    right when it comes from a touched face (or the face fetchColor samples
+    for that face elsewhere), when the fitted readTexture gives it on a
+    touched face at the handout's (u, v), or when readTexture's own edge
+    behaviour explains it (an unclamped read at u = 1 or v = 1 reading into
+    the next face): those are readTexture's mistakes, not a wrong face."""
     dirs = tie_directions()
     verdicts = {v.face: v for v in out.faces if v.analysed}
-    got = lookups.fetch(dirs)
-    values = np.asarray(got.values, np.float64)
-    faces, _, _ = decode_sample_coordinates(values)
+    values = np.full((len(dirs), 3), np.nan)
+    evaluated = np.zeros(len(dirs), bool)
+    for lo in range(0, len(dirs), TIE_BATCH):
+        got = lookups.fetch(dirs[lo:lo + TIE_BATCH])
+        values[lo:lo + TIE_BATCH] = np.asarray(got.values, np.float64)
+        evaluated[lo:lo + TIE_BATCH] = np.asarray(got.evaluated, bool)
+    faces, px, py = decode_sample_coordinates(values)
     a = np.abs(dirs)
     m = a.max(axis=1)
     touched = np.zeros((len(dirs), 6), bool)
+    column = np.full((len(dirs), 6), np.nan)
     explained = np.zeros(len(dirs), bool)
     for axis in range(3):
         at_max = a[:, axis] == m
@@ -440,6 +598,7 @@ def _ties(lookups, inst: Instrument, out: FetchAnalysis) -> None:
             d = dirs[rows]
             k = 2 * axis + (d[:, axis] < 0)
             uv = face_uv(d, k)
+            column[rows, k] = np.clip(uv[:, 0] * FACE_SIZE, 0, FACE_SIZE - 1)
             m_over_len = np.abs(d).max(axis=1) / np.linalg.norm(d, axis=1)
             # As fetchColor treats that face elsewhere: its (u, v) mistake and
             # the face it samples instead, so a wrong face or a flip is not
@@ -449,10 +608,12 @@ def _ties(lookups, inst: Instrument, out: FetchAnalysis) -> None:
                 v = verdicts.get(int(f))
                 g = np.full(int(sel.sum()), v.sampled if v is not None and v.sampled is not None else f)
                 cand = v.candidate if v is not None and v.candidate is not None and v.share >= SHARE else Candidate()
-                explained[rows[sel]] |= inst.explains(g, cand.uv(uv[sel], m_over_len[sel]), values[rows[sel]])
+                if inst is not None:
+                    explained[rows[sel]] |= inst.explains(g, cand.uv(uv[sel], m_over_len[sel]), values[rows[sel]])
                 if v is not None and v.sampled is not None:
                     touched[rows[sel], v.sampled] = True
-    answered = np.asarray(got.evaluated, bool) & (faces >= 0)
+    explained |= _edge_read(faces, px, py, touched, column)
+    answered = evaluated & (faces >= 0)
     wrong = answered & ~explained & ~touched[np.arange(len(dirs)), np.maximum(faces, 0)]
     if wrong.sum() >= max(1, 0.1 * answered.sum()):
         i = int(np.flatnonzero(wrong)[0])

@@ -3,8 +3,11 @@
 Nothing inside the worker is believed (a submission shares its address
 space): each timed pass is the CPU time the kernel charged to the worker
 process, read from outside (grader.worker.process.process_cpu_ns), over fresh
-random directions, and the colours of every timed pass are compared with the
-reference, so skipping work while timed fails. CPU time rather than wall
+random directions; the timed colours are compared with the same code's
+untimed answers to the same directions (skipping work while timed fails:
+timed-output-wrong), and those untimed answers are judged through the
+student's own readTexture (a cheap path on the timing faces fails:
+timing-faces-wrong). CPU time rather than wall
 time: other processes on a loaded machine do not change it. The protocol's
 own cost (reading directions, writing colours) is measured on a library
 whose lookups do nothing and taken off both sides."""
@@ -16,17 +19,18 @@ from . import Needs, check
 from .context import CheckContext, failure_diagnoses
 from .directions import random_directions
 from .read_texture import ReadTextureFinding, read_texture
-from .sweeps import SweepFinding, fetch_sweep
+from .sweeps import WORKING, SweepFinding, fetch_sweep
 
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
 ROUNDS = 5          # interleaved rounds: student, reference, null library; fresh directions each
 MAX_ROUNDS = 15     # more while the ratio is near the limit: each side's fastest round settles with more
 PASS_LOOKUPS = 50_000
 TIMED_FACE = 256        # texels per side of the smooth timing faces
-TIMED_SLACK = 0.1       # timed passes may match this much less often than the sweep did
+TIMED_SLACK = 0.1       # the timing faces may be judged right this much less often than the sweep
+TIMED_DIFFER = 0.01     # timed answers may differ from the untimed ones on this share (none, for deterministic code)
+JUDGED = 5_000          # directions per pass judged (and compared timed against untimed)
 # Each side's time is its fastest round: on a shared machine noise only ever
 # adds time, so the minimum is the estimate least moved by other processes.
-SWEEP_NEEDED = 0.5  # share of sweep directions right before speed is scored (a face or two wrong still times)
 WITHIN = 8.0        # the rubric's `within` overrides this (its comment says why 8)
 
 
@@ -40,9 +44,9 @@ def baseline_library():
 
 
 # Returning black is fast: speed only means something for a lookup that works.
-@check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.fraction >= SWEEP_NEEDED,
+@check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.works,
                        why=f"speed is scored once fetchColor matches the reference on at least "
-                           f"{SWEEP_NEEDED:.0%} of the sweep directions."), read_texture))
+                           f"{WORKING:.0%} of the sweep directions."), read_texture))
 def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
           texture: ReadTextureFinding | None = None) -> None:
     """fetchColor runs within a few times the reference's time per lookup."""
@@ -52,27 +56,26 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     from ..cubemap.directions import texel_directions
     from ..worker.lookups import open_lookups
     from ..worker.native import null_library
-    from .compare import compare, tie_alternatives
+    from .compare import tolerance
+    from .instruments import own_read
     result.output = ""
     # Smooth faces (colour = direction): one that returns black or stale
-    # colours does not match.
-    cube = reference.CubeMap(0.5 + 0.5 * texel_directions(TIMED_FACE))
-    cube = texture.instrument(cube) if texture is not None else cube
-    # Judged as the sweep judges, through the student's own readTexture: a
-    # lookup that takes a cheaper path on these faces (it can tell them by
-    # their size or colours) no longer matches. With a 1% tolerance, the
-    # nearest texel on 256 x 256 faces only, 10x slower elsewhere, got 5 / 5.
-    filter, slack = texture.judging_filter() if texture is not None else ("bilinear", 1.01)
-    timed_tol = timed_tolerance(slack)
+    # colours does not match. The untimed answers to each pass's first
+    # JUDGED directions are judged as the sweep judges, through the student's
+    # own readTexture (instruments.own_read): a lookup that takes a cheaper
+    # path on these faces (it can tell them by their size or colours) no
+    # longer matches. The timed answers are compared with those untimed ones.
+    cube_faces = (0.5 + 0.5 * texel_directions(TIMED_FACE)).astype(np.float32)
+    tol = float(tolerance(TIMED_FACE, TIMED_FACE, 1.0))
     within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
-    ctx.lookups.set_faces(cube.faces)
+    ctx.lookups.set_faces(cube_faces)
     mode = dict(sandbox=getattr(ctx.lookups, "sandboxed", None),
                 allow_unsafe=getattr(ctx.lookups, "allow_unsafe", False))
     sub_ns, ref_ns, null_ns = [], [], []
-    matched = total = 0
+    right = agree = total = 0
     with open_lookups(baseline_library(), **mode) as base, open_lookups(null_library(), **mode) as null:
-        base.set_faces(cube.faces)
-        null.set_faces(cube.faces)
+        base.set_faces(cube_faces)
+        null.set_faces(cube_faces)
         for round in range(MAX_ROUNDS):
             if len(sub_ns) >= ROUNDS:
                 estimate = (min(sub_ns) - min(null_ns)) / max(min(ref_ns) - min(null_ns), 1e-9)
@@ -89,11 +92,15 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                 result.output = f"fetchColor could not be timed: {timed.failure.describe()}"
                 result.diagnoses = failure_diagnoses([timed.failure])
                 return
-            acceptable = np.concatenate([cube.fetch(dirs, filter)[:, None, :],
-                                         tie_alternatives(cube, dirs, filter)], axis=1)
-            cmp = compare(timed.values[0], acceptable, timed_tol)
-            matched += int(cmp.ok.sum())
-            total += len(dirs)
+            judged = dirs[:JUDGED]
+            untimed = np.asarray(ctx.lookups.fetch(judged).values, np.float64)
+            timed_values = np.asarray(timed.values[0], np.float64)[:JUDGED]
+            right += int(own_read.judge(ctx.lookups, judged, untimed, tol, (TIMED_FACE, TIMED_FACE), texels=cube_faces,
+                                        texture_mismatch=texture.mismatch if texture is not None else 0.0).ok.sum())
+            with np.errstate(invalid="ignore"):
+                same = (np.abs(timed_values - untimed) <= tol).all(axis=1) | (np.isnan(timed_values).all(axis=1) & np.isnan(untimed).all(axis=1))
+            agree += int(same.sum())
+            total += len(judged)
             sub_ns.append(timed.ns_per_lookup())
             # The student's worker is stopped while the others are timed:
             # a thread of its own left thrashing memory cannot slow them.
@@ -107,15 +114,26 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                 raise RuntimeError("the reference or the null library could not be timed")
             if len(sub_ns) >= 3 and min(sub_ns) > 3 * within * min(ref_ns):
                 break   # clearly slow: more rounds would only cost the student's time budget
-    timed_fraction = matched / total
-    result.metrics.update(timed_match=timed_fraction)
-    if timed_fraction < sweep.fraction - TIMED_SLACK:
+    right_fraction, agree_fraction = right / total, agree / total
+    result.metrics.update(timed_match=min(right_fraction, agree_fraction), timing_faces_match=right_fraction,
+                          timed_agrees_with_untimed=agree_fraction)
+    if agree_fraction < 1.0 - TIMED_DIFFER:
         result.status, result.fraction = FAILED, 0.0
-        result.output = (f"While timed, fetchColor matched the reference on {timed_fraction:.1%} of "
-                         f"{total} random directions, against {sweep.fraction:.1%} in the sweep: the time of "
-                         "lookups that do not work does not count.")
+        result.output = (f"While timed, fetchColor gave other colours than it gives untimed for the same directions "
+                         f"on {1 - agree_fraction:.1%} of {total} random directions: the time of lookups that skip "
+                         "work while timed does not count.")
         result.diagnoses = [Diagnosis("timed-output-wrong",
-                                      f"Timed lookups matched the reference on {timed_fraction:.1%} of directions "
+                                      f"Timed lookups differ from the same code's untimed answers on "
+                                      f"{1 - agree_fraction:.1%} of directions.")]
+        return
+    if right_fraction < sweep.fraction - TIMED_SLACK:
+        result.status, result.fraction = FAILED, 0.0
+        result.output = (f"On the timing faces ({TIMED_FACE} x {TIMED_FACE} texels), fetchColor matched what your own "
+                         f"readTexture gives at the handout's face and (u, v) on {right_fraction:.1%} of {total} random "
+                         f"directions, against {sweep.fraction:.1%} in the sweep: the time of lookups that do not "
+                         "work there does not count.")
+        result.diagnoses = [Diagnosis("timing-faces-wrong",
+                                      f"On the timing faces fetchColor is right on {right_fraction:.1%} of directions "
                                       f"(the sweep: {sweep.fraction:.1%}).")]
         return
     # Each side's time is its fastest round (noise only adds time), less the
@@ -140,14 +158,6 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     if ratio > within:
         result.status, result.fraction = FAILED, 0.0
         result.diagnoses = [Diagnosis("slow", f"fetchColor takes {ratio:.1f}x the reference's time per lookup (limit {within:g}x).")]
-
-
-def timed_tolerance(slack_texels: float) -> float:
-    """Float rounding on the timing faces (colours in [0, 1]), plus the
-    sweep's position slack in texels: on these faces a texel moves a colour
-    by at most 2 / TIMED_FACE (half the direction's change across it)."""
-    from .compare import tolerance
-    return float(tolerance(TIMED_FACE, TIMED_FACE, 1.0)) + slack_texels * 2.0 / TIMED_FACE
 
 
 STUDY_FACE_SIZE = 64     # the study's bake at this size takes ~1 s once, then is cached

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import reference
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
-from .compare import compare, describe_direction, tie_alternatives, tolerance, worst_cases
+from .compare import describe_direction, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .directions import corners, edges
+from .instruments import own_read
 from .read_texture import ReadTextureFinding, read_texture
+from .sweeps import WORKING, SweepFinding, fetch_sweep
 from ..cubemap.directions import texel_directions
 from ..geometry import face_uv_to_direction
 from .textures import coordinate_faces
@@ -62,23 +63,21 @@ def border_and_interior(size: int = FACE_SIZE, per_face: int = 64, seed: int = 7
     return border, interior
 
 
-def seam_only(lookups, cube, filter: str, tol) -> tuple[bool, int, int]:
+def seam_only(lookups, tol) -> tuple[bool, int, int]:
     """(wrong only near the edges, border directions wrong, border directions
-    judged): every direction two texels or more inside a face matches the
-    reference, and some within a texel of the border do not. Rows where the
-    fitted readTexture reads past the faces (NaN expected) are not judged; a
-    crash says nothing about where the mistake is (other checks report it)."""
+    judged): every direction two texels or more inside a face matches what
+    the student's own readTexture gives at the reference's (u, v), and some
+    within a texel of the border do not. A crash says nothing about where the
+    mistake is (other checks report it)."""
     border, interior = border_and_interior()
     results = []
     for dirs in (border, interior):
         outcome = lookups.fetch(dirs)
-        expected = cube.fetch(dirs, filter)
-        judged = np.isfinite(expected).all(axis=1)
-        if outcome.failures or not outcome.evaluated[judged].all():
+        if outcome.failures or not outcome.evaluated.all():
             return False, 0, 0
-        acceptable = np.concatenate([expected[:, None], tie_alternatives(cube, dirs, filter)], axis=1)
-        ok = compare(outcome.values, acceptable, tol).ok
-        results.append((int((judged & ~ok).sum()), int(judged.sum())))
+        verdict = own_read.judge(lookups, dirs, outcome.values, tol, (FACE_SIZE, FACE_SIZE))
+        judged = ~verdict.unreadable
+        results.append((int((judged & ~verdict.ok).sum()), int(judged.sum())))
     (border_bad, border_judged), (interior_bad, _) = results
     return interior_bad == 0 and border_bad > 0, border_bad, border_judged
 
@@ -94,15 +93,20 @@ def edge_pairs(k: int = 8, offset: float = 1e-7):
     return a, b, np.repeat(np.arange(12), k)
 
 
-@check(requires=(read_texture,))
-def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> None:
+# A lookup that returns black never crashes: robustness, like speed, is
+# scored only for a lookup that works. It still runs, so the crashes and NaNs
+# it finds are named.
+@check(requires=(read_texture, fetch_sweep))
+def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding, sweep: SweepFinding) -> None:
     """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
-    # Texels that encode their position, so `slack` (texel units, when
-    # readTexture is wrong) means the same here as in the sweeps.
-    cube = texture.instrument(reference.CubeMap(coordinate_faces(FACE_SIZE, FACE_SIZE)))
-    ctx.lookups.set_faces(cube.faces)
-    filter, slack = texture.judging_filter()
-    tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0) + slack
+    # Texels that encode their position; every answer judged through the
+    # student's own readTexture at the reference's face and (u, v)
+    # (instruments.own_read): no slack, whether or not readTexture fits a model.
+    size = (FACE_SIZE, FACE_SIZE)
+    texels = coordinate_faces(FACE_SIZE, FACE_SIZE)
+    ctx.lookups.set_faces(texels)
+    trust = dict(texels=texels, texture_mismatch=texture.mismatch)
+    tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0)
     parts, diagnoses = [], []
 
     # 1. Degenerate directions: only crashing is wrong.
@@ -111,7 +115,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     parts.append(("zero, NaN and infinite directions do not crash", len(degenerate), int(outcome.evaluated.sum())))
     diagnoses += failure_diagnoses(outcome.failures)
 
-    # 2. Extreme but valid directions: finite and equal to the reference.
+    # 2. Extreme but valid directions: finite and what a correct fetchColor gives.
     extreme = extreme_directions()
     outcome = ctx.lookups.fetch(extreme)
     diagnoses += failure_diagnoses(outcome.failures)
@@ -120,42 +124,48 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
         # The cause (float conversion, a squared length, a division by the
         # length) is named by its own diagnosis beside this one; here only what happened.
         diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero."))
-    expected = np.concatenate([cube.fetch(extreme, filter)[:, None], tie_alternatives(cube, extreme, filter)], axis=1)
-    cmp = compare(outcome.values, expected, tol)
-    parts.append(("tiny and huge directions give the reference colour", len(extreme), int(cmp.ok.sum())))
+    verdict = own_read.judge(ctx.lookups, extreme, outcome.values, tol, size, **trust)
+    parts.append(("tiny and huge directions give the reference colour", len(extreme), int(verdict.ok.sum())))
     group = "tiny and huge directions"
-    result.mismatches += worst_cases(cmp, lambda i: describe_direction(extreme[i]), outcome.values, expected[:, 0],
-                                     group=group, face_size=(FACE_SIZE, FACE_SIZE))
-    result.mismatch_counts[group] = len(cmp.failures)
+    result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), outcome.values, verdict.expected,
+                                     group=group, face_size=size)
+    result.mismatch_counts[group] = len(verdict.failures)
 
     # 3. Ties moved by one ulp: either touching face is right.
     ties = ulp_moved(np.concatenate([corners(), edges(4)]))
     outcome = ctx.lookups.fetch(ties)
     diagnoses += failure_diagnoses(outcome.failures)
-    expected = np.concatenate([cube.fetch(ties, filter)[:, None], tie_alternatives(cube, ties, filter)], axis=1)
-    cmp = compare(outcome.values, expected, tol)
-    parts.append(("edges and corners moved by one ulp", len(ties), int(cmp.ok.sum())))
+    verdict = own_read.judge(ctx.lookups, ties, outcome.values, tol, size, **trust)
+    parts.append(("edges and corners moved by one ulp", len(ties), int(verdict.ok.sum())))
 
     # Where the answers are wrong: only within a texel of the cube's edges?
-    # (On the position-encoding cube, before it is replaced below.)
-    near_edges_only, border_bad, border_judged = seam_only(ctx.lookups, cube, filter, tol)
+    near_edges_only, border_bad, border_judged = seam_only(ctx.lookups, tol)
     seam_hint = (f" Away from the edges your colours match the reference: only directions within one texel of a "
                  f"face's border are wrong ({border_bad} of {border_judged} tried there). Look at what happens to "
                  "(u, v) at the face's border: the clamp, the rounding, or which face an edge direction goes to."
                  if near_edges_only else "")
 
     # 4. Continuity: on a continuous environment (each texel holds the
-    # direction through it), the jump across each edge is no larger than the
-    # reference's own. A wrong readTexture may add up to one texel's step.
-    smooth = texture.instrument(reference.CubeMap(0.5 + 0.5 * texel_directions(FACE_SIZE)))
-    ctx.lookups.set_faces(smooth.faces)
-    step = float(np.abs(np.diff(smooth.faces, axis=2)).max()) if slack else 0.0
+    # direction through it), the jump across each edge is no larger than a
+    # correct fetchColor's over the same readTexture: the student's own
+    # readTexture at the reference's (face, u, v) either side of the edge.
+    smooth = (0.5 + 0.5 * texel_directions(FACE_SIZE)).astype(np.float32)
+    ctx.lookups.set_faces(smooth)
+    trust = dict(texels=smooth, texture_mismatch=texture.mismatch)
+    smooth_tol = tolerance(FACE_SIZE, FACE_SIZE, 1.0)
     a, b, edge = edge_pairs()
     out_a, out_b = ctx.lookups.fetch(a), ctx.lookups.fetch(b)
-    ref_jump = np.abs(smooth.fetch(a, filter) - smooth.fetch(b, filter)).max(axis=1)
+    judged_a = own_read.judge(ctx.lookups, a, out_a.values, smooth_tol, size, **trust)
+    judged_b = own_read.judge(ctx.lookups, b, out_b.values, smooth_tol, size, **trust)
     with np.errstate(invalid="ignore"):
+        ref_jump = np.abs(judged_a.expected - judged_b.expected).max(axis=1)
         sub_jump = np.abs(out_a.values - out_b.values).max(axis=1)
-    bad = ~(sub_jump <= ref_jump + 2 * tolerance(FACE_SIZE, FACE_SIZE, 1.0) + 2 * step)
+    # Both sides what a correct fetchColor gives (a readTexture that jumps at
+    # a texel boundary may jump at the float-level (u, v) difference), or a
+    # jump no larger than a correct fetchColor's. Where the student's
+    # readTexture crashes there is nothing to compare with: the pair is not
+    # earned (NaN fails).
+    bad = ~(judged_a.ok & judged_b.ok) & ~(sub_jump <= ref_jump + 2 * smooth_tol)
     bad_edges = sorted({int(e) for e in edge[bad]})
     parts.append(("no seam larger than the reference's at the 12 edges", 12, 12 - len(bad_edges)))
     if bad_edges:
@@ -171,4 +181,8 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     result.output = "\n".join(table)
     if ok < total:
         result.status = FAILED
+    if not sweep.works:
+        result.status, result.fraction = FAILED, 0.0
+        result.output = (f"Robustness is scored once fetchColor matches the reference on at least {WORKING:.0%} of "
+                         f"the sweep directions (yours: {sweep.fraction:.0%}). What was found:\n\n" + result.output)
 

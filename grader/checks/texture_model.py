@@ -409,8 +409,8 @@ def _edge_variants(model: TextureModel):
 
 MISTAKE_IDS = ("nearest-neighbor", "weights-swapped", "constant-weights", "half-texel-offset", "texel-offset",
                "truncation-of-negatives", "unclamped-edge", "wrapped-edge", "scaled-by-size-minus-one",
-               "scaled-by-size-plus-one", "rows-flipped", "columns-flipped", "u-flipped", "v-flipped",
-               "uv-swapped", "width-height-swapped")
+               "scaled-by-size-plus-one", "rows-flipped", "columns-flipped", "texture-u-flipped",
+               "texture-v-flipped", "texture-uv-swapped", "width-height-swapped")
 
 
 def mistake_ids(model: TextureModel) -> list[str]:
@@ -441,12 +441,13 @@ def mistake_ids(model: TextureModel) -> list[str]:
         ids.append("rows-flipped")
     if model.x.flip == "index":
         ids.append("columns-flipped")
+    # readTexture's own ids: u-flipped and the like are fetchColor's (one id, one meaning).
     if model.x.flip == "coordinate":
-        ids.append("u-flipped")
+        ids.append("texture-u-flipped")
     if model.y.flip == "coordinate":
-        ids.append("v-flipped")
+        ids.append("texture-v-flipped")
     if any(a.source == "other" for a in axes):
-        ids.append("uv-swapped")
+        ids.append("texture-uv-swapped")
     if any(a.size == "other" for a in axes):
         ids.append("width-height-swapped")
     return ids

@@ -540,6 +540,7 @@ def check_fetch_sweep(ctx: Context) -> dict:
                   + "\n".join(table) + "\n\nWorst cases:\n\n" + "\n".join(lines))
     else:
         output = f"All {total} directions match the reference.\n\n" + "\n".join(table)
+    ctx.sweep_fraction = fraction      # robustness is scored only for a lookup that works (as the grader's)
     return {"fraction": fraction, "diagnoses": unique(diagnoses), "output": output, "cases": total, "matched": matched}
 
 
@@ -803,7 +804,14 @@ def check_stability(ctx: Context) -> dict:
     total = sum(n for _, n, _ in parts)
     passed = sum(k for _, _, k in parts)
     table = ["| case | tried | passed |", "|---|---:|---:|"] + [f"| {name} | {n} | {k} |" for name, n, k in parts]
-    return {"fraction": passed / total, "diagnoses": unique(diagnoses), "output": "\n".join(table + ([""] + lines if lines else []))}
+    output = "\n".join(table + ([""] + lines if lines else []))
+    sweep = getattr(ctx, "sweep_fraction", 1.0)
+    if sweep < 0.5:
+        # As the grader: robustness needs a lookup that works (black never crashes).
+        return {"fraction": 0.0, "diagnoses": unique(diagnoses),
+                "output": f"Robustness is scored once fetchColor matches the reference on at least 50% of the sweep "
+                          f"directions (yours: {sweep:.0%}). What was found:\n\n" + output}
+    return {"fraction": passed / total, "diagnoses": unique(diagnoses), "output": output}
 
 
 def srgb(c: float) -> float:

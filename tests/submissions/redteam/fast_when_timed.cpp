@@ -1,4 +1,4 @@
-// About ten times slower than the reference, except on the speed check's 256 x 256 faces (told by their size), where it takes the nearest texel: within the old 1% tolerance on those smooth faces, it got 5 / 5. Verdict: speed fails with timed-output-wrong (timed colours are judged through the student's own readTexture, as the sweep judges them).
+// About ten times slower than the reference, except on the speed check's 256 x 256 faces (told by their size), where it takes the nearest texel: within the old 1% tolerance on those smooth faces, it got 5 / 5. Verdict: speed fails with timing-faces-wrong (the answers on the timing faces are judged through the student's own readTexture, as the sweep judges them).
 #include "EnvironmentMap.h"
 
 #include <algorithm>

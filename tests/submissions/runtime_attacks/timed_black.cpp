@@ -1,7 +1,7 @@
 // timed_black.cpp - issue 11 attack "forged speed (a)": a lookup ten times
 // slower than it needs to be that returns black on the 256 x 256 faces only
-// the speed check uses. Before: 5/5 for speed. Verdict now: the timed colours
-// are compared with the reference: timed-output-wrong.
+// the speed check uses. Before: 5/5 for speed. Verdict now: the answers on
+// the timing faces are judged as the sweep judges them: timing-faces-wrong.
 #include "EnvironmentMap.h"
 
 #include <cmath>

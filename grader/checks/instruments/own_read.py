@@ -1,0 +1,146 @@
+"""fetchColor judged through the submission's own readTexture, live.
+
+A correct fetchColor over *this* readTexture returns the student's own
+readTexture at the reference's face and (u, v) (ASSIGNMENT.md's table). So
+each judged direction's answer is compared with the student's readTexture
+called directly at that face and (u, v): no model of readTexture is needed,
+and nothing depends on whether one fits, so being hard to model buys nothing
+(issue 18). Only float-level differences are allowed: the colour tolerance
+of float rounding (compare.tolerance) and, where readTexture jumps at a texel
+boundary, its answer at (u, v) moved by FLOAT_STEP; at ties, every face the
+direction touches. No texel slack anywhere.
+
+Where the student's readTexture crashes (or is never answered) at the
+reference's (face, u, v), a correct fetchColor would crash too: the
+direction is not earned (readTexture's own check names the cause), so a
+student never gains by crashing.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ... import reference
+from ..compare import compare, tied_face_uv
+
+# A fetchColor computing (u, v) in float (or in another order) differs from
+# the reference's by a few float ulps of 1: 4 * 2^-24.
+FLOAT_STEP = 4.0 * 2.0 ** -24
+MOVES = tuple((du, dv) for du in (-1, 0, 1) for dv in (-1, 0, 1) if (du, dv) != (0, 0))
+# readTexture called on its own can tell the judge's calls from fetchColor's
+# (a flag set in fetchColor) and the judge's faces from the read_texture
+# check's (their size). One the read_texture check found (nearly) the
+# handout's on some face size, that differs from the handout's on most of
+# the judge's faces, is not believed there: fetchColor is judged against the
+# handout's readTexture instead. Honest mistakes differ about as often on
+# every size (nearest neighbour on all of them), or rarely (an edge rule).
+HONEST_SOMEWHERE = 0.05   # the read_texture check's best face size differs on at most this share
+DIFFERS_HERE = 0.5        # ... and the judge's faces on more than this
+
+
+@dataclass
+class Judgement:
+    """fetchColor's answers against the student's own readTexture."""
+    ok: np.ndarray            # (n,) the answer is what a correct fetchColor gives over this readTexture
+    expected: np.ndarray      # (n, 3) the student's readTexture at the reference's face and (u, v) (NaN: crashed)
+    unreadable: np.ndarray    # (n,) the student's readTexture crashed (or gave NaN) on every face the direction touches
+    error: np.ndarray         # (n,) distance to the nearest acceptable colour
+    context_dependent: bool = False   # judged against the handout's readTexture: the live one was not believed
+
+    @property
+    def fraction(self) -> float:
+        return float(self.ok.mean()) if len(self.ok) else 1.0
+
+    @property
+    def failures(self) -> np.ndarray:
+        """Indices of mismatches, worst first (as compare.Comparison)."""
+        bad = np.flatnonzero(~self.ok)
+        return bad[np.argsort(-np.nan_to_num(self.error[bad], nan=np.inf), kind="stable")]
+
+
+def _regions(uv: np.ndarray, width: int, height: int) -> np.ndarray:
+    """0..8: which of the nine parts of the face (interior, four borders a
+    texel wide, four corners) each (u, v) lies in. Each part is its own
+    readTexture batch: crashes along one border (a missing clamp) cannot stop
+    the rest of the face from being read (the runner gives a batch up after
+    a few failures)."""
+    part = []
+    for c, n in ((uv[:, 0], width), (uv[:, 1], height)):
+        with np.errstate(invalid="ignore"):
+            part.append(np.where(c < 1.0 / n, 0, np.where(c > 1.0 - 1.0 / n, 2, 1)))
+    return 3 * part[0] + part[1]
+
+
+def read_at(lookups, faces: np.ndarray, uv: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """(n, 3) the student's readTexture on face faces[i] at uv[i] (NaN where it
+    failed or no face): one batch per face and part of the face, interior first."""
+    out = np.full((len(uv), 3), np.nan)
+    rows = np.flatnonzero((faces >= 0) & np.isfinite(uv).all(axis=1))
+    if not len(rows):
+        return out
+    region = _regions(uv[rows], *size)
+    for f in np.unique(faces[rows]):
+        for r in (4, 1, 3, 5, 7, 0, 2, 6, 8):          # the interior, then the borders, then the corners
+            sel = rows[(faces[rows] == f) & (region == r)]
+            if len(sel):
+                got = lookups.read_texture(int(f), uv[sel])
+                values = np.asarray(got.values, np.float64)
+                values[~np.asarray(got.evaluated, bool)] = np.nan
+                out[sel] = values
+    return out
+
+
+def _handout(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """The handout's readTexture (the reference's bilinear) at faces[i], uv[i]; NaN where no face."""
+    out = np.full((len(uv), 3), np.nan)
+    rows = faces >= 0
+    if rows.any():
+        out[rows] = reference.CubeMap(texels).read_texture(faces[rows], uv[rows], "bilinear")
+    return out
+
+
+def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, int],
+          texels: np.ndarray | None = None, texture_mismatch: float | None = None) -> Judgement:
+    """fetchColor's answers `values` (n, 3) for `dirs` (n, 3) against the
+    student's readTexture, on the faces currently set (of `size` (W, H)).
+    With `texels` (those faces) and `texture_mismatch` (the share of the
+    read_texture check's calls that differed from the handout), a live
+    readTexture that differs far more often here is not believed
+    (HONEST_SOMEWHERE, DIFFERS_HERE)."""
+    dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+    values = np.asarray(values, np.float64).reshape(-1, 3)
+    faces, uv = tied_face_uv(dirs)                     # (n, k) faces, (n, k, 2): the reference's first
+    n, k = faces.shape
+    flat_faces, flat_uv = faces.reshape(-1), uv.reshape(-1, 2)
+    exact = read_at(lookups, flat_faces, flat_uv, size).reshape(n, k, 3)
+    if texels is not None and texture_mismatch is not None:
+        handout = _handout(texels, flat_faces, flat_uv).reshape(n, k, 3)
+        seen = np.isfinite(exact[:, 0]).all(axis=1)
+        with np.errstate(invalid="ignore"):
+            differs = ~(np.abs(exact[:, 0] - handout[:, 0]) <= tol).all(axis=1)
+        if texture_mismatch <= HONEST_SOMEWHERE and seen.any() and float(differs[seen].mean()) > DIFFERS_HERE:
+            cmp = compare(values, handout, tol)
+            return Judgement(ok=cmp.ok, expected=handout[:, 0], unreadable=np.zeros(n, bool), error=cmp.error,
+                             context_dependent=True)
+    cmp = compare(values, exact, tol)
+    ok, error = cmp.ok.copy(), cmp.error.copy()
+    # Where the answer differs: readTexture may jump at a texel boundary the
+    # float-level difference crosses. Read it there too, for those rows only.
+    retry = np.flatnonzero(~ok & np.isfinite(values).all(axis=1))
+    if len(retry):
+        moved_faces = np.repeat(faces[retry][:, None, :], len(MOVES), axis=1)        # (r, m, k)
+        steps = FLOAT_STEP * np.array(MOVES, np.float64)                             # (m, 2)
+        moved_uv = np.clip(uv[retry][:, None, :, :] + steps[None, :, None, :], 0.0, 1.0)
+        moved = read_at(lookups, moved_faces.reshape(-1), moved_uv.reshape(-1, 2), size)
+        moved = moved.reshape(len(retry), len(MOVES) * k, 3)
+        again = compare(values[retry], moved, tol)
+        ok[retry] = again.ok
+        error[retry] = np.minimum(error[retry], again.error)
+    unreadable = ~np.isfinite(exact).all(axis=2).any(axis=1)
+    return Judgement(ok=ok, expected=exact[:, 0], unreadable=unreadable, error=error)
+
+
+def reference_faces(dirs: np.ndarray) -> np.ndarray:
+    """The face the reference picks for each direction (-1: none)."""
+    return reference.direction_to_face(np.asarray(dirs, np.float64).reshape(-1, 3))[0]

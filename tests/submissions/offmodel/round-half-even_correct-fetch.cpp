@@ -1,0 +1,37 @@
+// Nearest texel by rounding uW - 0.5 half to even (std::nearbyint): the
+// nearest texel except at texel boundaries. fetchColor (float (u, v)) is right.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+#include <cmath>
+
+Color EnvironmentMap::fetchColor(const Vector3& d) const
+{
+    // The face picked by a switch on the major axis; (u, v) in float once the
+    // components are divided by m (float cannot hold every length, a ratio it can).
+    const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+    const double m = std::max(ax, std::max(ay, az));
+    if (!(m > 0) || !std::isfinite(m) || std::isnan(d.x + d.y + d.z))
+        return Color();                 // no face: any colour will do
+    const float x = (float)(d.x / m), y = (float)(d.y / m), z = (float)(d.z / m);
+    const int major = (ax >= ay && ax >= az) ? 0 : (ay >= az ? 1 : 2);
+    float u = 0, v = 0;
+    int face = 0;
+    switch (major) {
+    case 0: face = x > 0 ? FACE_POS_X : FACE_NEG_X; u = 0.5f * (1 + (x > 0 ? z : -z)); v = 0.5f * (1 + y); break;
+    case 1: face = y > 0 ? FACE_POS_Y : FACE_NEG_Y; u = 0.5f * (1 + x); v = 0.5f * (1 + (y > 0 ? z : -z)); break;
+    default: face = z > 0 ? FACE_POS_Z : FACE_NEG_Z; u = 0.5f * (1 + x); v = 0.5f * (1 + (z > 0 ? -y : y)); break;
+    }
+    
+    return readTexture(faceAddress(face), u, v);
+}
+
+// readTexture:begin
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const int x = std::clamp((int)std::nearbyint(u * m_FaceWidth - 0.5), 0, m_FaceWidth - 1);
+    const int y = std::clamp((int)std::nearbyint(v * m_FaceHeight - 0.5), 0, m_FaceHeight - 1);
+    const float* p = addr + 3 * (y * m_FaceWidth + x);
+    return Color(p[0], p[1], p[2]);
+}
+// readTexture:end

@@ -1,0 +1,165 @@
+"""The off-model zoo (tests/submissions/offmodel/): submissions written in
+styles and with mistakes unlike the other zoos (face tables, if-chains,
+float (u, v), a signed major component, OpenGL's table, readTextures no
+model of the family reproduces, an inset, ties behind crashes). Each one's
+truth was written in its sidecar X.json from the code, before grading:
+- causes: the (id, face) the report must name;
+- per_face: true per-face ids a named pattern may also show;
+- symptoms: ids that may appear as consequences;
+- loses / keeps: checks that must lose or keep their points.
+Nothing else may be named. Where readTexture is wrong (its body sits between
+`// readTexture:begin` and `// readTexture:end`), fetchColor's own checks
+score within a point of the same fetchColor over the handout's readTexture.
+
+attack18/ holds issue 18's attacks, graded against their controls.
+
+Measure (any version of the grader):
+    .venv/bin/python -m grader grade --quick tests/submissions/offmodel/*.cpp --out OUT
+    PYTHONPATH=. .venv/bin/python tests/test_offmodel_zoo.py OUT
+"""
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from grader.grade import GradeOptions, grade
+from grader.results import GRADED
+
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole submissions
+
+ZOO = Path(__file__).parent / "submissions" / "offmodel"
+NAMES = sorted(p.stem for p in ZOO.glob("*.cpp"))
+FETCH_CHECKS = ("fetch_sweep", "stability", "speed")   # what judges fetchColor alone
+
+# The handout's readTexture, written independently of every zoo file.
+HANDOUT_READ = """Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const double px = u * m_FaceWidth, py = v * m_FaceHeight;
+    const int x0 = std::clamp((int)px, 0, m_FaceWidth - 1), y0 = std::clamp((int)py, 0, m_FaceHeight - 1);
+    const int x1 = std::min(x0 + 1, m_FaceWidth - 1), y1 = std::min(y0 + 1, m_FaceHeight - 1);
+    const double a = px - (int)px, b = py - (int)py;
+    auto at = [&](int x, int y) { const float* p = addr + 3 * (y * m_FaceWidth + x); return Color(p[0], p[1], p[2]); };
+    return (1 - b) * ((1 - a) * at(x0, y0) + a * at(x1, y0)) + b * ((1 - a) * at(x0, y1) + a * at(x1, y1));
+}
+"""
+READ_BLOCK = re.compile(r"// readTexture:begin\n.*?// readTexture:end\n", re.S)
+
+
+def truth(name: str) -> dict:
+    return json.loads((ZOO / f"{name}.json").read_text())
+
+
+def verdict(name: str, found: set) -> tuple[set, set]:
+    """(missing, false) diagnoses of `found` against the sidecar's truth."""
+    t = truth(name)
+    causes = {(i, f) for i, f in t["causes"]}
+    allowed = causes | {(i, f) for i, f in t["per_face"]}
+    return causes - found, {d for d in found - allowed if d[0] not in t["symptoms"]}
+
+
+def with_handout_read(name: str) -> str | None:
+    """The submission's source with its readTexture replaced by the
+    handout's; None when its readTexture already is the handout's."""
+    src = (ZOO / f"{name}.cpp").read_text()
+    block = READ_BLOCK.search(src)
+    assert block, f"{name}: no readTexture block"
+    if block.group(0).split("\n", 1)[1].rsplit("// readTexture:end", 1)[0] == HANDOUT_READ:
+        return None
+    return READ_BLOCK.sub("// readTexture:begin\n" + HANDOUT_READ.replace("\\", "\\\\") + "// readTexture:end\n", src)
+
+
+def test_every_offmodel_submission_has_its_truth():
+    assert len(NAMES) >= 10 and {p.stem for p in ZOO.glob("*.json")} == set(NAMES)
+    for name in NAMES:
+        assert set(truth(name)) >= {"causes", "per_face", "symptoms", "loses", "keeps"}, name
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_offmodel_submission_is_diagnosed_exactly(name, tmp_path):
+    result = grade(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
+    assert result.status == GRADED
+    missing, false = verdict(name, {(d.id, d.face) for d in result.diagnoses})
+    assert not missing and not false, f"missing {missing}, false {false}"
+    t, by_name = truth(name), {c.name: c for c in result.checks}
+    assert all(by_name[c].score < by_name[c].max_score for c in t["loses"]), {c: by_name[c].score for c in t["loses"]}
+    assert all(by_name[c].score == by_name[c].max_score for c in t["keeps"]), {c: by_name[c].score for c in t["keeps"]}
+
+
+def fetch_points(result) -> float:
+    return sum(c.score for c in result.checks if c.name in FETCH_CHECKS)
+
+
+# readTextures that crash on a whole row: the worker runner stops narrowing
+# failures down after MAX_FAILED_RUNS (grader/worker/runner.py) and counts
+# whole batches of fetchColor calls as failed (issue 19 item 6, the worker's
+# side, not the checks'): until it keeps going past a crash, these lose far
+# more than the directions that crash.
+CRASH_CLIFF = {"strict-ties_unclamped-x1", "unclamped-top-row_correct-fetch"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(reason="the worker's failed-run budget", strict=False))
+                                  if n in CRASH_CLIFF else n for n in NAMES if with_handout_read(n) is not None])
+def test_a_wrong_read_texture_costs_fetch_color_at_most_a_point(name, tmp_path):
+    control = tmp_path / "control" / "EnvironmentMap.cpp"
+    control.parent.mkdir()
+    control.write_text(with_handout_read(name))
+    theirs = grade(ZOO / f"{name}.cpp", tmp_path / "a", GradeOptions(quick=True))
+    handout = grade(control.parent, tmp_path / "b", GradeOptions(quick=True))
+    assert abs(fetch_points(theirs) - fetch_points(handout)) <= 1.0, \
+        ({c.name: c.score for c in theirs.checks}, {c.name: c.score for c in handout.checks})
+
+
+# ---- issue 18: being hard to model buys nothing ------------------------------
+
+ATTACKS = ZOO / "attack18"
+
+
+def test_an_unfittable_read_texture_buys_fetch_color_no_points(tmp_path):
+    """readTexture exact except at one point, fetchColor half a texel off:
+    no more than the same fetchColor over the handout's readTexture (before:
+    85.94 against 44.82 in quick mode)."""
+    attack = grade(ATTACKS / "half-texel-fetch_one-point-read.cpp", tmp_path / "a", GradeOptions(quick=True))
+    control = grade(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
+    assert "No lookup the grader can model" in {c.name: c for c in attack.checks}["read_texture"].output
+    assert attack.score <= control.score, (attack.score, control.score)
+    assert fetch_points(attack) <= fetch_points(control) + 0.1
+
+
+def test_a_read_texture_that_answers_the_judge_differently_buys_nothing(tmp_path):
+    """readTexture, called on its own on the judges' face sizes (not from
+    fetchColor), shifts u as fetchColor does: the live judge would see a
+    fetchColor "right over its own readTexture" (71.56 before the guard).
+    The readTexture check found it honest on other sizes, so the live answers
+    are not believed there."""
+    attack = grade(ATTACKS / "direct-call-cheat.cpp", tmp_path / "a", GradeOptions(quick=True))
+    control = grade(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
+    assert "texture-context-dependent" in {d.id for d in attack.diagnoses}
+    assert attack.score <= control.score, (attack.score, control.score)
+
+
+def test_a_cheap_path_on_the_timing_faces_fails_speed_behind_an_unfittable_read_texture(tmp_path):
+    result = grade(ATTACKS / "cheap-timing-faces_one-point-read.cpp", tmp_path, GradeOptions(quick=True))
+    speed = {c.name: c for c in result.checks}["speed"]
+    assert speed.score == 0 and [d.id for d in speed.diagnoses] == ["timing-faces-wrong"], speed.output
+
+
+def exact_share(out: Path) -> tuple[int, int, list[str]]:
+    """(exact, total, lines) for a folder of reports written by
+    `python -m grader grade --quick tests/submissions/offmodel/*.cpp --out OUT`."""
+    exact, lines = 0, []
+    for name in NAMES:
+        data = json.loads((out / name / "results.json").read_text())
+        found = {(d["id"], d.get("face")) for d in data["extra_data"]["diagnoses"]}
+        missing, false = verdict(name, found)
+        exact += not missing and not false
+        lines.append(f"{'exact' if not missing and not false else 'WRONG'}  {name}"
+                     + (f"  missing {sorted(missing, key=str)}" if missing else "")
+                     + (f"  false {sorted(false, key=str)}" if false else ""))
+    return exact, len(NAMES), lines
+
+
+if __name__ == "__main__":
+    import sys
+    exact, total, lines = exact_share(Path(sys.argv[1]))
+    print("\n".join(lines) + f"\nexactly diagnosed: {exact} of {total}")
