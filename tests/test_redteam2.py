@@ -24,7 +24,7 @@ REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
 TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_control", "black_half_a_timed_pass",
           "slow_11x_control", "caller_by_address", "caller_by_flag", "nearest_control", "echo_fetch_answers",
-          "v_flipped_control"}
+          "v_flipped_control", "pays_to_be_believed", "unchecked_tail_of_timed_pass"}
 
 ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 ISOLATION = {"bubblewrap": "bubblewrap", "privilege-drop": "privilege-drop"}
@@ -93,11 +93,21 @@ def test_the_slow_control_is_slow(tmp_path, mode):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="the timed passes' match is pooled over every pass (10% may miss) while "
-                   "the time is the fastest pass: black on half of the second pass halves that pass's time, and an "
-                   "11x lookup measures about 6x, 5 / 5")
 def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
+    """Worked before the verdict rework (the timed match was pooled over the
+    passes, the time the fastest pass: 11x measured 6x); now each pass's
+    timed answers are compared with the same code's untimed ones."""
     (speed,) = graded("black_half_a_timed_pass", tmp_path, mode, only=("speed",)).checks
+    assert speed.status == FAILED and speed.score == 0
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, reason="only the first 5,000 timed answers of each 50,000-lookup pass are compared "
+                   "with anything (speed.JUDGED): black for the rest, counted from the judge's last direct "
+                   "readTexture call, makes an 11x lookup measure about 1.2x, 5 / 5")
+def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
+    (speed,) = graded("unchecked_tail_of_timed_pass", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
 
 
@@ -108,10 +118,11 @@ CHECKS_OF_FETCH = ("read_texture", "fetch_sweep", "stability")
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="readTexture's model is fitted on the grader's direct calls (a face in a "
-                   "window of its own); fetchColor's calls (inside m_Texels) are never seen, so a readTexture "
-                   "that acts half a texel off only on direct calls makes a half-texel fetchColor pass")
 def test_acting_for_the_model_fit_buys_no_points(tmp_path, mode):
+    """Worked before the verdict rework (fetchColor was judged through a model
+    fitted on readTexture's direct calls: 75.96 against 40.26); now it is
+    judged through readTexture called live, and a readTexture honest on the
+    check's sizes but not on the judge's is not believed."""
     attack = graded("fit_on_direct_calls", tmp_path / "attack", mode, only=CHECKS_OF_FETCH)
     control = graded("half_texel_fetch_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH)
     assert by_name(control)["fetch_sweep"].status == FAILED       # the control's fetchColor is wrong
@@ -132,4 +143,18 @@ def test_a_readtexture_that_knows_its_caller_buys_no_points(tmp_path, mode, atta
     readTexture: never more than the same fetchColor over one honest readTexture."""
     a = graded(attack, tmp_path / "attack", mode, only=CHECKS_OF_FETCH + ("renders",))
     c = graded(control, tmp_path / "control", mode, only=CHECKS_OF_FETCH + ("renders",))
+    assert a.score <= c.score
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, reason="the live judge is not believed only when the readTexture check's best face "
+                   "size differs from the handout on at most 5% of calls: a readTexture black on 7% of the "
+                   "check's calls (every size) is believed when, on the judges' 32x32 and 256x256 faces, it "
+                   "answers at 1 - v, as the v-flipped fetchColor reads")
+def test_paying_a_little_readtexture_to_be_believed_buys_no_points(tmp_path, mode):
+    a = graded("pays_to_be_believed", tmp_path / "attack", mode, only=CHECKS_OF_FETCH + ("speed",))
+    c = graded("v_flipped_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH + ("speed",))
+    assert by_name(c)["fetch_sweep"].status == FAILED
+    assert by_name(a)["fetch_sweep"].status == FAILED
     assert a.score <= c.score
