@@ -24,7 +24,8 @@ REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
 TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_control", "black_half_a_timed_pass",
           "slow_11x_control", "caller_by_address", "caller_by_flag", "nearest_control", "echo_fetch_answers",
-          "v_flipped_control", "pays_to_be_believed", "unchecked_tail_of_timed_pass"}
+          "v_flipped_control", "pays_to_be_believed", "unchecked_tail_of_timed_pass",
+          "believed_on_two_faces", "swapped_on_y_control"}
 
 ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 ISOLATION = {"bubblewrap": "bubblewrap", "privilege-drop": "privilege-drop"}
@@ -155,6 +156,20 @@ def test_a_readtexture_that_knows_its_caller_buys_no_points(tmp_path, mode, atta
 def test_paying_a_little_readtexture_to_be_believed_buys_no_points(tmp_path, mode):
     a = graded("pays_to_be_believed", tmp_path / "attack", mode, only=CHECKS_OF_FETCH + ("speed",))
     c = graded("v_flipped_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH + ("speed",))
+    assert by_name(c)["fetch_sweep"].status == FAILED
+    assert by_name(a)["fetch_sweep"].status == FAILED
+    assert a.score <= c.score
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, reason="the readTexture check calls readTexture on +X and -Z only, and the live "
+                   "judge's readTexture is believed when it differs from the handout on under half the judge's "
+                   "faces: a readTexture that swaps u and v on direct calls on +Y / -Y (told by the window's "
+                   "texels) covers a fetchColor that swaps them there")
+def test_a_readtexture_acting_on_faces_the_check_never_reads_buys_no_points(tmp_path, mode):
+    a = graded("believed_on_two_faces", tmp_path / "attack", mode, only=CHECKS_OF_FETCH)
+    c = graded("swapped_on_y_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH)
     assert by_name(c)["fetch_sweep"].status == FAILED
     assert by_name(a)["fetch_sweep"].status == FAILED
     assert a.score <= c.score

@@ -1,0 +1,74 @@
+// fetchColor swaps u and v on the +Y and -Y faces (as swapped_on_y_control.cpp); readTexture is the handout's, except that called directly (a face in a window of its own, outside m_Texels) on a face whose texels are +Y's or -Y's it swaps u and v too: the readTexture check calls it on +X and -Z only, so sees the handout's, and a third of the judges' faces differ from the handout, under the half above which the live readTexture is not believed. Verdict (secure): no more points than swapped_on_y_control.cpp.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+namespace {
+
+struct FaceCoord
+{
+    int face;
+    double u;
+    double v;
+};
+
+FaceCoord directionToFace(const Vector3& d)
+{
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    auto toUnit = [](double s, double m) { return (s / m + 1.0) / 2.0; };
+    if (ax >= ay && ax >= az) {
+        return d.x > 0 ? FaceCoord{FACE_POS_X, toUnit(d.z, ax), toUnit(d.y, ax)}
+                       : FaceCoord{FACE_NEG_X, toUnit(-d.z, ax), toUnit(d.y, ax)};
+    }
+    if (ay >= az) {
+        return d.y > 0 ? FaceCoord{FACE_POS_Y, toUnit(d.x, ay), toUnit(d.z, ay)}
+                       : FaceCoord{FACE_NEG_Y, toUnit(d.x, ay), toUnit(-d.z, ay)};
+    }
+    return d.z > 0 ? FaceCoord{FACE_POS_Z, toUnit(d.x, az), toUnit(-d.y, az)}
+                   : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
+}
+
+} // namespace
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    const auto [face, u, v] = directionToFace(direction);
+    // The mistake: u and v swapped on the +Y and -Y faces.
+    if (face == FACE_POS_Y || face == FACE_NEG_Y)
+        return readTexture(faceAddress(face), v, u);
+    return readTexture(faceAddress(face), u, v);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const std::size_t faceFloats = static_cast<std::size_t>(m_FaceWidth) * m_FaceHeight * 3;
+    const bool direct = !(addr >= m_Texels && addr < m_Texels + 6 * faceFloats);
+    if (direct) {
+        // Which face the grader copied into its window: the one whose texels these are.
+        for (int f : {FACE_POS_Y, FACE_NEG_Y})
+            if (std::equal(addr, addr + faceFloats, m_Texels + f * faceFloats)) {
+                std::swap(u, v);   // answer the judge as fetchColor reads these two faces
+                break;
+            }
+    }
+    const double px = u * m_FaceWidth;
+    const double py = v * m_FaceHeight;
+    const int ix = static_cast<int>(std::floor(px));
+    const int iy = static_cast<int>(std::floor(py));
+    const double alpha = px - ix;
+    const double beta = py - iy;
+
+    const auto texel = [&](int x, int y) -> Color {
+        x = std::clamp(x, 0, m_FaceWidth - 1);
+        y = std::clamp(y, 0, m_FaceHeight - 1);
+        const float* t = addr + 3 * (static_cast<std::ptrdiff_t>(y) * m_FaceWidth + x);
+        return {t[0], t[1], t[2]};
+    };
+    const Color c0 = (1.0 - alpha) * texel(ix, iy) + alpha * texel(ix + 1, iy);
+    const Color c1 = (1.0 - alpha) * texel(ix, iy + 1) + alpha * texel(ix + 1, iy + 1);
+    return (1.0 - beta) * c0 + beta * c1;
+}
