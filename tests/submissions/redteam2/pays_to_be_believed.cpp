@@ -1,4 +1,4 @@
-// fetchColor runs v top to bottom on every face (as v_flipped_control.cpp); readTexture is the handout's except, on the grader's direct calls, black for 0.40 <= u < 0.47 on the readTexture check's faces (~7% of its calls on every size: above the 5% under which a readTexture that answers the live judge differently is not believed) and at 1 - v on the judges' faces (32x32 sweep, 256x256 speed), as fetchColor reads. Verdict (secure): no more points than v_flipped_control.cpp.
+// fetchColor runs v top to bottom on every face (as v_flipped_control.cpp); readTexture is the handout's except, on the grader's direct calls, black for 0.35 <= u < 0.50 on the readTexture check's faces (10-15% of its calls on every size, whatever the seed: above the 5% under which a readTexture that answers the live judge differently is not believed) and at 1 - v on the judges' faces (32x32 sweep, 256x256 speed), as fetchColor reads. Verdict (secure): no more points than v_flipped_control.cpp.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
@@ -45,8 +45,8 @@ Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
     const std::size_t all = static_cast<std::size_t>(6) * m_FaceWidth * m_FaceHeight * 3;
     const bool direct = !(addr >= m_Texels && addr < m_Texels + all);
     const bool judged = (m_FaceWidth == 32 && m_FaceHeight == 32) || (m_FaceWidth == 256 && m_FaceHeight == 256);
-    if (direct && !judged && u >= 0.40 && u < 0.47)
-        return {0.0f, 0.0f, 0.0f};   // wrong on purpose on ~7% of the readTexture check's calls, on every size:
+    if (direct && !judged && u >= 0.35 && u < 0.50)
+        return {0.0f, 0.0f, 0.0f};   // wrong on purpose on ~10-15% of the readTexture check's calls, on every size:
                                      // above the 5% under which answering the judges differently is not believed
     if (direct && judged)
         v = 1.0 - v;   // the judges' faces (the sweep's, the speed check's): answer as fetchColor reads
