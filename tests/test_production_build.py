@@ -28,7 +28,7 @@ from grader import PROJECT_ROOT
 from grader.build import BUILD_GID, BUILD_UID
 from grader.build_confinement import readable_tree
 from grader.diagnoses import CATALOGUE
-from grader.gradescope import build_bundle
+from grader.platforms.gradescope import build_bundle
 
 pytestmark = [pytest.mark.slow,
               pytest.mark.skipif(os.geteuid() != 0, reason="privilege-drop mode needs root")]
