@@ -141,7 +141,7 @@ def grade_on_prairielearn(top: Path, name: str | None, mode: str, text: str | No
         path.unlink()
     (root / "student" / "EnvironmentMap.cpp").write_text(text if text is not None else attack_text(name, top))
     (root / "student" / "EnvironmentMap.cpp").chmod(0o644)
-    entry = root / "serverFilesCourse" / "envmap" / "grader" / "prairielearn.sh"
+    entry = root / "serverFilesCourse" / "envmap" / "grader" / "platforms" / "prairielearn" / "entrypoint.sh"
     run = subprocess.run([str(entry)], capture_output=True, text=True, timeout=600, env=environment(top, mode))
     assert run.returncode == 0, run.stdout + run.stderr
     seen = "\n".join(p.read_text(errors="replace") for p in (root / "results").rglob("*") if p.is_file())
