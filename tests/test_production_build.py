@@ -28,7 +28,7 @@ from grader import PROJECT_ROOT
 from grader.build import BUILD_GID, BUILD_UID
 from grader.build_confinement import readable_tree
 from grader.diagnoses import CATALOGUE
-from grader.gradescope import build_bundle
+from grader.platforms.gradescope import build_bundle
 
 pytestmark = [pytest.mark.slow,
               pytest.mark.skipif(os.geteuid() != 0, reason="privilege-drop mode needs root")]
@@ -141,7 +141,7 @@ def grade_on_prairielearn(top: Path, name: str | None, mode: str, text: str | No
         path.unlink()
     (root / "student" / "EnvironmentMap.cpp").write_text(text if text is not None else attack_text(name, top))
     (root / "student" / "EnvironmentMap.cpp").chmod(0o644)
-    entry = root / "serverFilesCourse" / "envmap" / "grader" / "prairielearn.sh"
+    entry = root / "serverFilesCourse" / "envmap" / "grader" / "platforms" / "prairielearn" / "entrypoint.sh"
     run = subprocess.run([str(entry)], capture_output=True, text=True, timeout=600, env=environment(top, mode))
     assert run.returncode == 0, run.stdout + run.stderr
     seen = "\n".join(p.read_text(errors="replace") for p in (root / "results").rglob("*") if p.is_file())

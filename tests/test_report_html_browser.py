@@ -50,6 +50,7 @@ window.addEventListener("load", () => {
   document.body.setAttribute("data-scripts", document.querySelectorAll("script").length);
   let right = 0;
   for (const cell of document.querySelectorAll("table.checks .pts")) {
+    if (cell.closest("details:not([open])")) continue;   // collapsed: not on the screen
     right = Math.max(right, cell.getBoundingClientRect().right);
   }
   document.body.setAttribute("data-points-right", right);

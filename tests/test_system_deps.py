@@ -192,7 +192,7 @@ PROVIDED_BY = {
     "nm": "base: binutils, which gcc depends on",
     "bash": "base: essential", "true": "base: coreutils (essential)", "sleep": "base: coreutils (essential)",
     "mktemp": "base: coreutils (essential)", "tar": "base: essential",
-    "setpriv": "base: util-linux (essential)",
+    "setpriv": "base: util-linux (essential)", "find": "base: findutils (essential)",
     "git": "base: the clone itself (bench/bench_compare.py archives a commit)",
     "cmake": "optional: tests/test_kit.py skips its CMake build without it",
     "hadolint": "optional: tests/test_prairielearn.py lints the Dockerfile with it when installed",

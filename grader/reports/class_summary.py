@@ -56,6 +56,15 @@ table.checks.points th, table.checks.points td { overflow-wrap: normal; }
 .side-by-side { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 12px; }
 .side-by-side pre { max-height: 24em; overflow: auto; }
 ul.plain { padding-left: 1.2em; margin: .4em 0; }
+/* A phone: each student a block of its own, score and status under the name,
+   so the score is never off to the side of a scrolled table. */
+@media (max-width: 640px) {
+  table.checks.students thead { display: none; }
+  table.checks.students, table.checks.students tbody, table.checks.students tr,
+  table.checks.students td { display: block; width: auto; min-width: 0; text-align: left; }
+  table.checks.students tr { padding: 8px 0; border-bottom: 1px solid var(--border); }
+  table.checks.students td { border: 0; padding: 2px 12px; }
+}
 """
 
 
