@@ -150,7 +150,7 @@ def test_a_readtexture_that_knows_its_caller_buys_no_points(tmp_path, mode, atta
 @pytest.mark.slow
 @pytest.mark.sandbox
 @pytest.mark.xfail(strict=True, reason="the live judge is not believed only when the readTexture check's best face "
-                   "size differs from the handout on at most 5% of calls: a readTexture black on 7% of the "
+                   "size differs from the handout on at most 5% of calls: a readTexture black on 10-15% of the "
                    "check's calls (every size) is believed when, on the judges' 32x32 and 256x256 faces, it "
                    "answers at 1 - v, as the v-flipped fetchColor reads")
 def test_paying_a_little_readtexture_to_be_believed_buys_no_points(tmp_path, mode):
