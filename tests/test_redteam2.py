@@ -82,12 +82,13 @@ def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
     assert speed.status == FAILED and speed.score == 0
 
 
-# ---- speed: the timed match is pooled, the time is the fastest pass -------------
+# ---- speed: which timed answers are compared ------------------------------------
 
 @pytest.mark.slow
 @pytest.mark.sandbox
 def test_the_slow_control_is_slow(tmp_path, mode):
-    """What black_half_a_timed_pass.cpp is without its trick: about 11x, slow."""
+    """What black_half_a_timed_pass.cpp and unchecked_tail_of_timed_pass.cpp are
+    without their tricks: about 11x, slow."""
     (speed,) = graded("slow_11x_control", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["slow"]
 
@@ -112,7 +113,7 @@ def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
     assert speed.status == FAILED and speed.score == 0
 
 
-# ---- the fitted model is believed for calls it never saw -------------------------
+# ---- the judge believes readTexture answers nothing grades ----------------------
 
 CHECKS_OF_FETCH = ("read_texture", "fetch_sweep", "stability")
 
