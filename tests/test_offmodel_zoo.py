@@ -90,15 +90,19 @@ def fetch_points(result) -> float:
     return sum(c.score for c in result.checks if c.name in FETCH_CHECKS)
 
 
-# readTextures that crash on a whole row: the worker runner stops narrowing
-# failures down after MAX_FAILED_RUNS (grader/worker/runner.py) and counts
-# whole batches of fetchColor calls as failed (issue 19 item 6, the worker's
-# side, not the checks'): until it keeps going past a crash, these lose far
-# more than the directions that crash.
-CRASH_CLIFF = {"strict-ties_unclamped-x1", "unclamped-top-row_correct-fetch"}
+# A readTexture that crashes on its whole top row (v = 1): the worker now goes
+# on past each crash, so only the crashing inputs are lost, but those are
+# many of the stability check's edge directions (not earned where readTexture
+# crashes: crashing must not pay) and every timed pass (speed needs a lookup
+# that does not crash): 6.44 / 10 and 0 / 5 against the handout's 10 and 5.
+# Known and kept visible (strict); strict-ties_unclamped-x1, which the
+# failed-run budget used to sink, now passes.
+CRASH_CLIFF = {"unclamped-top-row_correct-fetch"}
 
 
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(reason="the worker's failed-run budget", strict=False))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(
+                                      reason="crashing inputs are not earned: stability's edges and every timed pass",
+                                      strict=True))
                                   if n in CRASH_CLIFF else n for n in NAMES if with_handout_read(n) is not None])
 def test_a_wrong_read_texture_costs_fetch_color_at_most_a_point(name, tmp_path):
     control = tmp_path / "control" / "EnvironmentMap.cpp"
