@@ -205,3 +205,47 @@ def test_the_same_submission_graded_twice_in_japanese_reads_the_same(graded):
     strip = lambda t: re.sub(r"[\d.]+ (s|ms|ns)\b|比は [\d.]+ 倍", "", t)
     assert strip((first / "report.md").read_text()) == strip((second / "report.md").read_text())
     assert (first / "report.md").read_text().count("直し方") >= 1
+
+
+@pytest.fixture
+def privilege_drop(tmp_path, monkeypatch):
+    """A bwrap that always fails (a container without user namespaces): as
+    root the grader runs the submission in privilege-drop mode."""
+    import os
+    import stat
+    from grader.worker import sandbox
+    folder = tmp_path / "fakebin"
+    folder.mkdir()
+    (folder / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    (folder / "bwrap").chmod(0o755)
+    tmp_path.chmod(tmp_path.stat().st_mode | stat.S_IXOTH | stat.S_IROTH)
+    monkeypatch.setenv("PATH", f"{folder}:{os.environ.get('PATH', '/usr/bin:/bin')}")
+    sandbox.sandbox_problem.cache_clear()
+    yield
+    sandbox.sandbox_problem.cache_clear()
+
+
+@pytest.mark.slow
+def test_a_crash_reads_in_japanese_in_privilege_drop_mode(privilege_drop, tmp_path):
+    """The worker's failure words come from the grader's side of the pipe,
+    whichever isolation runs the submission."""
+    from grader.grade import GradeOptions, grade
+    before = i18n.language()
+    try:
+        result = grade(ZOO / "crash-null.cpp", tmp_path / "out", GradeOptions(quick=True, lang="ja"))
+    finally:
+        i18n.set_language(before)
+    assert result.isolation == "privilege-drop"
+    report = (tmp_path / "out" / "report.md").read_text()
+    assert "セグメンテーション違反" in report and "ヌルポインタ" in report
+    assert english_sentences(report, "crash-null") == []
+
+
+def test_the_bundles_ship_the_catalogue_and_need_no_build_step():
+    from grader.platforms import gradescope
+    shipped = {p.relative_to(PROJECT_ROOT).as_posix() for p in gradescope._files()}
+    assert "grader/locale/ja/LC_MESSAGES/grader.po" in shipped
+    assert not any(p.endswith(".mo") for p in shipped)   # compiled in memory (grader/i18n.py)
+    # PrairieLearn's image runs the course's copy of grader/, the same tree.
+    lock = (PROJECT_ROOT / "requirements.lock").read_text()
+    assert re.search(r"^babel==", lock, re.M)

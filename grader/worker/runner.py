@@ -62,7 +62,7 @@ class Failure:
 
     def describe(self) -> str:
         """One sentence for a report."""
-        return f"{self.input}: {self.message}. {self.hint}"
+        return _("%(input)s: %(message)s. %(hint)s") % {"input": self.input, "message": self.message, "hint": self.hint}
 
 
 @dataclass
