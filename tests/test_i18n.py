@@ -249,3 +249,13 @@ def test_the_bundles_ship_the_catalogue_and_need_no_build_step():
     # PrairieLearn's image runs the course's copy of grader/, the same tree.
     lock = (PROJECT_ROOT / "requirements.lock").read_text()
     assert re.search(r"^babel==", lock, re.M)
+
+
+def test_a_kit_without_babel_reads_the_compiled_catalogue(tmp_path):
+    # The student kit's Python has its standard library only: it ships the
+    # .mo that compiled() writes, and gettext reads it the same way.
+    import gettext
+    (tmp_path / "grader.mo").write_bytes(i18n.compiled("ja"))
+    stdlib = gettext.GNUTranslations((tmp_path / "grader.mo").open("rb"))
+    title = CATALOGUE["u-flipped"].title_id
+    assert stdlib.gettext(title) == i18n.translations("ja").gettext(title) == "この面で u が逆向きです"
