@@ -11,646 +11,662 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .i18n import N_, Translated, _
+
 # Kinds, in the order reports list them: what stops grading first, then the
 # mapping (fetchColor), the filtering (readTexture), and what renders show.
-KINDS = {
-    "build": "Building",
-    "runtime": "Running",
-    "mapping": "fetchColor: from a direction to a face and (u, v)",
-    "filtering": "readTexture: from (u, v) to a colour",
-    "render": "What the renders show",
-    "speed": "Speed",
-}
+KINDS = Translated({
+    "build": N_("Building"),
+    "runtime": N_("Running"),
+    "mapping": N_("fetchColor: from a direction to a face and (u, v)"),
+    "filtering": N_("readTexture: from (u, v) to a colour"),
+    "render": N_("What the renders show"),
+    "speed": N_("Speed"),
+})
 
 
 @dataclass(frozen=True)
 class DiagnosisInfo:
+    """The words are kept in English (the catalogue's ids, grader/i18n.py)
+    and read out in the current language."""
     id: str
-    kind: str          # a KINDS key
-    title: str         # one line, plain words
-    explanation: str   # what happened and why it matters
-    what_to_do: str    # the fix, or how to find it
+    kind: str             # a KINDS key
+    title_id: str         # one line, plain words
+    explanation_id: str   # what happened and why it matters
+    what_to_do_id: str    # the fix, or how to find it
+
+    @property
+    def title(self) -> str:
+        return _(self.title_id)
+
+    @property
+    def explanation(self) -> str:
+        return _(self.explanation_id)
+
+    @property
+    def what_to_do(self) -> str:
+        return _(self.what_to_do_id)
 
 
 _ENTRIES = [
     # ---- building ---------------------------------------------------------
     DiagnosisInfo(
         "build-error", "build",
-        "Your code did not compile",
-        "The compiler stopped with errors, so none of the checks could run. The "
-        "compiler's messages are shown below the score.",
-        "Fix the first error in the log first: later errors are often caused by "
+        N_("Your code did not compile"),
+        N_("The compiler stopped with errors, so none of the checks could run. The "
+        "compiler's messages are shown below the score."),
+        N_("Fix the first error in the log first: later errors are often caused by "
         "it. Build with the student template (`make`, or `make selfcheck` to run "
-        "the visible checks too) before you submit.",
+        "the visible checks too) before you submit."),
     ),
     DiagnosisInfo(
         "no-source", "build",
-        "No EnvironmentMap.cpp in your submission",
-        "The grader grades one file, EnvironmentMap.cpp, and could not find it "
-        "in what you submitted. The message lists what your submission holds.",
-        "Submit EnvironmentMap.cpp itself, or a folder, .zip, .tar or .tar.gz "
-        "that holds it (under that name).",
+        N_("No EnvironmentMap.cpp in your submission"),
+        N_("The grader grades one file, EnvironmentMap.cpp, and could not find it "
+        "in what you submitted. The message lists what your submission holds."),
+        N_("Submit EnvironmentMap.cpp itself, or a folder, .zip, .tar or .tar.gz "
+        "that holds it (under that name)."),
     ),
     DiagnosisInfo(
         "empty-submission", "build",
-        "Your submission is empty",
-        "The file, folder or archive you submitted holds nothing to grade (or "
-        "EnvironmentMap.cpp in it is empty).",
-        "Check that you uploaded the right file, and that it was saved before "
-        "you uploaded it.",
+        N_("Your submission is empty"),
+        N_("The file, folder or archive you submitted holds nothing to grade (or "
+        "EnvironmentMap.cpp in it is empty)."),
+        N_("Check that you uploaded the right file, and that it was saved before "
+        "you uploaded it."),
     ),
     DiagnosisInfo(
         "unknown-format", "build",
-        "The grader cannot read what you submitted",
-        "What you submitted is neither a C++ source file nor an archive the "
+        N_("The grader cannot read what you submitted"),
+        N_("What you submitted is neither a C++ source file nor an archive the "
         "grader reads (.zip, .tar, .tar.gz), for example a .rar or .7z "
         "archive, a compiled program, or a source saved as UTF-16. The grader "
-        "tells formats apart by their contents, not their names.",
-        "Submit EnvironmentMap.cpp saved as plain (UTF-8) text, or a .zip, "
-        ".tar or .tar.gz made with your system's ordinary tools.",
+        "tells formats apart by their contents, not their names."),
+        N_("Submit EnvironmentMap.cpp saved as plain (UTF-8) text, or a .zip, "
+        ".tar or .tar.gz made with your system's ordinary tools."),
     ),
     DiagnosisInfo(
         "unreadable-archive", "build",
-        "Your archive could not be read",
-        "The archive is damaged, incomplete, password-protected, uses a "
+        N_("Your archive could not be read"),
+        N_("The archive is damaged, incomplete, password-protected, uses a "
         "compression method the grader does not read (such as Deflate64), or "
-        "is far larger than a submission needs once unpacked.",
-        "Make the archive again with your system's ordinary zip or tar, without "
+        "is far larger than a submission needs once unpacked."),
+        N_("Make the archive again with your system's ordinary zip or tar, without "
         "a password, check that it opens, and submit it again. Submitting "
-        "EnvironmentMap.cpp alone always works.",
+        "EnvironmentMap.cpp alone always works."),
     ),
     DiagnosisInfo(
         "refused-include", "build",
-        "Your code includes a file it may not",
-        "A submission may include only the C++ standard library and the "
+        N_("Your code includes a file it may not"),
+        N_("A submission may include only the C++ standard library and the "
         "template's headers (EnvironmentMap.h, Vector3.h, Color.h), by name. "
         "Including by path (from /, with '..', from /dev or /proc), through a "
         "macro, or reading files with #embed, .incbin or file pragmas is "
-        "refused before anything is compiled. The message names the line.",
-        "Include headers plainly, as in #include <cmath> or #include "
+        "refused before anything is compiled. The message names the line."),
+        N_("Include headers plainly, as in #include <cmath> or #include "
         "\"EnvironmentMap.h\", and put everything else you need in "
-        "EnvironmentMap.cpp itself.",
+        "EnvironmentMap.cpp itself."),
     ),
     DiagnosisInfo(
         "calls-reference", "build",
-        "Your code calls the grader's reference solution",
-        "Your code calls functions of the grader's reference solution (their names start with em_). "
+        N_("Your code calls the grader's reference solution"),
+        N_("Your code calls functions of the grader's reference solution (their names start with em_). "
         "They are not part of your program: the grader builds your file with "
         "the template's headers and its own loader only, so the answer cannot "
-        "come from there. The message names the functions.",
-        "Compute fetchColor and readTexture with your own code; remove the "
-        "declarations and calls of em_* functions.",
+        "come from there. The message names the functions."),
+        N_("Compute fetchColor and readTexture with your own code; remove the "
+        "declarations and calls of em_* functions."),
     ),
     DiagnosisInfo(
         "forbidden-object", "build",
-        "Your compiled code holds something a submission may not",
-        "The object file compiled from your code uses a function that is "
+        N_("Your compiled code holds something a submission may not"),
+        N_("The object file compiled from your code uses a function that is "
         "neither in the C/C++ standard library nor in EnvironmentMap.h, or "
         "holds sections or assembler directives an ordinary C++ file does not "
         "make (link-time-optimisation data, file-reading .incbin, assembler "
-        "macros). The message says which.",
-        "Write plain C++ using the standard library. Define every helper in "
-        "your own file, and remove inline assembly and section attributes.",
+        "macros). The message says which."),
+        N_("Write plain C++ using the standard library. Define every helper in "
+        "your own file, and remove inline assembly and section attributes."),
     ),
     DiagnosisInfo(
         "load-error", "build",
-        "Your compiled code could not be loaded",
-        "The code compiled, but the library built from it could not be "
+        N_("Your compiled code could not be loaded"),
+        N_("The code compiled, but the library built from it could not be "
         "loaded, for example because a function it declares is never defined, "
         "or because code that runs when it loads (a global object's "
         "constructor) failed. This is more often a build problem than a "
-        "mistake in your lookup.",
-        "Build and run the student template locally (`make selfcheck`). Define "
+        "mistake in your lookup."),
+        N_("Build and run the student template locally (`make selfcheck`). Define "
         "every function you declare, and do no work in global variables' "
-        "initialisers. If it works locally, tell your instructor.",
+        "initialisers. If it works locally, tell your instructor."),
     ),
     # ---- running ----------------------------------------------------------
     DiagnosisInfo(
         "crash", "runtime",
-        "Your code crashed",
-        "The program stopped with a signal (for example SIGSEGV, a segmentation "
+        N_("Your code crashed"),
+        N_("The program stopped with a signal (for example SIGSEGV, a segmentation "
         "fault) while running your code. The grader repeated the failing batch "
-        "to find the first input that crashes; it is named in the details.",
-        "Call your function with exactly that input from a small test and run "
+        "to find the first input that crashes; it is named in the details."),
+        N_("Call your function with exactly that input from a small test and run "
         "it under a debugger. Usual causes: a texel index outside the face "
         "(x = -1 or x = W, as the handout warns), a face pointer that was never "
         "set because no branch of the face choice was taken (every comparison "
         "with NaN is false), dividing an integer by zero, or a function that "
-        "calls itself without end (a stack overflow).",
+        "calls itself without end (a stack overflow)."),
     ),
     DiagnosisInfo(
         "out-of-bounds-read", "runtime",
-        "readTexture read outside the face",
-        "Your code read memory just before or just after the texels it was "
+        N_("readTexture read outside the face"),
+        N_("Your code read memory just before or just after the texels it was "
         "given. The grader puts an inaccessible page right next to the "
         "texture, so such a read is caught every time, even where a normal "
         "program would silently read a neighbouring face or garbage. The "
-        "handout warns about exactly this: reading x = -1 or x = W.",
-        "Clamp both lattice points to the face: x0 and x1 = x0 + 1 to "
+        "handout warns about exactly this: reading x = -1 or x = W."),
+        N_("Clamp both lattice points to the face: x0 and x1 = x0 + 1 to "
         "`[0, W-1]`, y0 and y1 = y0 + 1 to `[0, H-1]`. Remember that u = 1 "
-        "gives `u*W = W`, and that x1 goes past the edge whenever x0 = W-1.",
+        "gives `u*W = W`, and that x1 goes past the edge whenever x0 = W-1."),
     ),
     DiagnosisInfo(
         "exception", "runtime",
-        "Your code threw a C++ exception that nobody caught",
-        "An exception (for example std::out_of_range from vector::at, or "
+        N_("Your code threw a C++ exception that nobody caught"),
+        N_("An exception (for example std::out_of_range from vector::at, or "
         "std::bad_alloc when memory runs out) left fetchColor or readTexture, "
-        "which ends the program.",
-        "Find which call throws for the input named in the details. A lookup "
+        "which ends the program."),
+        N_("Find which call throws for the input named in the details. A lookup "
         "needs no allocation and no checked container access: index the "
         "texel buffer directly, with clamped indices. For std::bad_alloc, look "
-        "for memory allocated on every call or in a loop.",
+        "for memory allocated on every call or in a loop."),
     ),
     DiagnosisInfo(
         "timeout", "runtime",
-        "Your code took too long and was stopped",
-        "A check did not finish within its time limit. Only that check lost its "
-        "points; the other checks still ran.",
-        "Look for a loop that may never end, for example one that searches for "
+        N_("Your code took too long and was stopped"),
+        N_("A check did not finish within its time limit. Only that check lost its "
+        "points; the other checks still ran."),
+        N_("Look for a loop that may never end, for example one that searches for "
         "the face or walks along the ray, and what it does for a zero, NaN or "
         "infinite direction. A lookup is a few comparisons, one division and "
-        "four texel reads: it needs no loop.",
+        "four texel reads: it needs no loop."),
     ),
     DiagnosisInfo(
         "exited", "runtime",
-        "Your code ended the program",
-        "The program stopped in the middle of a check without crashing, for "
+        N_("Your code ended the program"),
+        N_("The program stopped in the middle of a check without crashing, for "
         "example through exit() or quick_exit(). The checks that were running "
-        "could not finish.",
-        "Remove calls that end the program from fetchColor and readTexture. "
+        "could not finish."),
+        N_("Remove calls that end the program from fetchColor and readTexture. "
         "For an input you cannot handle, return a colour (black, for instance) "
-        "instead.",
+        "instead."),
     ),
     DiagnosisInfo(
         "forbidden-syscall", "runtime",
-        "Your code tried something the grader does not allow",
-        "Your code tried to start a process, open a file or a network "
+        N_("Your code tried something the grader does not allow"),
+        N_("Your code tried to start a process, open a file or a network "
         "connection, or another operation that is blocked while grading. A "
-        "lookup only needs arithmetic and reads from the texture it is given.",
-        "Remove debugging code that writes files, calls system() or starts "
+        "lookup only needs arithmetic and reads from the texture it is given."),
+        N_("Remove debugging code that writes files, calls system() or starts "
         "programs. Print to the terminal while you debug locally, and take it "
-        "out before submitting.",
+        "out before submitting."),
     ),
     DiagnosisInfo(
         "protocol", "runtime",
-        "Your code disturbed the grader's connection to it",
-        "The grader talks to your code through a pipe, and the replies it got "
+        N_("Your code disturbed the grader's connection to it"),
+        N_("The grader talks to your code through a pipe, and the replies it got "
         "were garbled: your code wrote to a file descriptor it does not own, or "
         "wrote over memory that is not its own (past the end of an array, "
-        "through an uninitialised pointer).",
-        "Write only into the colour you return. Check every array index and "
+        "through an uninitialised pointer)."),
+        N_("Write only into the colour you return. Check every array index and "
         "pointer in fetchColor and readTexture, and remove code that writes to "
-        "files or descriptors.",
+        "files or descriptors."),
     ),
     DiagnosisInfo(
         "nan-output", "runtime",
-        "Your code returned NaN or infinity",
-        "For some finite, non-zero direction your code returned a colour that "
+        N_("Your code returned NaN or infinity"),
+        N_("For some finite, non-zero direction your code returned a colour that "
         "is not a number (NaN) or is infinite. One such pixel spoils a whole "
         "render. When the grader found the cause, it is named beside this "
         "(`float-precision`: components converted to float; `length-overflow`: "
-        "a squared length; `not-normalized`: a division by the length).",
-        "Fix the cause named beside this one first. Otherwise: divide only by "
+        "a squared length; `not-normalized`: a division by the length)."),
+        N_("Fix the cause named beside this one first. Otherwise: divide only by "
         "m, the absolute value of the largest component, which "
         "is never zero for a non-zero direction; dividing by another "
         "component divides by zero on the axes. Do not square the direction "
         "in float (1e30 squared overflows, 1e-30 squared becomes 0): the "
         "pyramid projection needs no length. Check that every variable is set "
-        "on every path.",
+        "on every path."),
     ),
     # ---- mapping (fetchColor) --------------------------------------------
     DiagnosisInfo(
         "wrong-face", "mapping",
-        "fetchColor read from the wrong face",
-        "For directions that exit through one face, your code read the colour "
+        N_("fetchColor read from the wrong face"),
+        N_("For directions that exit through one face, your code read the colour "
         "from another face (the details say which). The face is the one along "
         "the axis with the largest absolute component, + or - by its sign; "
         "faces are stored in the order +X, -X, +Y, -Y, +Z, -Z, face k "
-        "starting `k*W*H*3` floats into the buffer.",
-        "Compare absolute values (fabs) when choosing the axis, then use the "
+        "starting `k*W*H*3` floats into the buffer."),
+        N_("Compare absolute values (fabs) when choosing the axis, then use the "
         "sign to choose between + and -. Check the face index you pass to "
         "readTexture against the order above, and the offset (the factor 3 "
         "for RGB is easy to forget). Rendering the test map is a quick check: "
-        "the red, green and blue arrows must point along +x, +y and +z.",
+        "the red, green and blue arrows must point along +x, +y and +z."),
     ),
     DiagnosisInfo(
         "u-flipped", "mapping",
-        "On this face, u runs the wrong way",
-        "The face's picture is mirrored left to right: where the correct u is "
+        N_("On this face, u runs the wrong way"),
+        N_("The face's picture is mirrored left to right: where the correct u is "
         "0.2 your code uses 0.8. On the face named, u should be the value in "
         "the (u, v) table (README.md, 'Conventions') (for example `(1 + z/m)/2` on +X but "
-        "`(1 - z/m)/2` on -X).",
-        "Check the sign in front of the component that gives u on this face. "
+        "`(1 - z/m)/2` on -X)."),
+        N_("Check the sign in front of the component that gives u on this face. "
         "Each face has its own sign: they are chosen so that neighbouring "
-        "faces of the cross meet without a jump.",
+        "faces of the cross meet without a jump."),
     ),
     DiagnosisInfo(
         "v-flipped", "mapping",
-        "On this face, v runs the wrong way",
-        "The face's picture is upside down: where the correct v is 0.2 your "
+        N_("On this face, v runs the wrong way"),
+        N_("The face's picture is upside down: where the correct v is 0.2 your "
         "code uses 0.8. v = 0 is the bottom row of the face (y = 0 in the "
         "buffer), not the top. On the face named, v should be the value in "
         "the (u, v) table (README.md, 'Conventions') (for example `(1 - z/m)/2` on -Y, and "
-        "`(1 - y/m)/2` on +Z, the back face that sits upside down in the cross).",
-        "Check the sign in front of the component that gives v on this face, "
+        "`(1 - y/m)/2` on +Z, the back face that sits upside down in the cross)."),
+        N_("Check the sign in front of the component that gives v on this face, "
         "and that you did not turn rows around (row 0 of the buffer is the "
-        "bottom of the face).",
+        "bottom of the face)."),
     ),
     DiagnosisInfo(
         "uv-inset", "mapping",
-        "fetchColor moves (u, v) inward from the face's border",
-        "Read back from your answers, (u, v) run from a little above 0 to a "
+        N_("fetchColor moves (u, v) inward from the face's border"),
+        N_("Read back from your answers, (u, v) run from a little above 0 to a "
         "little below 1 on the faces: the face's outer texels are never "
         "reached and the picture is slightly magnified. The handout's (u, v) "
         "run from exactly 0 to 1; readTexture's clamp already keeps the "
-        "blend inside the face.",
-        "Pass fetchColor's (u, v) to readTexture as the table gives them, "
-        "without scaling or insetting them.",
+        "blend inside the face."),
+        N_("Pass fetchColor's (u, v) to readTexture as the table gives them, "
+        "without scaling or insetting them."),
     ),
     DiagnosisInfo(
         "uv-offset", "mapping",
-        "fetchColor shifts (u, v) by a constant",
-        "Read back from your answers, fetchColor reads a fixed distance away "
-        "from the (u, v) the table gives, on every face.",
-        "Pass (1 + s/m)/2 and (1 + t/m)/2 to readTexture as they are: no "
+        N_("fetchColor shifts (u, v) by a constant"),
+        N_("Read back from your answers, fetchColor reads a fixed distance away "
+        "from the (u, v) the table gives, on every face."),
+        N_("Pass (1 + s/m)/2 and (1 + t/m)/2 to readTexture as they are: no "
         "half-texel correction is needed, readTexture's p = (uW, vH) already "
-        "says where the texels are.",
+        "says where the texels are."),
     ),
     DiagnosisInfo(
         "signed-major", "mapping",
-        "You divide by the signed major component",
-        "On -X, -Y and -Z, and only there, u and v both run the wrong way: "
+        N_("You divide by the signed major component"),
+        N_("On -X, -Y and -Z, and only there, u and v both run the wrong way: "
         "those are the faces where the major component is negative, so "
-        "dividing by it (instead of by its magnitude m) flips both signs.",
-        "Divide by m = |major component| (fabs) and keep the signs of the "
+        "dividing by it (instead of by its magnitude m) flips both signs."),
+        N_("Divide by m = |major component| (fabs) and keep the signs of the "
         "(u, v) table in README.md; do not flip the table's signs to make up "
-        "for it.",
+        "for it."),
     ),
     DiagnosisInfo(
         "opengl-table", "mapping",
-        "You use OpenGL's cube-map table, not this assignment's",
-        "+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
+        N_("You use OpenGL's cube-map table, not this assignment's"),
+        N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
         "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
         "of sc and tc per face, whose conventions differ from this "
-        "assignment's.",
-        "Take u and v for every face from the (u, v) table in README.md.",
+        "assignment's."),
+        N_("Take u and v for every face from the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
         "uv-swapped", "mapping",
-        "On this face, u and v are swapped",
-        "Your code used the component that should give v for u and the other "
+        N_("On this face, u and v are swapped"),
+        N_("Your code used the component that should give v for u and the other "
         "way round, so the face appears turned on its diagonal. Reading texel "
         "(x, y) at `addr[3*(x*H + y)]` instead of `addr[3*(y*W + x)]` looks the "
-        "same on a square face.",
-        "Take u and v from the components the (u, v) table (README.md, 'Conventions') names "
+        "same on a square face."),
+        N_("Take u and v from the components the (u, v) table (README.md, 'Conventions') names "
         "for this face, and index texels as `addr[3*(y*W + x)]` with x from u "
-        "and y from v.",
+        "and y from v."),
     ),
     DiagnosisInfo(
         "not-normalized", "mapping",
-        "(u, v) was not computed by dividing by the largest component",
-        "The point where the ray meets the face is found by dividing the "
+        N_("(u, v) was not computed by dividing by the largest component"),
+        N_("The point where the ray meets the face is found by dividing the "
         "direction by m, the absolute value of its largest component (the "
         "handout's pyramid with the cube centre at its apex). Your (u, v) "
         "change with the direction's length, or follow another curve, for "
         "example because the components were used as they are, divided by "
-        "the length of the direction, or turned into angles.",
-        "Compute `m = |largest component|` and use `(1 + a/m)/2` with the signs "
+        "the length of the direction, or turned into angles."),
+        N_("Compute `m = |largest component|` and use `(1 + a/m)/2` with the signs "
         "from the table. Directions are not unit length and need not be "
-        "normalised first; if you normalise, you must still divide by m.",
+        "normalised first; if you normalise, you must still divide by m."),
     ),
     DiagnosisInfo(
         "not-implemented", "mapping",
-        "fetchColor still returns black",
-        "Every direction gave black (or a colour that is not in the texture), "
-        "as the starting code does: fetchColor does not look anything up yet.",
-        "Write fetchColor as the handout's section 4 says: choose the face, "
+        N_("fetchColor still returns black"),
+        N_("Every direction gave black (or a colour that is not in the texture), "
+        "as the starting code does: fetchColor does not look anything up yet."),
+        N_("Write fetchColor as the handout's section 4 says: choose the face, "
         "compute (u, v) from the (u, v) table in README.md and return "
-        "`readTexture(faceAddress(face), u, v)`.",
+        "`readTexture(faceAddress(face), u, v)`."),
     ),
     DiagnosisInfo(
         "uv-mismatch", "mapping",
-        "On this face, (u, v) follow no pattern the grader recognises",
-        "Your code reads the right face, but at places that are neither the "
+        N_("On this face, (u, v) follow no pattern the grader recognises"),
+        N_("Your code reads the right face, but at places that are neither the "
         "correct (u, v) nor a flip or swap of them. The per-face table in the "
-        "check's output shows how much of the face the closest guess explains.",
-        "Print u and v for a few directions toward this face (for example the "
+        "check's output shows how much of the face the closest guess explains."),
+        N_("Print u and v for a few directions toward this face (for example the "
         "face's centre, which must give (0.5, 0.5), and its corners, which "
-        "must give 0 or 1) and compare them with the (u, v) table in README.md.",
+        "must give 0 or 1) and compare them with the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
         "uv-range", "mapping",
-        "(u, v) are not mapped to [0, 1]",
-        "Your code reads the right face and the right direction of u and v, "
+        N_("(u, v) are not mapped to [0, 1]"),
+        N_("Your code reads the right face and the right direction of u and v, "
         "but does not turn the face-plane coordinate s = component / m (which "
         "runs from -1 to 1) into u = (1 + s) / 2: it uses s itself, 1 + s or "
-        "s / 2, so half the face is never read and the rest is stretched.",
-        "Use u = (1 + s) / 2 and v = (1 + t) / 2 with the signs of the (u, v) "
-        "table in README.md; the face's centre must give (0.5, 0.5).",
+        "s / 2, so half the face is never read and the rest is stretched."),
+        N_("Use u = (1 + s) / 2 and v = (1 + t) / 2 with the signs of the (u, v) "
+        "table in README.md; the face's centre must give (0.5, 0.5)."),
     ),
     DiagnosisInfo(
         "tie-untouched-face", "mapping",
-        "A direction on an edge or corner samples a face it does not touch",
-        "When two or three components tie as the largest in magnitude, the "
+        N_("A direction on an edge or corner samples a face it does not touch"),
+        N_("When two or three components tie as the largest in magnitude, the "
         "direction lies on an edge or corner of the cube and every face it "
         "touches is a correct answer. Your face choice sends such directions "
         "to a face they do not touch, usually because every test uses a "
-        "strict > : a tie fails them all and falls through to the last branch.",
-        "Compare with >= (for example `ax >= ay && ax >= az`), so that a tie "
-        "picks one of the tied axes. The details name a direction to try.",
+        "strict > : a tie fails them all and falls through to the last branch."),
+        N_("Compare with >= (for example `ax >= ay && ax >= az`), so that a tie "
+        "picks one of the tied axes. The details name a direction to try."),
     ),
     DiagnosisInfo(
         "float-precision", "mapping",
-        "Tiny or huge directions lose their precision in float",
-        "The components go through float somewhere (`float x = direction.x`, "
+        N_("Tiny or huge directions lose their precision in float"),
+        N_("The components go through float somewhere (`float x = direction.x`, "
         "or a helper with float parameters). float cannot hold magnitudes "
         "below about 1e-38 exactly (they lose digits, then become 0, giving "
         "0/0) or above 3.4e38 at all (they become infinite), so such "
-        "directions give another colour than the same direction at length 1.",
-        "Keep the components in double until you have divided them by m, "
+        "directions give another colour than the same direction at length 1."),
+        N_("Keep the components in double until you have divided them by m, "
         "the largest magnitude: the ratios are then between -1 and 1 and "
-        "safe in float.",
+        "safe in float."),
     ),
     DiagnosisInfo(
         "length-overflow", "mapping",
-        "Huge or tiny directions overflow when squared",
-        "Your code squares the components (to normalise the direction, or to "
+        N_("Huge or tiny directions overflow when squared"),
+        N_("Your code squares the components (to normalise the direction, or to "
         "compare lengths): x*x + y*y + z*z overflows to infinity above "
         "|d| = 1.3e154 and underflows to 0 below about 1e-162, and dividing "
         "by infinity or 0 gives black or NaN. The cube map needs no length: "
-        "only the ratios to the largest component matter.",
-        "Divide by m, the largest |component|, instead of the length; if you "
-        "must normalise, divide by m first and square afterwards.",
+        "only the ratios to the largest component matter."),
+        N_("Divide by m, the largest |component|, instead of the length; if you "
+        "must normalise, divide by m first and square afterwards."),
     ),
     DiagnosisInfo(
         "face-not-analysed", "mapping",
-        "The analysis of one face stopped at a crash",
-        "The grader could not find out what fetchColor does toward this face, "
+        N_("The analysis of one face stopped at a crash"),
+        N_("The grader could not find out what fetchColor does toward this face, "
         "because your code crashed on the directions it needed. The face is "
         "listed so that it is not mistaken for a correct one; the details "
-        "name the input that crashed.",
-        "Fix the crash first (see the crash diagnosis); the next submission's "
-        "report will then say what happens on this face.",
+        "name the input that crashed."),
+        N_("Fix the crash first (see the crash diagnosis); the next submission's "
+        "report will then say what happens on this face."),
     ),
     DiagnosisInfo(
         "fetch-not-analysed", "mapping",
-        "fetchColor could not be analysed through your readTexture",
-        "The grader finds out where fetchColor samples by reading back what "
+        N_("fetchColor could not be analysed through your readTexture"),
+        N_("The grader finds out where fetchColor samples by reading back what "
         "your readTexture returns from textures that encode their positions. "
         "Your readTexture returns the same colour everywhere, or follows no "
         "pattern the grader can model, so its answers do not say which face "
-        "and (u, v) fetchColor asked for. Nothing is concluded about fetchColor.",
-        "Fix readTexture first (see its check); fetchColor is analysed again "
-        "on the next submission.",
+        "and (u, v) fetchColor asked for. Nothing is concluded about fetchColor."),
+        N_("Fix readTexture first (see its check); fetchColor is analysed again "
+        "on the next submission."),
     ),
     DiagnosisInfo(
         "discontinuous-seam", "mapping",
-        "Colours jump where two faces meet",
-        "Moving a direction across the edge between two faces changes the "
+        N_("Colours jump where two faces meet"),
+        N_("Moving a direction across the edge between two faces changes the "
         "colour by much more than the handout's method does there. The "
         "handout's bilinear lookup clamps inside each face, so a small step "
         "there (the difference between two neighbouring texels) is expected "
         "and costs nothing; this is larger. Usually one of the two faces has u or v running the "
-        "wrong way, or (u, v) go wrong near the edge of the face.",
-        "Use the (u, v) table in README.md ('Conventions'): its signs make neighbouring faces of "
+        "wrong way, or (u, v) go wrong near the edge of the face."),
+        N_("Use the (u, v) table in README.md ('Conventions'): its signs make neighbouring faces of "
         "the cross continuous. The details name the edge; compare the two "
-        "faces' formulas along it.",
+        "faces' formulas along it."),
     ),
     # ---- filtering (readTexture) -----------------------------------------
     DiagnosisInfo(
         "nearest-neighbor", "filtering",
-        "readTexture still returns the nearest texel",
-        "readTexture returns a single texel, as the starting code does, so "
+        N_("readTexture still returns the nearest texel"),
+        N_("readTexture returns a single texel, as the starting code does, so "
         "renders show blocks. The assignment asks for bilinear interpolation "
-        "of the four texels around `p = (u*W, v*H)`.",
-        "Implement the handout's equations (1)-(3): take the lattice points "
+        "of the four texels around `p = (u*W, v*H)`."),
+        N_("Implement the handout's equations (1)-(3): take the lattice points "
         "around p, alpha and beta the fractional parts of p's x and y, "
         "`c0 = (1-alpha) c00 + alpha c10`, `c1 = (1-alpha) c01 + alpha c11`, "
-        "`c = (1-beta) c0 + beta c1`.",
+        "`c = (1-beta) c0 + beta c1`."),
     ),
     DiagnosisInfo(
         "half-texel-offset", "filtering",
-        "readTexture is shifted by half a texel",
-        "Your interpolation is centred half a texel away from the handout's: "
+        N_("readTexture is shifted by half a texel"),
+        N_("Your interpolation is centred half a texel away from the handout's: "
         "for example `p = (u*W - 0.5, v*H - 0.5)`, the texel-centre convention "
         "of OpenGL. The handout defines the pixel position as `p = (u*W, v*H)`, "
         "with the lattice points at whole numbers around it, and the grader "
-        "follows the handout.",
-        "Use `p = (u*W, v*H)` without adding or subtracting 0.5; "
-        "`x0 = floor(p.x)`, `alpha = p.x - x0` (and the same for y), then clamp.",
+        "follows the handout."),
+        N_("Use `p = (u*W, v*H)` without adding or subtracting 0.5; "
+        "`x0 = floor(p.x)`, `alpha = p.x - x0` (and the same for y), then clamp."),
     ),
     DiagnosisInfo(
         "width-height-swapped", "filtering",
-        "readTexture mixes up the face's width and height",
-        "On faces that are not square, your readTexture scales u by the face "
+        N_("readTexture mixes up the face's width and height"),
+        N_("On faces that are not square, your readTexture scales u by the face "
         "height or v by the width (or indexes rows with the height), so it "
         "reads the wrong texels. Real maps have square faces, so this only "
-        "shows on the grader's non-square test faces, but it is a real bug.",
-        "Use `p = (u * m_FaceWidth, v * m_FaceHeight)`, clamp x to "
+        "shows on the grader's non-square test faces, but it is a real bug."),
+        N_("Use `p = (u * m_FaceWidth, v * m_FaceHeight)`, clamp x to "
         "`[0, m_FaceWidth-1]` and y to `[0, m_FaceHeight-1]`, and index "
-        "`addr[3*(y*m_FaceWidth + x)]`.",
+        "`addr[3*(y*m_FaceWidth + x)]`."),
     ),
     DiagnosisInfo(
         "scaled-by-size-minus-one", "filtering",
-        "readTexture scales u by W-1 instead of W",
-        "Your readTexture puts the sample at p = (u(W-1), v(H-1)), so u = 1 lands "
+        N_("readTexture scales u by W-1 instead of W"),
+        N_("Your readTexture puts the sample at p = (u(W-1), v(H-1)), so u = 1 lands "
         "exactly on the last texel. That is a common convention elsewhere, but "
         "the handout's is p = (uW, vH): at u = 1 the clamp keeps the lattice "
         "inside the face, and every other u samples a little further right than "
-        "yours.",
-        "Use `p = (u * m_FaceWidth, v * m_FaceHeight)` as the handout's section "
-        "4 says, and keep the two clamp lines for x and y.",
+        "yours."),
+        N_("Use `p = (u * m_FaceWidth, v * m_FaceHeight)` as the handout's section "
+        "4 says, and keep the two clamp lines for x and y."),
     ),
     DiagnosisInfo(
         "weights-swapped", "filtering",
-        "readTexture mixes the four texels with the wrong weights",
-        "The interpolation weights are the wrong way round: for example "
+        N_("readTexture mixes the four texels with the wrong weights"),
+        N_("The interpolation weights are the wrong way round: for example "
         "`alpha c00 + (1-alpha) c10` instead of `(1-alpha) c00 + alpha c10`, or "
         "alpha used for the vertical direction and beta for the horizontal. "
-        "The nearer texel must get the larger weight.",
-        "Follow equations (1)-(3) exactly: alpha is the fractional part of "
+        "The nearer texel must get the larger weight."),
+        N_("Follow equations (1)-(3) exactly: alpha is the fractional part of "
         "`u*W` and weighs c10 and c11 (the texels to the right); beta is the "
-        "fractional part of `v*H` and weighs c1 (the row above).",
+        "fractional part of `v*H` and weighs c1 (the row above)."),
     ),
     DiagnosisInfo(
         "texel-offset", "filtering",
-        "readTexture reads a whole texel off",
-        "The lattice position is shifted by a whole texel, for example "
+        N_("readTexture reads a whole texel off"),
+        N_("The lattice position is shifted by a whole texel, for example "
         "p = (uW - 1, vH - 1): every colour comes from one texel to the left "
         "and below (or right and above) of where the handout reads, and the "
-        "picture is shifted by one texel on every face.",
-        "Use p = (uW, vH) with no offset; texel (x, y) sits on the lattice "
-        "point (x, y).",
+        "picture is shifted by one texel on every face."),
+        N_("Use p = (uW, vH) with no offset; texel (x, y) sits on the lattice "
+        "point (x, y)."),
     ),
     DiagnosisInfo(
         "truncation-of-negatives", "filtering",
-        "(int) truncates negative positions toward zero",
-        "Your p can be negative (it is shifted before rounding), and (int)p "
+        N_("(int) truncates negative positions toward zero"),
+        N_("Your p can be negative (it is shifted before rounding), and (int)p "
         "rounds toward zero, so for p between -1 and 0 it gives 0 instead of "
         "-1. The weight alpha = p - x0 then goes negative and the lookup "
-        "extrapolates beyond the edge texel.",
-        "Use floor(p) to find the lattice point below p, or (better) do not "
-        "shift p: with p = (uW, vH) it is never negative.",
+        "extrapolates beyond the edge texel."),
+        N_("Use floor(p) to find the lattice point below p, or (better) do not "
+        "shift p: with p = (uW, vH) it is never negative."),
     ),
     DiagnosisInfo(
         "unclamped-edge", "filtering",
-        "readTexture's lattice points are not clamped to the face",
-        "At the edges of a face your lookup uses x = W, x = -1, y = H or "
+        N_("readTexture's lattice points are not clamped to the face"),
+        N_("At the edges of a face your lookup uses x = W, x = -1, y = H or "
         "y = -1: it reads the first texel of the next row, the texel before "
         "the face, or memory past the face (which crashes). This is what the "
-        "handout warns about.",
-        "Clamp x0 and x1 to [0, W-1] and y0 and y1 to [0, H-1] after "
+        "handout warns about."),
+        N_("Clamp x0 and x1 to [0, W-1] and y0 and y1 to [0, H-1] after "
         "computing them (u = 1 gives x0 = W, and x1 = x0 + 1 is W whenever "
-        "x0 = W - 1).",
+        "x0 = W - 1)."),
     ),
     DiagnosisInfo(
         "wrapped-edge", "filtering",
-        "readTexture wraps around the face instead of clamping",
-        "At an edge your lookup reads the texel on the opposite side of the "
+        N_("readTexture wraps around the face instead of clamping"),
+        N_("At an edge your lookup reads the texel on the opposite side of the "
         "same face (x = W becomes x = 0, with % W or a repeat mode). A cube "
-        "face does not repeat: its neighbour across the edge is another face.",
-        "Clamp the lattice points to [0, W-1] and [0, H-1] instead of taking "
-        "them modulo the size.",
+        "face does not repeat: its neighbour across the edge is another face."),
+        N_("Clamp the lattice points to [0, W-1] and [0, H-1] instead of taking "
+        "them modulo the size."),
     ),
     DiagnosisInfo(
         "scaled-by-size-plus-one", "filtering",
-        "readTexture uses p = (u(W+1), v(H+1))",
-        "The lattice position is scaled by W + 1 instead of W, so the lookup "
-        "drifts by up to a texel toward the far edge of each face.",
-        "Use p = (uW, vH) as in the handout.",
+        N_("readTexture uses p = (u(W+1), v(H+1))"),
+        N_("The lattice position is scaled by W + 1 instead of W, so the lookup "
+        "drifts by up to a texel toward the far edge of each face."),
+        N_("Use p = (uW, vH) as in the handout."),
     ),
     DiagnosisInfo(
         "constant-weights", "filtering",
-        "readTexture's weights do not follow the position",
-        "Your lookup blends the four texels with the same weights wherever p "
+        N_("readTexture's weights do not follow the position"),
+        N_("Your lookup blends the four texels with the same weights wherever p "
         "is (for example alpha = beta = 0.5), so the colour jumps at every "
-        "texel boundary instead of changing smoothly.",
-        "alpha and beta are the fractional parts of p: alpha = px - x0 and "
-        "beta = py - y0, computed in double (an int alpha is always 0).",
+        "texel boundary instead of changing smoothly."),
+        N_("alpha and beta are the fractional parts of p: alpha = px - x0 and "
+        "beta = py - y0, computed in double (an int alpha is always 0)."),
     ),
     DiagnosisInfo(
         "rows-flipped", "filtering",
-        "readTexture reads the rows top-down",
-        "Your lookup reads row H-1-y (or uses 1 - v) where the handout's "
+        N_("readTexture reads the rows top-down"),
+        N_("Your lookup reads row H-1-y (or uses 1 - v) where the handout's "
         "buffer has y = 0 as the bottom row (v = 0). Every face is upside "
-        "down, whatever fetchColor does.",
-        "Index the texel at addr[3 * (y * W + x)] with y = 0 the bottom row, "
-        "as README.md describes the buffer.",
+        "down, whatever fetchColor does."),
+        N_("Index the texel at addr[3 * (y * W + x)] with y = 0 the bottom row, "
+        "as README.md describes the buffer."),
     ),
     DiagnosisInfo(
         "texture-u-flipped", "filtering",
-        "readTexture runs u from right to left",
-        "Your readTexture reads at 1 - u: on every face, whatever fetchColor "
-        "asks for, u = 0 gives the right column instead of the left one.",
-        "In readTexture, p's x is u times W (u = 0 is the left column, "
-        "x = 0); do not flip it there.",
+        N_("readTexture runs u from right to left"),
+        N_("Your readTexture reads at 1 - u: on every face, whatever fetchColor "
+        "asks for, u = 0 gives the right column instead of the left one."),
+        N_("In readTexture, p's x is u times W (u = 0 is the left column, "
+        "x = 0); do not flip it there."),
     ),
     DiagnosisInfo(
         "texture-v-flipped", "filtering",
-        "readTexture runs v from top to bottom",
-        "Your readTexture reads at 1 - v: on every face, whatever fetchColor "
-        "asks for, v = 0 gives the top row instead of the bottom one.",
-        "In readTexture, p's y is v times H (v = 0 is the bottom row, y = 0 "
-        "in the buffer); do not flip it there.",
+        N_("readTexture runs v from top to bottom"),
+        N_("Your readTexture reads at 1 - v: on every face, whatever fetchColor "
+        "asks for, v = 0 gives the top row instead of the bottom one."),
+        N_("In readTexture, p's y is v times H (v = 0 is the bottom row, y = 0 "
+        "in the buffer); do not flip it there."),
     ),
     DiagnosisInfo(
         "texture-uv-swapped", "filtering",
-        "readTexture uses u for the rows and v for the columns",
-        "Your readTexture takes the column from v and the row from u, on "
-        "every face whatever fetchColor asks for.",
-        "In readTexture, x comes from u (times W) and y from v (times H).",
+        N_("readTexture uses u for the rows and v for the columns"),
+        N_("Your readTexture takes the column from v and the row from u, on "
+        "every face whatever fetchColor asks for."),
+        N_("In readTexture, x comes from u (times W) and y from v (times H)."),
     ),
     DiagnosisInfo(
         "columns-flipped", "filtering",
-        "readTexture reads the columns right to left",
-        "Your lookup reads column W-1-x (or uses 1 - u) where the handout's "
+        N_("readTexture reads the columns right to left"),
+        N_("Your lookup reads column W-1-x (or uses 1 - u) where the handout's "
         "buffer has x = 0 as the left column (u = 0). Every face is mirrored, "
-        "whatever fetchColor does.",
-        "Index the texel at addr[3 * (y * W + x)] with x = 0 the left column.",
+        "whatever fetchColor does."),
+        N_("Index the texel at addr[3 * (y * W + x)] with x = 0 the left column."),
     ),
     # ---- renders ----------------------------------------------------------
     DiagnosisInfo(
         "arrow-wrong", "render",
-        "An axis arrow on the test map points the wrong way",
-        "This is the handout's own debugging check: rendered with "
+        N_("An axis arrow on the test map points the wrong way"),
+        N_("This is the handout's own debugging check: rendered with "
         "`test_environment_map.hdr`, the red, green and blue arrows must point "
         "along +x, +y and +z. In your render the arrow named in the details "
-        "points another way, so some face is chosen or oriented wrongly.",
-        "Render `envmap_test.cfg` with the test map and compare the arrows with "
+        "points another way, so some face is chosen or oriented wrongly."),
+        N_("Render `envmap_test.cfg` with the test map and compare the arrows with "
         "the axes; the annotated picture in the report shows which arrow is "
         "off. The mapping diagnoses listed with this one usually name the "
-        "face to fix.",
+        "face to fix."),
     ),
     DiagnosisInfo(
         "arrow-missing", "render",
-        "An axis arrow on the test map is missing",
-        "Rendered with `test_environment_map.hdr`, one of the red, green and "
+        N_("An axis arrow on the test map is missing"),
+        N_("Rendered with `test_environment_map.hdr`, one of the red, green and "
         "blue arrows does not appear at all: the part of the map that holds "
         "it is never read, usually because a face is never chosen or the face "
-        "offset into the buffer is wrong.",
-        "Check that each of the six faces can be chosen and that face k is "
+        "offset into the buffer is wrong."),
+        N_("Check that each of the six faces can be chosen and that face k is "
         "read from `k*W*H*3` floats into the buffer, in the order "
-        "+X, -X, +Y, -Y, +Z, -Z.",
+        "+X, -X, +Y, -Y, +Z, -Z."),
     ),
     DiagnosisInfo(
         "render-mismatch", "render",
-        "Your render differs from the reference",
-        "A scene rendered with your lookup was compared with the same scene "
+        N_("Your render differs from the reference"),
+        N_("A scene rendered with your lookup was compared with the same scene "
         "rendered with the reference lookup, using SSIM (structure) and FLIP "
         "(how different they look to a person). The difference is larger than "
-        "correct solutions ever show, even compiled with other settings.",
-        "Look at the difference and FLIP pictures in the HTML report: bright "
+        "correct solutions ever show, even compiled with other settings."),
+        N_("Look at the difference and FLIP pictures in the HTML report: bright "
         "areas are where your render is wrong. The mapping and readTexture "
-        "diagnoses listed with this one usually name the cause.",
+        "diagnoses listed with this one usually name the cause."),
     ),
     # ---- speed ------------------------------------------------------------
     DiagnosisInfo(
         "slow", "speed",
-        "Your lookups are much slower than they need to be",
-        "Measured in the same run, your fetchColor takes several times as long "
+        N_("Your lookups are much slower than they need to be"),
+        N_("Measured in the same run, your fetchColor takes several times as long "
         "per lookup as the reference, beyond the generous band that gets full "
-        "points.",
-        "A lookup needs a few comparisons, one division per coordinate and "
+        "points."),
+        N_("A lookup needs a few comparisons, one division per coordinate and "
         "four texel reads. Look for work that can go: allocating or copying "
         "per call, trigonometry (atan2, acos) or pow, loops over texels, "
-        "printing while grading.",
+        "printing while grading."),
     ),
     DiagnosisInfo(
         "timed-output-wrong", "speed",
-        "Your lookups answer differently while they are being timed",
-        "The speed check keeps the colours of every timed lookup and compares "
+        N_("Your lookups answer differently while they are being timed"),
+        N_("The speed check keeps the colours of every timed lookup and compares "
         "them with your own code's untimed answers to the same directions. They "
         "differ, so the time measured is not the time of the lookup the other "
-        "checks see and does not count.",
-        "fetchColor must do the same work whatever the number of directions or "
+        "checks see and does not count."),
+        N_("fetchColor must do the same work whatever the number of directions or "
         "whether it is timed: no shortcuts for large batches, no results kept "
-        "from earlier calls.",
+        "from earlier calls."),
     ),
     DiagnosisInfo(
         "texture-context-dependent", "filtering",
-        "Your readTexture answers differently on the faces fetchColor is judged on",
-        "fetchColor is judged through your own readTexture, called on its own at "
+        N_("Your readTexture answers differently on the faces fetchColor is judged on"),
+        N_("fetchColor is judged through your own readTexture, called on its own at "
         "the face and (u, v) the handout's table gives. On the faces fetchColor "
         "is judged on, your readTexture differs from the handout's far more often "
         "than in the readTexture check, so it is not believed there and "
-        "fetchColor is judged against the handout's readTexture instead.",
-        "readTexture must compute the same thing whoever calls it and whatever "
-        "the faces' size: no separate paths.",
+        "fetchColor is judged against the handout's readTexture instead."),
+        N_("readTexture must compute the same thing whoever calls it and whatever "
+        "the faces' size: no separate paths."),
     ),
     DiagnosisInfo(
         "timing-faces-wrong", "speed",
-        "Your lookup is wrong on the faces the speed check times",
-        "On the speed check's large smooth faces, fetchColor's answers are "
+        N_("Your lookup is wrong on the faces the speed check times"),
+        N_("On the speed check's large smooth faces, fetchColor's answers are "
         "right (what your own readTexture gives at the handout's face and "
         "(u, v)) far less often than in the sweep, so the time measured is not "
-        "the time of a working lookup and does not count.",
-        "fetchColor must do the same work whatever the faces' size or colours: "
-        "no cheaper path for large faces.",
+        "the time of a working lookup and does not count."),
+        N_("fetchColor must do the same work whatever the faces' size or colours: "
+        "no cheaper path for large faces."),
     ),
     DiagnosisInfo(
         "refused-source", "build",
-        "Your code uses something a submission may not",
-        "A submission needs no inline assembly (asm, __asm__), no #line or "
+        N_("Your code uses something a submission may not"),
+        N_("A submission needs no inline assembly (asm, __asm__), no #line or "
         "line markers, no _Pragma and no pragmas beyond a few harmless ones "
         "(GCC diagnostic, GCC unroll, GCC ivdep, pack, omp, STDC), and no "
         "attributes that write into the assembly or change code generation "
@@ -658,9 +674,9 @@ _ENTRIES = [
         "optimize, fentry_name, fentry_section, patchable_function_entry). "
         "The grader decides on the compiler's own preprocessed tokens, so "
         "macros, digraphs or strings split in pieces do not change the "
-        "verdict. The message names the line.",
-        "Write fetchColor and readTexture in plain C++: remove the asm, #line, "
-        "_Pragma, pragma or attribute on that line.",
+        "verdict. The message names the line."),
+        N_("Write fetchColor and readTexture in plain C++: remove the asm, #line, "
+        "_Pragma, pragma or attribute on that line."),
     ),
 ]
 

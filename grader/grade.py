@@ -32,6 +32,7 @@ class GradeOptions:
     only: tuple[str, ...] = ()      # run only these checks
     include_hidden: bool = True     # reports show hidden checks (instructors); False for students
     allow_unsafe: bool = False      # run student code even when no sandbox is possible (grader.worker)
+    lang: str | None = None         # students' language; None: the rubric's grading.language (grader.i18n)
 
 
 def run_seed(secret: str, source_sha256: str) -> int:
@@ -48,6 +49,8 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     started = time.monotonic()
     submission = Path(submission)
     rubric = score.load_rubric(options.rubric)      # raises RubricError
+    from .i18n import choose, set_language
+    set_language(choose(options.lang, rubric))
     result = GradeResult(submission=student_name(submission))
     checks = ordered_checks(rubric)                  # the rubric's order is the run order
     entries = rubric.get("checks", {})
@@ -76,9 +79,11 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     result.source_sha256 = build.sha256 or ""
     if not build.ok:
         result.status = BUILD_ERROR
-        first = build.log.strip().splitlines()[0] if build.log.strip() else "the submission did not compile"
+        from .i18n import _
+        first = build.log.strip().splitlines()[0] if build.log.strip() else _("the submission did not compile")
         for c in selected:
-            cr = CheckResult(c.name, c.title, status=FAILED, fraction=0.0, output="Not run: the submission did not build.")
+            cr = CheckResult(c.name, _(c.title), status=FAILED, fraction=0.0,
+                             output=_("Not run: the submission did not build."))
             result.checks.append(cr)
         # grader.build names the kind of build failure; its words are in grader/diagnoses.py.
         diagnosis_id = getattr(build, "diagnosis_id", "build-error")

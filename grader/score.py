@@ -23,6 +23,10 @@ def load_rubric(path: Path = RUBRIC, checks: dict | None = None) -> dict:
         rubric = tomllib.loads(Path(path).read_text())
     except (OSError, tomllib.TOMLDecodeError) as e:
         raise RubricError(f"{path}: {e}") from e
+    language = rubric.get("grading", {}).get("language", "en")
+    from .i18n import LANGUAGES
+    if language not in LANGUAGES:
+        raise RubricError(f"{path}: grading.language must be one of {list(LANGUAGES)}")
     for name, entry in rubric.get("checks", {}).items():
         if not isinstance(entry.get("points"), (int, float)) or entry["points"] < 0:
             raise RubricError(f"{path}: checks.{name}.points must be a number >= 0")

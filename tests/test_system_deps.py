@@ -25,16 +25,19 @@ SYSTEMS = {
     "Debian GNU/Linux 12 (bookworm)": {
         "gcc": "4:12.2.0-3", "g++": "4:12.2.0-3", "make": "4.3-4.1", "python3-venv": "3.11.2-1+b1",
         "bubblewrap": "0.8.0-2+deb12u1", "unzip": "6.0-28", "libstb-dev": "0.0~git20220908.8b5f1f3+ds-1", "chromium": "156.0-1~deb12u1", "clang": "1:14.0-55.7~deb12u1",
-        "libclang-rt-14-dev": "1:14.0.6-12", "libclang-common-14-dev": "1:14.0.6-12"},
+        "libclang-rt-14-dev": "1:14.0.6-12", "libclang-common-14-dev": "1:14.0.6-12",
+        "fonts-ipafont-gothic": "00303-23", "fonts-noto-cjk": "1:20220127+repack1-1"},
     "Ubuntu 22.04.5 LTS": {
         "gcc": "4:11.2.0-1ubuntu1", "g++": "4:11.2.0-1ubuntu1", "make": "4.3-4.1build1",
         "python3-venv": "3.10.6-1~22.04", "bubblewrap": "0.6.1-1ubuntu0.1", "unzip": "6.0-26ubuntu3.2", "libstb-dev": "0.0~git20210910.af1a5bc+ds-1", "chromium-browser": "1:85.0-0ubuntu2",
-        "clang": "1:14.0-55~exp2", "libclang-common-14-dev": "1:14.0.0-1ubuntu1.1"},
+        "clang": "1:14.0-55~exp2", "libclang-common-14-dev": "1:14.0.0-1ubuntu1.1",
+        "fonts-ipafont-gothic": "00303-21ubuntu1", "fonts-noto-cjk": "1:20220127+repack1-1"},
     "Ubuntu 24.04.1 LTS": {
         "gcc": "4:13.2.0-7ubuntu1", "g++": "4:13.2.0-7ubuntu1", "make": "4.3-4.1build2",
         "python3-venv": "3.12.3-0ubuntu2", "bubblewrap": "0.9.0-1ubuntu0.1", "unzip": "6.0-28ubuntu4", "libstb-dev": "0.0~git20230129.5736b15+ds-1", "chromium-browser": "2:1snap1-0ubuntu2",
         "clang": "1:18.0-59~exp2", "libclang-rt-14-dev": "1:14.0.6-19build4", "libclang-rt-18-dev": "1:18.1.3-1ubuntu1",
-        "libclang-common-18-dev": "1:18.1.3-1ubuntu1"},
+        "libclang-common-18-dev": "1:18.1.3-1ubuntu1",
+        "fonts-ipafont-gothic": "00303-21ubuntu1", "fonts-noto-cjk": "1:20230817+repack1-3"},
 }
 
 FAKES = {
@@ -78,16 +81,16 @@ def test_nothing_missing_does_nothing(tmp_path):
 def test_debian_12_installs_everything(tmp_path):
     done, installed = run_script(tmp_path, "Debian GNU/Linux 12 (bookworm)", [])
     assert done.returncode == 0, done.stderr
-    assert installed == ["gcc", "g++", "make", "python3-venv", "libstb-dev", "bubblewrap", "unzip", "chromium",
-                         "clang", "libclang-rt-14-dev"]
+    assert installed == ["gcc", "g++", "make", "python3-venv", "libstb-dev", "fonts-ipafont-gothic", "bubblewrap",
+                         "unzip", "chromium", "clang", "libclang-rt-14-dev"]
     assert "installing" in done.stdout   # progress, not silence
 
 
 def test_ubuntu_22_04_uses_the_common_package_and_explains_chromium(tmp_path):
     done, installed = run_script(tmp_path, "Ubuntu 22.04.5 LTS", [])
     assert done.returncode == 0, done.stderr    # chromium is for a test only
-    assert installed == ["gcc", "g++", "make", "python3-venv", "libstb-dev", "bubblewrap", "unzip", "clang",
-                         "libclang-common-14-dev"]
+    assert installed == ["gcc", "g++", "make", "python3-venv", "libstb-dev", "fonts-ipafont-gothic", "bubblewrap",
+                         "unzip", "clang", "libclang-common-14-dev"]
     assert "cannot install chromium" in done.stderr and "Ubuntu 22.04.5 LTS" in done.stderr
     assert "snap" in done.stderr   # what it is for, and why Ubuntu has none
 
@@ -101,7 +104,7 @@ def test_ubuntu_24_04_matches_the_runtime_to_clang_18(tmp_path):
 def test_core_group_alone_is_what_grading_needs(tmp_path):
     done, installed = run_script(tmp_path, "Ubuntu 24.04.1 LTS", ["gcc", "g++", "make"], "core")
     assert done.returncode == 0, done.stderr
-    assert installed == ["python3-venv", "bubblewrap"]
+    assert installed == ["python3-venv", "fonts-ipafont-gothic", "bubblewrap"]
 
 
 def test_a_core_package_apt_cannot_install_fails_and_says_why(tmp_path, monkeypatch):

@@ -40,6 +40,7 @@ import traceback
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
 
+from ..i18n import N_, _
 from ..results import ERROR, SKIPPED, CheckResult
 
 log = logging.getLogger("grader.checks")
@@ -49,17 +50,18 @@ MODULES = ("read_texture", "sweeps", "diagnosis", "arrows", "stability", "render
 
 # What a student reads when the harness failed on a check. The traceback goes
 # to CheckResult.error_log and the "grader.checks" log, for the instructor.
-HARNESS_ERROR_OUTPUT = ("The grader itself failed on this check; this is not your fault. "
-                        "Your instructor has been told.")
+HARNESS_ERROR_OUTPUT = N_("The grader itself failed on this check; this is not your fault. "
+                          "Your instructor has been told.")
 
 
 @dataclass(frozen=True)
 class Needs:
     """A prerequisite with a condition: the dependent runs only when
-    `passing(finding)` holds; otherwise it is skipped, the output saying `why`."""
+    `passing(finding)` holds; otherwise it is skipped, the output saying `why`
+    (a catalogue id, or a function returning the words in the current language)."""
     check: Callable
     passing: Callable[[Any], bool] | None = None
-    why: str = ""
+    why: str | Callable[[], str] = ""
 
 
 @dataclass(frozen=True)
@@ -157,11 +159,18 @@ def _blocked(c: Check, done: dict[str, Ran]) -> str | None:
         pre = check_of(need.check)
         ran = done.get(pre.name)
         if ran is None or not ran.finished:
-            state = "did not run" if ran is None else ("could not run" if ran.result.status == SKIPPED
-                                                      else "stopped with a grader error")
-            return f"Not run: it needs the check \u201c{pre.title}\u201d, which {state}."
+            if ran is None:
+                text = N_("Not run: it needs the check \u201c%(check)s\u201d, which did not run.")
+            elif ran.result.status == SKIPPED:
+                text = N_("Not run: it needs the check \u201c%(check)s\u201d, which could not run.")
+            else:
+                text = N_("Not run: it needs the check \u201c%(check)s\u201d, which stopped with a grader error.")
+            return _(text) % {"check": _(pre.title)}
         if need.passing is not None and not need.passing(ran.finding):
-            return f"Not run: {need.why or 'it needs the check ' + repr(pre.title) + ' to pass first.'}"
+            if need.why:   # a catalogue id, or a function giving the words (with numbers)
+                why = need.why() if callable(need.why) else _(need.why)
+                return _("Not run: %(why)s") % {"why": why}
+            return _("Not run: it needs the check \u201c%(check)s\u201d to pass first.") % {"check": _(pre.title)}
     return None
 
 
@@ -171,7 +180,7 @@ def _refuse_unknown_ids(c: Check, result: CheckResult) -> None:
     from ..diagnoses import CATALOGUE
     unknown = sorted({d.id for d in result.diagnoses if d.id not in CATALOGUE})
     if unknown:
-        result.status, result.fraction, result.output, result.diagnoses = ERROR, 0.0, HARNESS_ERROR_OUTPUT, []
+        result.status, result.fraction, result.output, result.diagnoses = ERROR, 0.0, _(HARNESS_ERROR_OUTPUT), []
         result.error_log += f"check {c.name} emitted diagnosis ids missing from grader/diagnoses.py: {', '.join(unknown)}\n"
         log.error(result.error_log)
 
@@ -184,7 +193,7 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
     out = CheckRun()
     done: dict[str, Ran] = {}
     for c in _closure(checks, chosen):
-        result = CheckResult(c.name, c.title)
+        result = CheckResult(c.name, _(c.title))   # the title is the docstring's first line, a catalogue id
         reason = _blocked(c, done)
         ran = Ran(result)
         if reason:
@@ -197,7 +206,7 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
                 ran.finished = True
             except Exception:  # the harness failed, not the student: no traceback for the student
                 result.status, result.fraction = ERROR, 0.0
-                result.output = HARNESS_ERROR_OUTPUT
+                result.output = _(HARNESS_ERROR_OUTPUT)
                 result.diagnoses = []
                 result.error_log = traceback.format_exc()
                 log.error("check %s failed:\n%s", c.name, result.error_log)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import PROJECT_ROOT, reference
+from ..i18n import N_, _, and_list, language
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
@@ -19,7 +20,7 @@ from .directions import axes, fibonacci_sphere
 
 TEST_MAP = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
 ARROW_SCENE = PROJECT_ROOT / "scenes" / "mirror_ball_test_map.cfg"
-ARROWS = (("red", "+x"), ("green", "+y"), ("blue", "+z"))
+ARROWS = ((N_("red"), "+x"), (N_("green"), "+y"), (N_("blue"), "+z"))   # colour names: catalogue ids
 AXIS_NAMES = ("+x", "+y", "+z", "-x", "-y", "-z")   # the order of directions.axes()
 SHAPE_AGREEMENT = 0.9   # share of the reference's arrow pixels the submission must reproduce
 
@@ -75,17 +76,20 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
         pole_ok = where == [axis]
         shape_ok = shape >= SHAPE_AGREEMENT
         passed += pole_ok + shape_ok
+        words = {"colour": _(colour), "axis": axis, "where": and_list(where), "shape": f"{shape:.0%}"}
         if not where:
-            verdicts.append(f"{colour} arrow: missing (no {colour} disc at any axis)")
-            diagnoses.append(Diagnosis("arrow-missing", f"The {colour} arrow's head ({colour} disc at {axis}) appears nowhere along the axes."))
+            verdicts.append(_("%(colour)s arrow: missing (no %(colour)s disc at any axis)") % words)
+            diagnoses.append(Diagnosis("arrow-missing", _("The %(colour)s arrow's head (%(colour)s disc at %(axis)s) "
+                                                          "appears nowhere along the axes.") % words))
         elif not pole_ok:
-            verdicts.append(f"{colour} arrow: points toward {' and '.join(where)}, should be {axis}")
-            diagnoses.append(Diagnosis("arrow-wrong", f"The {colour} arrow points toward {' and '.join(where)} instead of {axis}."))
+            verdicts.append(_("%(colour)s arrow: points toward %(where)s, should be %(axis)s") % words)
+            diagnoses.append(Diagnosis("arrow-wrong", _("The %(colour)s arrow points toward %(where)s instead of %(axis)s.") % words))
         elif not shape_ok:
-            verdicts.append(f"{colour} arrow: points to {axis} but is drawn wrongly ({shape:.0%} of it in place)")
-            diagnoses.append(Diagnosis("arrow-wrong", f"The {colour} arrow points toward {axis}, but only {shape:.0%} of it is where it should be: part of it is flipped or on the wrong face."))
+            verdicts.append(_("%(colour)s arrow: points to %(axis)s but is drawn wrongly (%(shape)s of it in place)") % words)
+            diagnoses.append(Diagnosis("arrow-wrong", _("The %(colour)s arrow points toward %(axis)s, but only %(shape)s of it "
+                                                        "is where it should be: part of it is flipped or on the wrong face.") % words))
         else:
-            verdicts.append(f"{colour} arrow: points along {axis}")
+            verdicts.append(_("%(colour)s arrow: points along %(axis)s") % words)
         result.metrics[f"{colour}_shape"] = shape
     result.fraction = passed / 6
     result.diagnoses = unique_diagnoses(diagnoses)
@@ -95,16 +99,36 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
     try:
         result.artifacts["arrows"] = draw(ctx, cube, verdicts)
     except Exception as e:  # a picture is a courtesy; its failure must not cost points
-        result.output += f"\n\n(The arrow picture could not be drawn: {e})"
+        result.output += "\n\n" + _("(The arrow picture could not be drawn: %(error)s)") % {"error": e}
+
+
+# Fonts with Japanese glyphs (packages.txt installs one of them): the first
+# that exists. DejaVu has none, so Japanese captions would be tofu boxes.
+CJK_FONTS = (
+    "/usr/share/fonts/opentype/ipafont-gothic/ipag.ttf",
+    "/usr/share/fonts/truetype/fonts-japanese-gothic.ttf",
+    "/usr/share/fonts/opentype/noto/NotoSansCJK-Regular.ttc",
+    "/usr/share/fonts/opentype/noto/NotoSansCJKjp-Regular.otf",
+)
+
+
+def cjk_font() -> str | None:
+    """The path of a font with Japanese glyphs on this machine, or None."""
+    from pathlib import Path
+    return next((p for p in CJK_FONTS if Path(p).is_file()), None)
 
 
 def _fonts():
     """(titles, captions): DejaVu from matplotlib's data folder, found
-    without importing matplotlib; Pillow's own font where it is missing."""
+    without importing matplotlib; Pillow's own font where it is missing.
+    For Japanese, a CJK font (cjk_font) for both."""
     import importlib.util
     from pathlib import Path
 
     from PIL import ImageFont
+    cjk = cjk_font() if language() == "ja" else None
+    if cjk is not None:
+        return ImageFont.truetype(cjk, 15), ImageFont.truetype(cjk, 13)
     spec = importlib.util.find_spec("matplotlib")
     folder = Path(spec.origin).parent / "mpl-data" / "fonts" / "ttf" if spec and spec.origin else None
     try:
@@ -133,7 +157,7 @@ def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
     fonts = _fonts()
     canvas = Image.new("RGB", (2 * side + 3 * pad, 28 + side + pad + line * len(verdicts) + pad), "white")
     paint = ImageDraw.Draw(canvas)
-    for k, (image, title) in enumerate(zip(images, ("reference", "your fetchColor"))):
+    for k, (image, title) in enumerate(zip(images, (_("reference"), _("your fetchColor")))):
         pixels = (np.clip(tone_map(image), 0, 1) * 255 + 0.5).astype(np.uint8)
         left = pad + k * (side + pad)
         canvas.paste(Image.fromarray(pixels).resize((side, side), Image.BILINEAR), (left, 28))

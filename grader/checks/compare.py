@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import reference
+from ..i18n import _
 from .directions import tied_axes
 
 FLOAT_EPS = 2.0 ** -24   # float32 unit roundoff
@@ -121,10 +122,11 @@ def explain(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.nd
     """Markdown lines for the worst mismatches: input, expected, got."""
     lines = []
     for i in cmp.failures[:limit]:
-        lines.append(f"- {describe_input(i)}: expected {format_vector(expected[i])}, got {format_vector(actual[i])}")
+        lines.append("- " + _("%(call)s: expected %(expected)s, got %(got)s") % {
+            "call": describe_input(i), "expected": format_vector(expected[i]), "got": format_vector(actual[i])})
     more = len(cmp.failures) - limit
     if more > 0:
-        lines.append(f"- ... and {more} more")
+        lines.append("- " + _("... and %(more)d more") % {"more": more})
     return "\n".join(lines)
 
 

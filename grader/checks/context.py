@@ -15,6 +15,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from ..i18n import _
 from ..results import Diagnosis
 
 
@@ -49,7 +50,8 @@ def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
             continue
         seen.add(kind)
         # The hint travels separately: reports print it as what to do.
-        out.append(Diagnosis(kind, f"{failure.input}: {failure.message}.", hint=failure.hint))
+        out.append(Diagnosis(kind, _("%(input)s: %(message)s.") % {"input": failure.input, "message": failure.message},
+                             hint=failure.hint))
         if len(out) >= limit:
             break
     return out

@@ -8,6 +8,7 @@ readTexture is never blamed on fetchColor (grader.checks.face_recovery).
 """
 from __future__ import annotations
 
+from ..i18n import N_, _
 from ..results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
@@ -30,16 +31,20 @@ def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     result.diagnoses = analysis.diagnoses()
     if not result.diagnoses:
         result.fraction = 1.0
-        result.output = "On every face, fetchColor samples the right face with u and v running the right way."
+        result.output = _("On every face, fetchColor samples the right face with u and v running the right way.")
         return
     result.status, result.fraction = FAILED, 0.0
-    how = {"fitted": "read back through a model of your readTexture that reproduces all its answers",
-           "closest": "read back through the closest model of your readTexture (it does not reproduce all its answers, so this is less certain)",
-           "read back": "read back by calling your readTexture itself at known (u, v) (no model of it reproduces all its answers)"}
+    how = {"fitted": N_("What fetchColor does, recovered from a texture whose texels encode their own position, read back "
+                        "through a model of your readTexture that reproduces all its answers:"),
+           "closest": N_("What fetchColor does, recovered from a texture whose texels encode their own position, read back "
+                         "through the closest model of your readTexture (it does not reproduce all its answers, so this is "
+                         "less certain):"),
+           "read back": N_("What fetchColor does, recovered from a texture whose texels encode their own position, read "
+                           "back by calling your readTexture itself at known (u, v) (no model of it reproduces all its answers):")}
     if analysis.instrument == "none":
         result.output = analysis.reason
         return
-    lines = [f"What fetchColor does, recovered from a texture whose texels encode their own position, {how[analysis.instrument]}:", ""]
+    lines = [_(how[analysis.instrument]), ""]
     if analysis.faces:
         lines += analysis.table()
     result.output = "\n".join(lines)

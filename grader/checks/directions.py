@@ -12,6 +12,8 @@ import itertools
 
 import numpy as np
 
+from ..i18n import N_
+
 GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
 
 
@@ -80,15 +82,16 @@ def random_directions(n: int, seed: int) -> np.ndarray:
 
 
 def sweep_sets(seed: int, fibonacci: int = 100_000) -> dict[str, np.ndarray]:
-    """Every set the sweep check runs, by name (the names appear in reports)."""
+    """Every set the sweep check runs, by name (the names appear in reports,
+    read out with grader.i18n._; the English names are the keys)."""
     return {
-        "Fibonacci sphere": fibonacci_sphere(fibonacci),
-        "face grids": face_grids(24),
-        "axes": axes(),
-        "edges (ties)": edges(16),
-        "corners (ties)": corners(),
-        "lengths 1e-30 to 1e30": scaled(fibonacci_sphere(500)),
-        "random (this run)": random_directions(20_000, seed),
+        N_("Fibonacci sphere"): fibonacci_sphere(fibonacci),
+        N_("face grids"): face_grids(24),
+        N_("axes"): axes(),
+        N_("edges (ties)"): edges(16),
+        N_("corners (ties)"): corners(),
+        N_("lengths 1e-30 to 1e30"): scaled(fibonacci_sphere(500)),
+        N_("random (this run)"): random_directions(20_000, seed),
     }
 
 

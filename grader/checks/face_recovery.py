@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import reference
+from ..i18n import N_, _, and_list
 from ..results import Diagnosis
 
 # Every id a candidate can give (tests/test_diagnosis_catalogue.py).
@@ -48,11 +49,11 @@ def face_name(k: int) -> str:
 
 # How fetchColor may turn s = (signed component / m) in [-1, 1] into u: the
 # handout's (1 + s)/2, or a remapping mistake.
-REMAPS = {
+REMAPS = {   # the names are catalogue ids (grader.i18n), shown with _()
     "handout": lambda s: (1.0 + s) / 2.0,
-    "not remapped (u = s)": lambda s: s,
-    "no division by 2 (u = 1 + s)": lambda s: 1.0 + s,
-    "no + 1 (u = s/2)": lambda s: s / 2.0,
+    N_("not remapped (u = s)"): lambda s: s,
+    N_("no division by 2 (u = 1 + s)"): lambda s: 1.0 + s,
+    N_("no + 1 (u = s/2)"): lambda s: s / 2.0,
 }
 
 
@@ -97,14 +98,14 @@ CANDIDATES = sorted((Candidate(*flags) for flags in itertools.product(
 PATTERNS = {
     # m = the signed major component: on -X, -Y, -Z both s/m and t/m change sign.
     "signed-major": ({1: (False, True, True), 3: (False, True, True), 5: (False, True, True)},
-                     "u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
-                     "signed major component, which is negative on those faces. Divide by m = |major "
-                     "component| and keep the table's signs."),
+                     N_("u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
+                        "signed major component, which is negative on those faces. Divide by m = |major "
+                        "component| and keep the table's signs.")),
     # OpenGL's table (sc, tc per face) against ASSIGNMENT.md's: +X, -X and -Z turned 180 degrees.
     "opengl-table": ({0: (False, True, True), 1: (False, True, True), 5: (False, True, True)},
-                     "+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
-                     "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
-                     "table. Use the (u, v) table in README.md for every face."),
+                     N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
+                        "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
+                        "table. Use the (u, v) table in README.md for every face.")),
 }
 
 
@@ -174,20 +175,20 @@ class FetchAnalysis:
         if self.instrument == "none":
             return [Diagnosis("fetch-not-analysed", self.reason)]
         if self.not_implemented:
-            return [Diagnosis("not-implemented", "fetchColor returns black (or a colour that is not in the texture) "
-                              "for every direction: it still looks like the starting code.")]
+            return [Diagnosis("not-implemented", _("fetchColor returns black (or a colour that is not in the texture) "
+                                                   "for every direction: it still looks like the starting code."))]
         if self.length_dependent or any(v.candidate is not None and v.candidate.by_length and v.share >= SHARE
                                         for v in self.faces):
-            out.append(Diagnosis("not-normalized", "The answer changes with the direction's length, or (u, v) do "
-                                 "not reach the face's edges: divide the face-plane coordinates by the major "
-                                 "component's magnitude m."))
+            out.append(Diagnosis("not-normalized", _("The answer changes with the direction's length, or (u, v) do "
+                                                     "not reach the face's edges: divide the face-plane coordinates by the major "
+                                                     "component's magnitude m.")))
         pattern = find_pattern(self.faces)
         if pattern is not None:
             pid, words, explained = pattern
             per_face = "; ".join(f"{face_name(v.face)}: " + ", ".join(
                 name for name, on in zip(("uv-swapped", "u-flipped", "v-flipped"), v.flags()) if on)
                 for v in self.faces if v.face in explained)
-            out.append(Diagnosis(pid, f"{words} (per face: {per_face}.)"))
+            out.append(Diagnosis(pid, _("%(words)s (per face: %(per_face)s.)") % {"words": _(words), "per_face": per_face}))
         # One (u, v) mistake shared by every face read back (an inset, an offset): told once.
         read_back = [v for v in self.faces if v.analysed and v.affine is not None]
         kinds = {v.affine.kind for v in read_back}
@@ -195,42 +196,48 @@ class FetchAnalysis:
                                        and len(read_back) == sum(v.analysed for v in self.faces)) else None
         if shared in ("uv-inset", "uv-offset"):
             example = read_back[0].affine
-            what = {"uv-inset": "moves (u, v) inward, toward the face's centre",
-                    "uv-offset": "shifts (u, v) by a constant"}[shared]
-            out.append(Diagnosis(shared, f"On every face fetchColor {what}: it reads at {example.words()} "
-                                 f"(on {face_name(read_back[0].face)}; {example.size[0]} x {example.size[1]} "
-                                 f"texels). The handout's (u, v) run from exactly 0 to 1 across the face."))
+            what = {"uv-inset": N_("On every face fetchColor moves (u, v) inward, toward the face's centre: it reads at "
+                                   "%(words)s (on %(face)s; %(w)d x %(h)d texels). The handout's (u, v) run from exactly "
+                                   "0 to 1 across the face."),
+                    "uv-offset": N_("On every face fetchColor shifts (u, v) by a constant: it reads at %(words)s "
+                                    "(on %(face)s; %(w)d x %(h)d texels). The handout's (u, v) run from exactly 0 to 1 "
+                                    "across the face.")}[shared]
+            out.append(Diagnosis(shared, _(what) % {"words": example.words(), "face": face_name(read_back[0].face),
+                                                    "w": example.size[0], "h": example.size[1]}))
         for v in self.faces:
             name = face_name(v.face)
             if pattern is not None and v.face in pattern[2]:
                 continue                 # told once, by the pattern
             if v.crash is not None:
-                out.append(Diagnosis("face-not-analysed", f"Directions toward {name} could not be analysed "
-                                     f"(crash at {v.crash}).", face=name))
+                out.append(Diagnosis("face-not-analysed", _("Directions toward %(face)s could not be analysed "
+                                                            "(crash at %(crash)s).") % {"face": name, "crash": v.crash},
+                                     face=name))
                 continue
             if not v.analysed:
                 continue
             if v.sampled is None:
-                out.append(Diagnosis("wrong-face", f"Directions toward {name} return a colour that is not in "
-                                     "the texture (black?).", face=name))
+                out.append(Diagnosis("wrong-face", _("Directions toward %(face)s return a colour that is not in "
+                                                     "the texture (black?).") % {"face": name}, face=name))
                 continue
             if v.sampled != v.face:
-                out.append(Diagnosis("wrong-face", f"Directions toward {name} sample the {face_name(v.sampled)} face.",
-                                     face=name))
+                out.append(Diagnosis("wrong-face", _("Directions toward %(face)s sample the %(sampled)s face.")
+                                     % {"face": name, "sampled": face_name(v.sampled)}, face=name))
             if v.affine is not None:
                 for mistake in v.affine.orientation_ids:
                     out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
                 kind = v.affine.kind
                 if kind is not None and kind != shared:
-                    out.append(Diagnosis(kind, f"On the {name} face, fetchColor reads at {v.affine.words()} "
-                                         "(read back from your answers) instead of the handout's (u, v).", face=name))
+                    out.append(Diagnosis(kind, _("On the %(face)s face, fetchColor reads at %(words)s "
+                                                 "(read back from your answers) instead of the handout's (u, v).")
+                                         % {"face": name, "words": v.affine.words()}, face=name))
                 continue
             if v.share >= SHARE and v.candidate is not None:
                 for mistake in v.candidate.ids:
                     out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
             else:
-                out.append(Diagnosis("uv-mismatch", f"On the {name} face, (u, v) follow no pattern we recognise "
-                                     f"({v.share:.0%} of directions explained by the best guess)."
+                out.append(Diagnosis("uv-mismatch", _("On the %(face)s face, (u, v) follow no pattern we recognise "
+                                                      "(%(share)s of directions explained by the best guess).")
+                                     % {"face": name, "share": f"{v.share:.0%}"}
                                      + (f" {v.example}" if v.example else ""), face=name))
         if self.ties_untouched:
             out.append(Diagnosis("tie-untouched-face", self.ties_untouched))
@@ -242,21 +249,24 @@ class FetchAnalysis:
         return out
 
     def table(self) -> list[str]:
-        rows = ["| direction toward | face sampled | (u, v) mistakes | explained |", "|---|---|---|---:|"]
+        rows = [f"| {_('direction toward')} | {_('face sampled')} | {_('(u, v) mistakes')} | {_('explained')} |",
+                "|---|---|---|---:|"]
         for v in self.faces:
             if v.crash is not None:
-                rows.append(f"| {face_name(v.face)} | could not be analysed (crash at {v.crash}) | | |")
+                rows.append(f"| {face_name(v.face)} | " + _("could not be analysed (crash at %(crash)s)") % {"crash": v.crash}
+                            + " | | |")
             elif not v.analysed:
-                rows.append(f"| {face_name(v.face)} | too few answers ({v.answered}) | | |")
+                rows.append(f"| {face_name(v.face)} | " + _("too few answers (%(count)d)") % {"count": v.answered} + " | | |")
             else:
-                sampled = face_name(v.sampled) if v.sampled is not None else "none"
+                sampled = face_name(v.sampled) if v.sampled is not None else _("none")
                 if v.affine is not None:
-                    ids = ", ".join(v.affine.orientation_ids + ([v.affine.kind] if v.affine.kind else [])) or "none"
-                    rows.append(f"| {face_name(v.face)} | {sampled} | {ids} (read back: {v.affine.words()}) | "
-                                f"{v.affine.explained:.0%} |")
+                    ids = ", ".join(v.affine.orientation_ids + ([v.affine.kind] if v.affine.kind else [])) or _("none")
+                    rows.append(f"| {face_name(v.face)} | {sampled} | {ids} ("
+                                + _("read back: %(words)s") % {"words": v.affine.words()}
+                                + f") | {v.affine.explained:.0%} |")
                     continue
                 if v.candidate is not None and v.share >= SHARE:
-                    ids = ", ".join(v.candidate.ids + (["divides by |d|, not m"] if v.candidate.by_length else [])) or "none"
+                    ids = ", ".join(v.candidate.ids + ([_("divides by |d|, not m")] if v.candidate.by_length else [])) or _("none")
                 else:
                     ids = "?"
                 rows.append(f"| {face_name(v.face)} | {sampled} | {ids} | {v.share:.0%} |")
@@ -266,12 +276,13 @@ class FetchAnalysis:
 def _detail(mistake: str, v: FaceVerdict) -> str:
     name = face_name(v.face)
     if mistake == "uv-range":
-        return f"On the {name} face, (u, v) are not mapped to [0, 1] as the handout says: {v.candidate.remap}."
-    return {
-        "u-flipped": f"On the {name} face, u runs the wrong way (your u is 1 - u of the (u, v) table in README.md).",
-        "v-flipped": f"On the {name} face, v runs the wrong way (your v is 1 - v of the (u, v) table in README.md).",
-        "uv-swapped": f"On the {name} face, u and v are swapped.",
-    }[mistake]
+        return _("On the %(face)s face, (u, v) are not mapped to [0, 1] as the handout says: %(remap)s.") % {
+            "face": name, "remap": _(v.candidate.remap)}
+    return _({
+        "u-flipped": N_("On the %(face)s face, u runs the wrong way (your u is 1 - u of the (u, v) table in README.md)."),
+        "v-flipped": N_("On the %(face)s face, v runs the wrong way (your v is 1 - v of the (u, v) table in README.md)."),
+        "uv-swapped": N_("On the %(face)s face, u and v are swapped."),
+    }[mistake]) % {"face": name}
 
 
 # ---- the analysis ----------------------------------------------------------
@@ -296,19 +307,19 @@ class Instrument:
 
 def _instrument(fit: Fit) -> tuple[str, TextureModel | None, str]:
     if fit.constant:
-        return "none", None, ("fetchColor could not be analysed: readTexture returns the same colour wherever it "
-                              "reads, so its answers do not tell which face or (u, v) fetchColor asked for. Fix "
-                              "readTexture first.")
+        return "none", None, _("fetchColor could not be analysed: readTexture returns the same colour wherever it "
+                               "reads, so its answers do not tell which face or (u, v) fetchColor asked for. Fix "
+                               "readTexture first.")
     if fit.fits:
         return "fitted", fit.model, ""
     if fit.share >= 0.9:
         return "closest", fit.closest, ""
-    return "none", None, ("fetchColor could not be analysed: readTexture follows no pattern the grader knows "
-                          f"(the closest explains {fit.share:.0%} of its answers), so its answers cannot be read "
-                          "back as a face and (u, v). Fix readTexture first.")
+    return "none", None, _("fetchColor could not be analysed: readTexture follows no pattern the grader knows "
+                           "(the closest explains %(share)s of its answers), so its answers cannot be read "
+                           "back as a face and (u, v). Fix readTexture first.") % {"share": f"{fit.share:.0%}"}
 
 
-NOT_READ_BACK = ("fetchColor could not be analysed: readTexture returns the same colour wherever it reads, or "
+NOT_READ_BACK = N_("fetchColor could not be analysed: readTexture returns the same colour wherever it reads, or "
                  "crashes on most of a face, so its answers do not tell which face or (u, v) fetchColor asked "
                  "for. Fix readTexture first.")
 
@@ -317,7 +328,7 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
     """Face by face, what fetchColor does: through the fitted readTexture
     when one fits, and otherwise (or where no candidate explains a face) read
     back without a model (instruments.readback)."""
-    kind, model, _ = _instrument(fit)
+    kind, model, _reason = _instrument(fit)
     faces = coordinate_faces(FACE_SIZE, FACE_SIZE)
     lookups.set_faces(faces)
     calibration: list = []          # computed once, when first needed
@@ -329,7 +340,7 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
 
     if model is None:
         if fit.constant or calibrated() is None:
-            return FetchAnalysis("none", NOT_READ_BACK)
+            return FetchAnalysis("none", _(NOT_READ_BACK))
         kind = "read back"
     inst = Instrument(model, faces) if model is not None else None
     out = FetchAnalysis(kind)
@@ -354,7 +365,7 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
             if failure.index is not None:
                 crashes.setdefault(f, failure.input)
                 break
-    sub_faces, _, _ = decode_sample_coordinates(values)
+    sub_faces, _px, _py = decode_sample_coordinates(values)
     answered = evaluated & np.isfinite(values).all(axis=1)
     clear = tied_axes(dirs).sum(axis=1) == 1
     m_over_len = np.abs(dirs).max(axis=1) / np.linalg.norm(dirs, axis=1)
@@ -421,8 +432,9 @@ def _read_back_example(dirs, idx, g: int, ref_uv, read_uv, on_g) -> str:
     j = rows[len(rows) // 2]
     i = int(idx[j])
     d = ", ".join(f"{x:.4g}" for x in dirs[i])
-    return (f"For example fetchColor(Vector3({d})) should read (u, v) = ({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f}) "
-            f"on {face_name(g)}; it read about ({read_uv[j, 0]:.3f}, {read_uv[j, 1]:.3f}).")
+    return _("For example fetchColor(Vector3(%(d)s)) should read (u, v) = %(want)s on %(face)s; it read about %(got)s.") % {
+        "d": d, "want": f"({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f})", "face": face_name(g),
+        "got": f"({read_uv[j, 0]:.3f}, {read_uv[j, 1]:.3f})"}
 
 
 def recover_uv(inst: Instrument, face: int, answer: np.ndarray, steps: int = 2048):
@@ -469,11 +481,13 @@ def _example(inst: Instrument, dirs, idx, g: int, ref_uv, values, best: Candidat
     d = ", ".join(f"{x:.4g}" for x in dirs[i])
     want = f"({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f})"
     if box is None:
-        return f"For example fetchColor(Vector3({d})) should read (u, v) = {want}; its answer comes from no (u, v) on {face_name(g)}."
+        return _("For example fetchColor(Vector3(%(d)s)) should read (u, v) = %(want)s; its answer comes from no (u, v) "
+                 "on %(face)s.") % {"d": d, "want": want, "face": face_name(g)}
     lo, hi = box
     got = ", ".join(f"{a:.3f}" if abs(a - b) < 2e-3 else f"{a:.3f}..{b:.3f}" for a, b in zip(lo, hi))
-    return (f"For example fetchColor(Vector3({d})) should read (u, v) = {want} on {face_name(int(g))}; "
-            f"your answer is what your readTexture returns at (u, v) = ({got}).")
+    return _("For example fetchColor(Vector3(%(d)s)) should read (u, v) = %(want)s on %(face)s; "
+             "your answer is what your readTexture returns at (u, v) = (%(got)s).") % {
+        "d": d, "want": want, "face": face_name(int(g)), "got": got}
 
 
 def _consistent(a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
@@ -500,18 +514,20 @@ def _lengths(lookups, dirs: np.ndarray, tol: float, out: FetchAnalysis) -> None:
         out.length_dependent = True
         return
     if broken[FLOAT_TINY] > 0.1 or broken[FLOAT_HUGE] > 0.1:
-        which = [w for w, s in (("tiny (|d| = 1e-41)", FLOAT_TINY), ("huge (|d| = 1e39)", FLOAT_HUGE)) if broken[s] > 0.1]
-        out.precision = (f"fetchColor gives another answer for {' and '.join(which)} directions than for the same "
-                         "directions at length 1, while it handles lengths such as 1e155 and 1e-170 differently or "
-                         "not at all: the components go through float (float x = direction.x, or a float "
-                         "parameter), which cannot hold magnitudes below 1.2e-38 exactly or above 3.4e38 at all. "
-                         "Keep them in double until you have divided by m.")
+        which = [_(w) for w, s in ((N_("tiny (|d| = 1e-41)"), FLOAT_TINY), (N_("huge (|d| = 1e39)"), FLOAT_HUGE))
+                 if broken[s] > 0.1]
+        out.precision = _("fetchColor gives another answer for %(which)s directions than for the same "
+                          "directions at length 1, while it handles lengths such as 1e155 and 1e-170 differently or "
+                          "not at all: the components go through float (float x = direction.x, or a float "
+                          "parameter), which cannot hold magnitudes below 1.2e-38 exactly or above 3.4e38 at all. "
+                          "Keep them in double until you have divided by m.") % {"which": and_list(which)}
     elif broken[SQUARE_HUGE] > 0.1 or broken[SQUARE_TINY] > 0.1:
-        which = [w for w, s in (("huge (|d| = 1e155)", SQUARE_HUGE), ("tiny (|d| = 1e-170)", SQUARE_TINY)) if broken[s] > 0.1]
-        out.overflow = (f"fetchColor breaks for {' and '.join(which)} directions but not for 1e39 or 1e-41: "
-                        "x*x + y*y + z*z overflows to infinity above |d| = 1.3e154 (and underflows to 0 below "
-                        "about 1e-162), so normalising first divides by infinity or 0. Divide by m, the largest "
-                        "|component|, instead: it needs no squares.")
+        which = [_(w) for w, s in ((N_("huge (|d| = 1e155)"), SQUARE_HUGE), (N_("tiny (|d| = 1e-170)"), SQUARE_TINY))
+                 if broken[s] > 0.1]
+        out.overflow = _("fetchColor breaks for %(which)s directions but not for 1e39 or 1e-41: "
+                         "x*x + y*y + z*z overflows to infinity above |d| = 1.3e154 (and underflows to 0 below "
+                         "about 1e-162), so normalising first divides by infinity or 0. Divide by m, the largest "
+                         "|component|, instead: it needs no squares.") % {"which": and_list(which)}
 
 
 # ASSIGNMENT.md's (u, v) table: per face, (u axis, u sign, v axis, v sign).
@@ -618,9 +634,10 @@ def _ties(lookups, inst: Instrument | None, out: FetchAnalysis) -> None:
     if wrong.sum() >= max(1, 0.1 * answered.sum()):
         i = int(np.flatnonzero(wrong)[0])
         text = ", ".join(f"{x:g}" for x in dirs[i])
-        ok = " or ".join(face_name(k) for k in np.flatnonzero(touched[i]))
-        out.ties_untouched = (f"fetchColor(Vector3({text})) samples the {face_name(int(faces[i]))} face, which this "
-                              f"direction does not touch (it lies on the edge of {ok}): {int(wrong.sum())} of "
-                              f"{len(dirs)} directions on edges and corners go to an untouched face. With strict "
-                              "comparisons (>) a tie fails every test and falls through to the last branch; use "
-                              ">= so that a tied direction picks one of the faces it touches.")
+        ok = _(" or ").join(face_name(k) for k in np.flatnonzero(touched[i]))
+        out.ties_untouched = _("fetchColor(Vector3(%(d)s)) samples the %(face)s face, which this "
+                               "direction does not touch (it lies on the edge of %(touched)s): %(wrong)d of "
+                               "%(total)d directions on edges and corners go to an untouched face. With strict "
+                               "comparisons (>) a tie fails every test and falls through to the last branch; use "
+                               ">= so that a tied direction picks one of the faces it touches.") % {
+            "d": text, "face": face_name(int(faces[i])), "touched": ok, "wrong": int(wrong.sum()), "total": len(dirs)}

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import reference
+from ..i18n import N_, _, and_list
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from . import texture_model as tm
@@ -87,15 +88,15 @@ HYPOTHESES = {
     "v-flipped": ("bilinear", lambda uv, w, h: np.stack([uv[:, 0], 1 - uv[:, 1]], 1)),
 }
 
-DETAILS = {
-    "nearest-neighbor": "readTexture returns the nearest texel instead of blending the four around p = (uW, vH).",
-    "half-texel-offset": "readTexture samples half a texel off: it uses p = (uW - 0.5, vH - 0.5) instead of p = (uW, vH).",
-    "weights-swapped": "readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10.",
-    "width-height-swapped": "readTexture mixes up the face width and height (u is scaled by the height or v by the width).",
-    "scaled-by-size-minus-one": "readTexture uses p = (u(W-1), v(H-1)) instead of the handout's p = (uW, vH).",
-    "uv-swapped": "readTexture uses u for the vertical position and v for the horizontal one.",
-    "u-flipped": "readTexture runs u from right to left.",
-    "v-flipped": "readTexture runs v from top to bottom (v = 0 must be the bottom row).",
+DETAILS = {   # catalogue ids (grader.i18n): read out with _()
+    "nearest-neighbor": N_("readTexture returns the nearest texel instead of blending the four around p = (uW, vH)."),
+    "half-texel-offset": N_("readTexture samples half a texel off: it uses p = (uW - 0.5, vH - 0.5) instead of p = (uW, vH)."),
+    "weights-swapped": N_("readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10."),
+    "width-height-swapped": N_("readTexture mixes up the face width and height (u is scaled by the height or v by the width)."),
+    "scaled-by-size-minus-one": N_("readTexture uses p = (u(W-1), v(H-1)) instead of the handout's p = (uW, vH)."),
+    "uv-swapped": N_("readTexture uses u for the vertical position and v for the horizontal one."),
+    "u-flipped": N_("readTexture runs u from right to left."),
+    "v-flipped": N_("readTexture runs v from top to bottom (v = 0 must be the bottom row)."),
 }
 
 
@@ -109,25 +110,25 @@ def mistake_diagnoses(model: tm.TextureModel) -> list[Diagnosis]:
     words = tm.describe_model(model)
     px, py = tm.axis_formula(model.x, 0), tm.axis_formula(model.y, 1)
     where = f"p = ({px}, {py})"
-    detail = {
-        "nearest-neighbor": f"readTexture returns one texel and never blends (nearest neighbour, or weights that are always 0); it reads at {where}.",
-        "weights-swapped": "readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10 (or beta to c0).",
-        "constant-weights": "readTexture blends with weights that do not follow p (the same weight wherever p is).",
-        "half-texel-offset": f"readTexture samples half a texel off: it uses {where} instead of p = (uW, vH).",
-        "texel-offset": f"readTexture reads a whole texel off: it uses {where} instead of p = (uW, vH).",
-        "truncation-of-negatives": "readTexture rounds a negative p toward zero with (int): for p between -1 and 0 it takes x0 = 0 and a negative weight.",
-        "unclamped-edge": "readTexture does not clamp its lattice points: at the edges it reads the next row, the texels before the face, or past the face.",
-        "wrapped-edge": "readTexture wraps its lattice points around the face (x = W reads x = 0) instead of clamping them.",
-        "scaled-by-size-minus-one": f"readTexture uses {where}: the lattice is scaled by W - 1 instead of W.",
-        "scaled-by-size-plus-one": f"readTexture uses {where}: the lattice is scaled by W + 1 instead of W.",
-        "rows-flipped": "readTexture reads row H-1-y: y = 0 must be the bottom row (v = 0).",
-        "columns-flipped": "readTexture reads column W-1-x: x = 0 must be the left column (u = 0).",
-        "texture-u-flipped": "readTexture runs u from right to left (it uses 1 - u).",
-        "texture-v-flipped": "readTexture runs v from top to bottom (it uses 1 - v; v = 0 must be the bottom row).",
-        "texture-uv-swapped": "readTexture uses u for the vertical position and v for the horizontal one.",
-        "width-height-swapped": "readTexture mixes up the face width and height (u is scaled by the height or v by the width).",
+    detail = {   # %(where)s: the position the fitted model reads at, a formula
+        "nearest-neighbor": N_("readTexture returns one texel and never blends (nearest neighbour, or weights that are always 0); it reads at %(where)s."),
+        "weights-swapped": N_("readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10 (or beta to c0)."),
+        "constant-weights": N_("readTexture blends with weights that do not follow p (the same weight wherever p is)."),
+        "half-texel-offset": N_("readTexture samples half a texel off: it uses %(where)s instead of p = (uW, vH)."),
+        "texel-offset": N_("readTexture reads a whole texel off: it uses %(where)s instead of p = (uW, vH)."),
+        "truncation-of-negatives": N_("readTexture rounds a negative p toward zero with (int): for p between -1 and 0 it takes x0 = 0 and a negative weight."),
+        "unclamped-edge": N_("readTexture does not clamp its lattice points: at the edges it reads the next row, the texels before the face, or past the face."),
+        "wrapped-edge": N_("readTexture wraps its lattice points around the face (x = W reads x = 0) instead of clamping them."),
+        "scaled-by-size-minus-one": N_("readTexture uses %(where)s: the lattice is scaled by W - 1 instead of W."),
+        "scaled-by-size-plus-one": N_("readTexture uses %(where)s: the lattice is scaled by W + 1 instead of W."),
+        "rows-flipped": N_("readTexture reads row H-1-y: y = 0 must be the bottom row (v = 0)."),
+        "columns-flipped": N_("readTexture reads column W-1-x: x = 0 must be the left column (u = 0)."),
+        "texture-u-flipped": N_("readTexture runs u from right to left (it uses 1 - u)."),
+        "texture-v-flipped": N_("readTexture runs v from top to bottom (it uses 1 - v; v = 0 must be the bottom row)."),
+        "texture-uv-swapped": N_("readTexture uses u for the vertical position and v for the horizontal one."),
+        "width-height-swapped": N_("readTexture mixes up the face width and height (u is scaled by the height or v by the width)."),
     }
-    return [Diagnosis(i, detail.get(i, words)) for i in tm.mistake_ids(model)]
+    return [Diagnosis(i, _(detail[i]) % {"where": where} if i in detail else words) for i in tm.mistake_ids(model)]
 
 
 # ---- readTexture described by measurement -------------------------------------
@@ -166,15 +167,16 @@ def _texels_in_words(weights: np.ndarray) -> str:
     ys, xs = np.nonzero(np.abs(weights) > 0.005)
     items = sorted(zip(xs, ys, weights[ys, xs]), key=lambda t: (-abs(t[2]), t[1], t[0]))
     if not items:
-        return "reads no texel of the face (every weight is 0)"
+        return _("reads no texel of the face (every weight is 0)")
     if len(items) == 1 and abs(items[0][2] - 1) < 0.005:
-        return f"reads texel ({items[0][0]}, {items[0][1]}) alone"
+        return _("reads texel (%(x)s, %(y)s) alone") % {"x": items[0][0], "y": items[0][1]}
     shown = items[:6]
-    texels = ", ".join(f"({x}, {y})" for x, y, _ in shown[:-1]) + f" and ({shown[-1][0]}, {shown[-1][1]})" \
-        if len(shown) > 1 else f"({shown[0][0]}, {shown[0][1]})"
-    wts = ", ".join(f"{wt:.2f}" for _, _, wt in shown[:-1]) + (f" and {shown[-1][2]:.2f}" if len(shown) > 1 else f"{shown[0][2]:.2f}")
-    more = f" (and {len(items) - 6} more texels)" if len(items) > 6 else ""
-    return f"mixes {texels} with weights {wts}{more}"
+    texels = and_list([f"({x}, {y})" for x, y, _w in shown])
+    wts = and_list([f"{wt:.2f}" for _x, _y, wt in shown])
+    text = _("mixes %(texels)s with weights %(weights)s") % {"texels": texels, "weights": wts}
+    if len(items) > 6:
+        text += _(" (and %(count)d more texels)") % {"count": len(items) - 6}
+    return text
 
 
 def worked_case(lookups, face: int, u: float, v: float) -> str:
@@ -191,10 +193,11 @@ def worked_case(lookups, face: int, u: float, v: float) -> str:
         return reference.CubeMap(faces).read_texture(face, np.array([[u, v]]), "bilinear")[0]
 
     ref, sub = texel_weights(handout, face, w, h), texel_weights(theirs, face, w, h)
-    where = f"At u = {_coordinate(u, w)}, v = {_coordinate(v, h)} on a {w} x {h} face the handout {_texels_in_words(ref)}"
+    values = {"u": _coordinate(u, w), "v": _coordinate(v, h), "w": w, "h": h, "handout": _texels_in_words(ref)}
     if sub is None:
-        return where + "; yours crashes there."
-    return where + f"; yours {_texels_in_words(sub)}."
+        return _("At u = %(u)s, v = %(v)s on a %(w)d x %(h)d face the handout %(handout)s; yours crashes there.") % values
+    return _("At u = %(u)s, v = %(v)s on a %(w)d x %(h)d face the handout %(handout)s; yours %(yours)s.") % {
+        **values, "yours": _texels_in_words(sub)}
 
 
 def _single_texel(values: np.ndarray, texels: np.ndarray) -> np.ndarray:
@@ -236,8 +239,13 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                             worked_at = (face, float(uv[wrong[0], 0]), float(uv[wrong[0], 1]))
                     if cmp.fraction < 1.0 and len(lines) < 6:
                         name = reference.FACE_NAMES[face]
-                        side = "after" if placement == "end" else "before"
-                        lines.append(f"Face {name}, {w}x{h} {kind} texels, inaccessible memory right {side} them:")
+                        values = {"face": name, "w": w, "h": h}
+                        lines.append(_({
+                            ("random", "end"): N_("Face %(face)s, %(w)dx%(h)d random texels, inaccessible memory right after them:"),
+                            ("random", "start"): N_("Face %(face)s, %(w)dx%(h)d random texels, inaccessible memory right before them:"),
+                            ("coordinate", "end"): N_("Face %(face)s, %(w)dx%(h)d coordinate texels, inaccessible memory right after them:"),
+                            ("coordinate", "start"): N_("Face %(face)s, %(w)dx%(h)d coordinate texels, inaccessible memory right before them:"),
+                        }[kind, placement]) % values)
                         lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
                                              outcome.values, expected, limit=3))
         by_size.append((matched - size_matched) / max(total - size_total, 1))
@@ -251,32 +259,36 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     named = fit is not None and not fit.fits and not fit.constant and fit.share >= NAMED_FIT
     if named:
         # Near fits are named, with the share they explain (never at a low fit).
-        found = [Diagnosis(d.id, f"{d.detail} (The closest lookup the grader can model explains "
-                                 f"{fit.share:.0%} of your readTexture's answers.)") for d in mistake_diagnoses(fit.closest)]
+        found = [Diagnosis(d.id, d.detail + _(" (The closest lookup the grader can model explains "
+                                              "%(share)s of your readTexture's answers.)") % {"share": f"{fit.share:.0%}"})
+                 for d in mistake_diagnoses(fit.closest)]
     if (fit is not None and not fit.fits and answered and single == answered
             and not any(d.id == "nearest-neighbor" for d in found)):
         # Measured, not modelled: every answer on random texels is one texel's colour.
-        found.append(Diagnosis("nearest-neighbor", f"readTexture never blends: each of its {answered} answers on "
-                               "random texels is exactly one texel's colour (nearest neighbour, or weights "
-                               "that are always 0 or 1)."))
+        found.append(Diagnosis("nearest-neighbor", _("readTexture never blends: each of its %(count)d answers on "
+                                                     "random texels is exactly one texel's colour (nearest neighbour, or weights "
+                                                     "that are always 0 or 1).") % {"count": answered}))
     result.diagnoses = unique_diagnoses(found + diagnoses)
     mistake = found[0].id if found else None
     if matched < total:
         result.status = FAILED
         if fit is None or fit.constant:
-            model_text = "readTexture returns the same colour wherever it reads."
+            model_text = _("readTexture returns the same colour wherever it reads.")
         elif fit.fits:
-            model_text = "What your readTexture does, found from textures that encode their positions. " + tm.describe_model(fit.model)
+            model_text = (_("What your readTexture does, found from textures that encode their positions.") + " "
+                          + tm.describe_model(fit.model))
         elif named:
-            model_text = (f"No lookup the grader can model reproduces all your readTexture's answers. The closest "
-                          f"explains {fit.share:.0%} of them: " + tm.describe_model(fit.closest))
+            model_text = (_("No lookup the grader can model reproduces all your readTexture's answers. The closest "
+                            "explains %(share)s of them:") % {"share": f"{fit.share:.0%}"} + " " + tm.describe_model(fit.closest))
         else:
             # Below NAMED_FIT a model would be a guess: one call, measured.
-            model_text = "No lookup the grader can model reproduces your readTexture's answers. " + (
+            model_text = _("No lookup the grader can model reproduces your readTexture's answers.") + " " + (
                 worked_case(ctx.lookups, *worked_at) if worked_at is not None else "")
-        result.output = (f"{total - matched} of {total} readTexture calls differ from the reference bilinear filter.\n\n"
-                         + model_text + "\n\n" + "\n".join(lines))
+        result.output = (_("%(wrong)d of %(total)d readTexture calls differ from the reference bilinear filter.")
+                         % {"wrong": total - matched, "total": total}
+                         + "\n\n" + model_text + "\n\n" + "\n".join(lines))
     else:
-        result.output = f"All {total} readTexture calls match the reference (u, v at 0, 1, texel boundaries, centres and random points)."
+        result.output = _("All %(total)d readTexture calls match the reference (u, v at 0, 1, texel boundaries, "
+                          "centres and random points).") % {"total": total}
     return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit, fraction=result.fraction,
                               by_size=tuple(by_size))

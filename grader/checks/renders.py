@@ -6,6 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import fixtures, reference
+from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
@@ -73,7 +74,8 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
     for fixture in items:
         if crashed_in is not None:
             # Each crash costs a search for its input; one crashed render says enough.
-            rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | | | | not run: crashed in {crashed_in} |")
+            rows.append(f"| {render_name(fixture)} | | | | "
+                        + _("not run: crashed in %(render)s") % {"render": crashed_in} + " |")
             continue
         image, outcome = render_with_submission(ctx, fixture)
         diagnoses += failure_diagnoses(outcome.failures)
@@ -85,8 +87,8 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         s, f_mean, f_map, ok = scored.ssim, scored.flip_mean, scored.flip_map, scored.passed
         passed += ok
         earned += scored.score
-        rows.append(f"| {fixture.scene.stem} with {fixture.map.name} | {s:.5f} | {f_mean:.5f} | {scored.matched:.1%} "
-                    f"| {'pass' if ok else 'FAIL'} |")
+        rows.append(f"| {render_name(fixture)} | {s:.5f} | {f_mean:.5f} | {scored.matched:.1%} "
+                    f"| {_('pass') if ok else _('FAIL')} |")
         result.metrics[f"ssim_{fixture.name}"] = s
         result.metrics[f"flip_mean_{fixture.name}"] = f_mean
         if worst is None or s < worst[0]:
@@ -104,10 +106,19 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
     result.fraction = earned / len(items) if items else 1.0
     if passed < len(items):
         result.status = FAILED
-        diagnoses.append(Diagnosis("render-mismatch", f"{len(items) - passed} of {len(items)} renders differ visibly from the reference (SSIM below {SSIM_MIN} or FLIP above {FLIP_MAX})."))
+        diagnoses.append(Diagnosis("render-mismatch", _("%(wrong)d of %(total)d renders differ visibly from the reference "
+                                                        "(SSIM below %(ssim)s or FLIP above %(flip)s).")
+                                   % {"wrong": len(items) - passed, "total": len(items), "ssim": SSIM_MIN, "flip": FLIP_MAX}))
     result.diagnoses = unique_diagnoses(diagnoses)
-    header = ["| render | SSIM | FLIP | pixels that match | |", "|---|---:|---:|---:|---|"]
-    shown = f"\n\nThe pictures show {worst[2].scene.stem} with {worst[2].map.name}, the render that differs most." if worst else ""
-    result.output = (f"Pass: SSIM >= {SSIM_MIN} and mean FLIP <= {FLIP_MAX} on tone-mapped images. "
-                     f"A render that fails earns the share of its pixels that match (per-pixel FLIP <= {PIXEL_FLIP_MAX}).\n\n"
-                     + "\n".join(header + rows) + shown)
+    header = [f"| {_('render')} | SSIM | FLIP | {_('pixels that match')} | |", "|---|---:|---:|---:|---|"]
+    shown = ("\n\n" + _("The pictures show %(render)s, the render that differs most.") % {"render": render_name(worst[2])}
+             if worst else "")
+    result.output = (_("Pass: SSIM >= %(ssim)s and mean FLIP <= %(flip)s on tone-mapped images. "
+                       "A render that fails earns the share of its pixels that match (per-pixel FLIP <= %(pixel)s).")
+                     % {"ssim": SSIM_MIN, "flip": FLIP_MAX, "pixel": PIXEL_FLIP_MAX}
+                     + "\n\n" + "\n".join(header + rows) + shown)
+
+
+def render_name(fixture) -> str:
+    """A render as "scene with map" (file names stay as they are)."""
+    return _("%(scene)s with %(map)s") % {"scene": fixture.scene.stem, "map": fixture.map.name}

@@ -14,6 +14,7 @@ whose lookups do nothing and taken off both sides."""
 from __future__ import annotations
 
 from .. import PROJECT_ROOT, reference
+from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import Needs, check
 from .context import CheckContext, failure_diagnoses
@@ -45,8 +46,9 @@ def baseline_library():
 
 # Returning black is fast: speed only means something for a lookup that works.
 @check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.works,
-                       why=f"speed is scored once fetchColor matches the reference on at least "
-                           f"{WORKING:.0%} of the sweep directions."), read_texture))
+                       why=lambda: _("speed is scored once fetchColor matches the reference on at least "
+                                     "%(share)s of the sweep directions.") % {"share": f"{WORKING:.0%}"}),
+                 read_texture))
 def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
           texture: ReadTextureFinding | None = None) -> None:
     """fetchColor runs within a few times the reference's time per lookup."""
@@ -89,7 +91,7 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
             timed = ctx.lookups.time_fetch([dirs])
             if timed.failure is not None:
                 result.status, result.fraction = FAILED, 0.0
-                result.output = f"fetchColor could not be timed: {timed.failure.describe()}"
+                result.output = _("fetchColor could not be timed: %(why)s") % {"why": timed.failure.describe()}
                 result.diagnoses = failure_diagnoses([timed.failure])
                 return
             judged = dirs[:JUDGED]
@@ -119,22 +121,24 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                           timed_agrees_with_untimed=agree_fraction)
     if agree_fraction < 1.0 - TIMED_DIFFER:
         result.status, result.fraction = FAILED, 0.0
-        result.output = (f"While timed, fetchColor gave other colours than it gives untimed for the same directions "
-                         f"on {1 - agree_fraction:.1%} of {total} random directions: the time of lookups that skip "
-                         "work while timed does not count.")
+        values = {"share": f"{1 - agree_fraction:.1%}", "total": total}
+        result.output = _("While timed, fetchColor gave other colours than it gives untimed for the same directions "
+                          "on %(share)s of %(total)d random directions: the time of lookups that skip "
+                          "work while timed does not count.") % values
         result.diagnoses = [Diagnosis("timed-output-wrong",
-                                      f"Timed lookups differ from the same code's untimed answers on "
-                                      f"{1 - agree_fraction:.1%} of directions.")]
+                                      _("Timed lookups differ from the same code's untimed answers on "
+                                        "%(share)s of directions.") % values)]
         return
     if right_fraction < sweep.fraction - TIMED_SLACK:
         result.status, result.fraction = FAILED, 0.0
-        result.output = (f"On the timing faces ({TIMED_FACE} x {TIMED_FACE} texels), fetchColor matched what your own "
-                         f"readTexture gives at the handout's face and (u, v) on {right_fraction:.1%} of {total} random "
-                         f"directions, against {sweep.fraction:.1%} in the sweep: the time of lookups that do not "
-                         "work there does not count.")
+        values = {"size": TIMED_FACE, "right": f"{right_fraction:.1%}", "total": total, "sweep": f"{sweep.fraction:.1%}"}
+        result.output = _("On the timing faces (%(size)d x %(size)d texels), fetchColor matched what your own "
+                          "readTexture gives at the handout's face and (u, v) on %(right)s of %(total)d random "
+                          "directions, against %(sweep)s in the sweep: the time of lookups that do not "
+                          "work there does not count.") % values
         result.diagnoses = [Diagnosis("timing-faces-wrong",
-                                      f"On the timing faces fetchColor is right on {right_fraction:.1%} of directions "
-                                      f"(the sweep: {sweep.fraction:.1%}).")]
+                                      _("On the timing faces fetchColor is right on %(right)s of directions "
+                                        "(the sweep: %(sweep)s).") % values)]
         return
     # Each side's time is its fastest round (noise only adds time), less the
     # protocol's cost; at least 1% of the raw figure, so a ratio stays defined.
@@ -150,14 +154,17 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
         result.metrics["uniform_smooth_rms"] = point["uniform_smooth_rms"]
         result.artifacts["speed_accuracy_chart"] = draw_chart(ctx, point)
     except Exception as e:  # the chart is a courtesy: it never costs points
-        result.output += f"(The speed-against-accuracy chart could not be drawn: {e})\n\n"
-    result.output += (f"Your fetchColor: {sub:.1f} ns of CPU time per lookup; the reference: {ref:.1f} ns "
-                      f"(the fastest of interleaved rounds, each over {PASS_LOOKUPS} fresh random "
-                      f"directions, measured by the kernel from outside the worker, less {overhead:.1f} ns of "
-                      f"protocol per lookup): {ratio:.2f}x. Full points within {within:g}x.")
+        result.output += _("(The speed-against-accuracy chart could not be drawn: %(error)s)") % {"error": e} + "\n\n"
+    result.output += _("Your fetchColor: %(sub)s ns of CPU time per lookup; the reference: %(ref)s ns "
+                       "(the fastest of interleaved rounds, each over %(lookups)d fresh random "
+                       "directions, measured by the kernel from outside the worker, less %(overhead)s ns of "
+                       "protocol per lookup): %(ratio)sx. Full points within %(within)sx.") % {
+        "sub": f"{sub:.1f}", "ref": f"{ref:.1f}", "lookups": PASS_LOOKUPS, "overhead": f"{overhead:.1f}",
+        "ratio": f"{ratio:.2f}", "within": f"{within:g}"}
     if ratio > within:
         result.status, result.fraction = FAILED, 0.0
-        result.diagnoses = [Diagnosis("slow", f"fetchColor takes {ratio:.1f}x the reference's time per lookup (limit {within:g}x).")]
+        result.diagnoses = [Diagnosis("slow", _("fetchColor takes %(ratio)sx the reference's time per lookup "
+                                                "(limit %(within)sx).") % {"ratio": f"{ratio:.1f}", "within": f"{within:g}"})]
 
 
 STUDY_FACE_SIZE = 64     # the study's bake at this size takes ~1 s once, then is cached

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..i18n import N_, _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .compare import describe_direction, tolerance, worst_cases
@@ -112,7 +113,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # 1. Degenerate directions: only crashing is wrong.
     degenerate = degenerate_directions()
     outcome = ctx.lookups.fetch(degenerate)
-    parts.append(("zero, NaN and infinite directions do not crash", len(degenerate), int(outcome.evaluated.sum())))
+    parts.append((N_("zero, NaN and infinite directions do not crash"), len(degenerate), int(outcome.evaluated.sum())))
     diagnoses += failure_diagnoses(outcome.failures)
 
     # 2. Extreme but valid directions: finite and what a correct fetchColor gives.
@@ -123,10 +124,11 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     if len(nan_rows):
         # The cause (float conversion, a squared length, a division by the
         # length) is named by its own diagnosis beside this one; here only what happened.
-        diagnoses.append(Diagnosis("nan-output", f"{describe_direction(extreme[nan_rows[0]])} returned NaN or infinity; the direction is finite and not zero."))
+        diagnoses.append(Diagnosis("nan-output", _("%(call)s returned NaN or infinity; the direction is finite and not zero.")
+                                   % {"call": describe_direction(extreme[nan_rows[0]])}))
     verdict = own_read.judge(ctx.lookups, extreme, outcome.values, tol, size, **trust)
-    parts.append(("tiny and huge directions give the reference colour", len(extreme), int(verdict.ok.sum())))
-    group = "tiny and huge directions"
+    parts.append((N_("tiny and huge directions give the reference colour"), len(extreme), int(verdict.ok.sum())))
+    group = N_("tiny and huge directions")   # a key; reports read it out with _()
     result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), outcome.values, verdict.expected,
                                      group=group, face_size=size)
     result.mismatch_counts[group] = len(verdict.failures)
@@ -136,14 +138,14 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     outcome = ctx.lookups.fetch(ties)
     diagnoses += failure_diagnoses(outcome.failures)
     verdict = own_read.judge(ctx.lookups, ties, outcome.values, tol, size, **trust)
-    parts.append(("edges and corners moved by one ulp", len(ties), int(verdict.ok.sum())))
+    parts.append((N_("edges and corners moved by one ulp"), len(ties), int(verdict.ok.sum())))
 
     # Where the answers are wrong: only within a texel of the cube's edges?
     near_edges_only, border_bad, border_judged = seam_only(ctx.lookups, tol)
-    seam_hint = (f" Away from the edges your colours match the reference: only directions within one texel of a "
-                 f"face's border are wrong ({border_bad} of {border_judged} tried there). Look at what happens to "
-                 "(u, v) at the face's border: the clamp, the rounding, or which face an edge direction goes to."
-                 if near_edges_only else "")
+    seam_hint = (" " + _("Away from the edges your colours match the reference: only directions within one texel of a "
+                         "face's border are wrong (%(bad)d of %(judged)d tried there). Look at what happens to "
+                         "(u, v) at the face's border: the clamp, the rounding, or which face an edge direction goes to.")
+                 % {"bad": border_bad, "judged": border_judged} if near_edges_only else "")
 
     # 4. Continuity: on a continuous environment (each texel holds the
     # direction through it), the jump across each edge is no larger than a
@@ -167,22 +169,26 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # earned (NaN fails).
     bad = ~(judged_a.ok & judged_b.ok) & ~(sub_jump <= ref_jump + 2 * smooth_tol)
     bad_edges = sorted({int(e) for e in edge[bad]})
-    parts.append(("no seam larger than the reference's at the 12 edges", 12, 12 - len(bad_edges)))
+    parts.append((N_("no seam larger than the reference's at the 12 edges"), 12, 12 - len(bad_edges)))
     if bad_edges:
-        diagnoses.append(Diagnosis("discontinuous-seam", f"The colour jumps across {len(bad_edges)} of the 12 cube edges where the reference is continuous: neighbouring faces disagree about (u, v) along their shared edge." + seam_hint))
+        diagnoses.append(Diagnosis("discontinuous-seam", _("The colour jumps across %(count)d of the 12 cube edges where the "
+                                                           "reference is continuous: neighbouring faces disagree about (u, v) "
+                                                           "along their shared edge.") % {"count": len(bad_edges)} + seam_hint))
     elif near_edges_only:
-        diagnoses.append(Diagnosis("discontinuous-seam", "The colours differ from the reference next to the cube's edges." + seam_hint))
+        diagnoses.append(Diagnosis("discontinuous-seam", _("The colours differ from the reference next to the cube's edges.") + seam_hint))
 
     total = sum(n for _, n, _ in parts)
     ok = sum(k for _, _, k in parts)
     result.fraction = ok / total
     result.diagnoses = unique_diagnoses(diagnoses)
-    table = ["| case | tried | passed |", "|---|---:|---:|"] + [f"| {name} | {n} | {k} |" for name, n, k in parts]
+    table = ([f"| {_('case')} | {_('tried')} | {_('passed')} |", "|---|---:|---:|"]
+             + [f"| {_(name)} | {n} | {k} |" for name, n, k in parts])
     result.output = "\n".join(table)
     if ok < total:
         result.status = FAILED
     if not sweep.works:
         result.status, result.fraction = FAILED, 0.0
-        result.output = (f"Robustness is scored once fetchColor matches the reference on at least {WORKING:.0%} of "
-                         f"the sweep directions (yours: {sweep.fraction:.0%}). What was found:\n\n" + result.output)
+        result.output = (_("Robustness is scored once fetchColor matches the reference on at least %(working)s of "
+                           "the sweep directions (yours: %(yours)s). What was found:")
+                         % {"working": f"{WORKING:.0%}", "yours": f"{sweep.fraction:.0%}"} + "\n\n" + result.output)
 

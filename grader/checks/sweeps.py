@@ -6,6 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import reference
+from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .compare import Comparison, describe_direction, tolerance, worst_cases
@@ -55,9 +56,9 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
                              texels=faces, texture_mismatch=texture.mismatch)
     if verdict.context_dependent:
         diagnoses.append(Diagnosis("texture-context-dependent",
-                                   "Called on its own on these faces, your readTexture differs from the handout's "
-                                   "far more often than in the readTexture check, so fetchColor is judged against "
-                                   "the handout's readTexture here."))
+                                   _("Called on its own on these faces, your readTexture differs from the handout's "
+                                     "far more often than in the readTexture check, so fetchColor is judged against "
+                                     "the handout's readTexture here.")))
     ref_faces_all = own_read.reference_faces(all_dirs)
 
     rows = []
@@ -88,23 +89,26 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
                                              verdict.expected[part], group=name, face_size=(w, h))
             result.mismatch_counts[name] = len(cmp.failures)
     if nan_inputs:
-        diagnoses.append(Diagnosis("nan-output", f"{describe_direction(nan_inputs[0])} returned NaN or infinity for a finite, non-zero direction."))
+        diagnoses.append(Diagnosis("nan-output", _("%(call)s returned NaN or infinity for a finite, non-zero direction.")
+                                   % {"call": describe_direction(nan_inputs[0])}))
     result.fraction = matched / total if total else 0.0
     result.metrics.update(cases=total, matched=matched)
     if unreadable:
         result.metrics["readtexture_crashed"] = unreadable
-    not_earned = (f"\n\n{unreadable} directions were not earned because your readTexture itself crashes at the "
-                  "face and (u, v) they need (its own check says why)." if unreadable else "")
-    table = ["| direction set | cases | match |", "|---|---:|---:|"]
-    table += [f"| {name} | {n} | {ok / n:.1%} |" if n else f"| {name} | 0 | - |" for name, n, ok in rows]
-    table += ["", "| face | directions | match |", "|---|---:|---:|"]
+    not_earned = ("\n\n" + _("%(count)d directions were not earned because your readTexture itself crashes at the "
+                               "face and (u, v) they need (its own check says why).") % {"count": unreadable}
+                  if unreadable else "")
+    table = [f"| {_('direction set')} | {_('cases')} | {_('match')} |", "|---|---:|---:|"]
+    table += [f"| {_(name)} | {n} | {ok / n:.1%} |" if n else f"| {_(name)} | 0 | - |" for name, n, ok in rows]
+    table += ["", f"| {_('face')} | {_('directions')} | {_('match')} |", "|---|---:|---:|"]
     table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.1%} |" for k in range(6)]
     result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total:
         result.status = FAILED
-        result.output = (f"{total - matched} of {total} directions give a colour different from what your own "
-                         "readTexture returns at the face and (u, v) the handout's table gives.\n\n"
-                         + "\n".join(table) + not_earned)
+        result.output = (_("%(wrong)d of %(total)d directions give a colour different from what your own "
+                           "readTexture returns at the face and (u, v) the handout's table gives.")
+                         % {"wrong": total - matched, "total": total}
+                         + "\n\n" + "\n".join(table) + not_earned)
     else:
-        result.output = f"All {total} directions match the reference.\n\n" + "\n".join(table)
+        result.output = _("All %(total)d directions match the reference.") % {"total": total} + "\n\n" + "\n".join(table)
     return SweepFinding(fraction=result.fraction)

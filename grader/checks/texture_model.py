@@ -29,6 +29,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..i18n import _
 from .compare import tolerance
 from .textures import coordinate_faces, random_faces
 
@@ -472,39 +473,45 @@ def axis_formula(a: Axis, which: int) -> str:
 def describe_model(model: TextureModel) -> str:
     """The model in one or two sentences a student can check against their code."""
     if model == HANDOUT:
-        return "readTexture blends the four texels around p = (uW, vH) as the handout says."
-    px, py = axis_formula(model.x, 0), axis_formula(model.y, 1)
+        return _("readTexture blends the four texels around p = (uW, vH) as the handout says.")
+    p = {"p": f"p = ({axis_formula(model.x, 0)}, {axis_formula(model.y, 1)})"}
     parts = []
     left_below = (model.x.offset, model.y.offset) == (-1.0, -1.0)
     if model.single_texel:
-        where = "the texel one to the left and below:" if left_below else "the texel at"
         if model.x.rounding == "round":
-            where = "the texel nearest to"
-        parts.append(f"Your lookup reads {where} p = ({px}, {py}), and returns that one texel, never a blend")
+            parts.append(_("Your lookup reads the texel nearest to %(p)s, and returns that one texel, never a blend") % p)
+        elif left_below:
+            parts.append(_("Your lookup reads the texel one to the left and below: %(p)s, and returns that one texel, "
+                           "never a blend") % p)
+        else:
+            parts.append(_("Your lookup reads the texel at %(p)s, and returns that one texel, never a blend") % p)
+    elif left_below:
+        parts.append(_("Your lookup blends the four texels around %(p)s, one texel to the left and below where the "
+                       "handout reads") % p)
     else:
-        parts.append(f"Your lookup blends the four texels around p = ({px}, {py})"
-                     + (", one texel to the left and below where the handout reads" if left_below else ""))
+        parts.append(_("Your lookup blends the four texels around %(p)s") % p)
     if any(a.rounding == "trunc" for a in (model.x, model.y)):
-        parts.append("(int) truncates toward zero, so for p between -1 and 0 it gives 0, not -1"
-                     + ("" if model.single_texel else ", and the weight goes negative"))
+        parts.append(_("(int) truncates toward zero, so for p between -1 and 0 it gives 0, not -1") if model.single_texel
+                     else _("(int) truncates toward zero, so for p between -1 and 0 it gives 0, not -1, and the weight "
+                            "goes negative"))
     if any(a.weights == "swapped" for a in (model.x, model.y)):
-        parts.append("the weights are swapped: (1 - alpha) goes to c10 and alpha to c00")
+        parts.append(_("the weights are swapped: (1 - alpha) goes to c10 and alpha to c00"))
     if any(a.weights == "half" for a in (model.x, model.y)):
-        parts.append("the weights do not follow p: every texel gets the same weight")
+        parts.append(_("the weights do not follow p: every texel gets the same weight"))
     if any(a.weights == "nearest" for a in (model.x, model.y)) and not model.single_texel:
-        parts.append("one axis is not blended")
+        parts.append(_("one axis is not blended"))
     if model.y.flip == "index":
-        parts.append("rows are read top-down (row H-1-y): y = 0 must be the bottom row")
+        parts.append(_("rows are read top-down (row H-1-y): y = 0 must be the bottom row"))
     if model.x.flip == "index":
-        parts.append("columns are read right to left (column W-1-x)")
+        parts.append(_("columns are read right to left (column W-1-x)"))
     if model.y.flip == "coordinate":
-        parts.append("v runs from top to bottom (1 - v): v = 0 must be the bottom row")
+        parts.append(_("v runs from top to bottom (1 - v): v = 0 must be the bottom row"))
     if model.x.flip == "coordinate":
-        parts.append("u runs from right to left (1 - u)")
+        parts.append(_("u runs from right to left (1 - u)"))
     edges = {a.edge for a in (model.x, model.y)}
     if "none" in edges:
-        parts.append("the lattice points are not clamped to [0, W-1] x [0, H-1], so at the edges it reads the "
-                     "neighbouring row or outside the face")
+        parts.append(_("the lattice points are not clamped to [0, W-1] x [0, H-1], so at the edges it reads the "
+                       "neighbouring row or outside the face"))
     if "wrap" in edges:
-        parts.append("the lattice points wrap around the face (x = W reads x = 0) instead of being clamped")
-    return "; ".join(parts) + "."
+        parts.append(_("the lattice points wrap around the face (x = W reads x = 0) instead of being clamped"))
+    return _("; ").join(parts) + _(".")

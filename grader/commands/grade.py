@@ -47,6 +47,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
                    help="grade even where student code cannot be isolated (no bubblewrap, not root): the "
                         "submission could then read the grader's environment and write its files")
+    p.add_argument("--lang", choices=("en", "ja"),
+                   help="language of the student-facing reports (default: the rubric's grading.language)")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--strict", action="store_true",
                    help="refuse (exit 3) when library or compiler versions differ from those that made fixtures/")
@@ -91,7 +93,8 @@ def run(args) -> int:
         return 2
     student_view = args.student_view or args.visible_only
     options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale,
-                           quick=args.quick, include_hidden=not student_view, allow_unsafe=args.allow_unsafe)
+                           quick=args.quick, include_hidden=not student_view, allow_unsafe=args.allow_unsafe,
+                           lang=args.lang)
     if args.visible_only:
         options.only = visible_checks(options.rubric)
     from ..worker.lookups import MODES

@@ -46,6 +46,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
                    help="grade even where student code cannot be isolated (no bubblewrap, not root): a "
                         "submission could then read the grader's environment and write its files")
+    p.add_argument("--lang", choices=("en", "ja"),
+                   help="language of what students read (default: the rubric's grading.language)")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     p.add_argument("--roster", type=Path, metavar="CSV",
@@ -86,7 +88,7 @@ def run(args) -> int:
         print(f"grade-all: {e}", file=sys.stderr)
         return 3
     options = {"sandbox": args.sandbox, "quick": args.quick, "allow_stale": args.allow_stale,
-               "allow_unsafe": args.allow_unsafe}
+               "allow_unsafe": args.allow_unsafe, "lang": args.lang}
     try:
         rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force,
                          roster=args.roster, similarity=args.similarity, assignment=args.assignment)

@@ -37,6 +37,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="instead: grade SUBMISSION as Gradescope does (run_autograder calls this)")
     p.add_argument("--results", type=Path, default=Path("/autograder/results"),
                    help="with --grade: where results.json goes (default: /autograder/results)")
+    p.add_argument("--lang", choices=("en", "ja"),
+                   help="language of what students read (default: the rubric's grading.language)")
     p.add_argument("--quick", action="store_true", help="with --grade: smaller direction sets (tests)")
     p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
                    help="with --grade: grade even where student code cannot be isolated (no bubblewrap, not root)")
@@ -44,7 +46,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args) -> int:
     if args.grade is not None:
-        return grade_for_gradescope(args.grade, args.results, quick=args.quick,
+        return grade_for_gradescope(args.grade, args.results, quick=args.quick, lang=args.lang,
                                     allow_unsafe=getattr(args, "allow_unsafe", False))
     from ..platforms.gradescope import build_bundle, course_secret_problem
     path = build_bundle(args.out)
@@ -55,13 +57,14 @@ def run(args) -> int:
     return 0
 
 
-def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, allow_unsafe: bool = False) -> int:
+def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, allow_unsafe: bool = False,
+                         lang: str | None = None) -> int:
     from ..grade import GradeOptions, grade
     from ..platforms.gradescope import add_leaderboard, leaderboard, leaderboard_enabled
     from ..reports import gradescope_json
     from ..results import UNGRADABLE
     from ..score import load_rubric
-    options = GradeOptions(quick=quick, include_hidden=False, allow_unsafe=allow_unsafe)
+    options = GradeOptions(quick=quick, include_hidden=False, allow_unsafe=allow_unsafe, lang=lang)
     try:
         result = grade(submission, results, options)
         rubric = load_rubric(options.rubric)

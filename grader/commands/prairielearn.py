@@ -23,12 +23,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--root", type=Path, default=Path("/grade"),
                    help="PrairieLearn's grading folder (default: /grade)")
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
+    p.add_argument("--lang", choices=("en", "ja"),
+                   help="language of what students read (default: the rubric's grading.language)")
     p.add_argument("--keep-reports", action="store_true",
                    help="also copy report.html, report.md and junit.xml to ROOT/results/reports/")
 
 
 def run(args) -> int:
+    from ..i18n import override_from_command_line
     from ..platforms.prairielearn import grade_prairielearn
+    override_from_command_line(args.lang)
     data = grade_prairielearn(args.root, quick=args.quick, keep_reports=args.keep_reports)
     print(f"{args.root / 'results' / 'results.json'}: score {data['score']:g}, gradable {data['gradable']}")
     return 0

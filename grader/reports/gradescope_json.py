@@ -38,6 +38,7 @@ import json
 import math
 from pathlib import Path
 
+from ..i18n import N_, _
 from ..results import BUILD_ERROR, ERROR, PASSED, SKIPPED, CheckResult, GradeResult
 from . import markdown
 from .text import clean, inert_markdown, truncate_middle
@@ -50,7 +51,7 @@ SCHEMA_PATH = Path(__file__).with_name("schema") / "results.schema.json"
 GS_PASSED, GS_FAILED = "passed", "failed"
 # The pair of pictures the html output shows (the render check's artifacts:
 # the render that differs most, grader/checks/renders.py), with their captions.
-RENDER_PAIR = (("render_submission", "Your render"), ("render_reference", "The reference render"))
+RENDER_PAIR = (("render_submission", N_("Your render")), ("render_reference", N_("The reference render")))
 # Per picture, once encoded: results.json stays small (a 128 x 128 render is about 20 kB).
 MAX_PICTURE_BYTES = 60_000
 
@@ -75,7 +76,7 @@ def check_markdown(check: CheckResult) -> str:
     if not is_visible(check) and check.diagnoses:
         sections = [line for g in group_diagnoses(check.diagnoses)
                     for line in markdown.diagnosis_section(g, "####")]
-        output = "\n".join([output, "", "### What to fix", "", *sections]).strip()
+        output = "\n".join([output, "", "### " + _("What to fix"), "", *sections]).strip()
     return output
 
 
@@ -109,7 +110,7 @@ def student_summary(result: GradeResult) -> str:
     the line that names the isolation mode (an instructor's note)."""
     view = student_view(result)
     text = markdown.summary(view).replace(markdown.isolation_line(view), "").strip()
-    return (text or "See each check below for details.") + "\n"
+    return (text or _("See each check below for details.")) + "\n"
 
 
 def instructor_notes(result: GradeResult) -> list[str]:
@@ -157,14 +158,16 @@ def _render_pair_html(result: GradeResult) -> str:
             continue
         cells = []
         for name, caption in RENDER_PAIR:
+            caption = _(caption)
             url = png_data_url(Path(check.artifacts[name]))
             if url is None:
                 return ""
             cells.append(f'<figure style="display:inline-block;margin:0 1em 0 0"><img src="{url}" '
                          f'alt="{escape(caption)}" width="256" style="image-rendering:pixelated">'
                          f"<figcaption>{escape(caption)}</figcaption></figure>")
-        return (f"<h3>{escape(clean(check.title))}</h3>\n<p>The render that differs most from the reference, "
-                "beside the reference:</p>\n<div>" + "".join(cells) + "</div>\n")
+        return (f"<h3>{escape(clean(check.title))}</h3>\n<p>"
+                + escape(_("The render that differs most from the reference, beside the reference:"))
+                + "</p>\n<div>" + "".join(cells) + "</div>\n")
     return ""
 
 

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from markdown_it import MarkdownIt
 
+from ..i18n import N_, Translated, _, language, ngettext
 from ..results import BUILD_ERROR, UNGRADABLE, CheckResult
 from .markdown import all_correct, check_points
 from .text import clean, figure, inert_markdown, points, seconds, truncate_middle
@@ -26,21 +27,21 @@ from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
 
 # Artifacts the page places in their own sections; others go with their check.
 RENDER_ARTIFACT = re.compile(r"^render_(reference|submission|difference|flip)(?:[_:./-](.+))?$")
-RENDER_ROLES = {
-    "reference": ("Reference", "the scene with the reference lookup"),
-    "submission": ("Your code", "the same scene with your lookup"),
-    "difference": ("Difference", "brighter where your render differs more"),
-    "flip": ("FLIP error map", "brighter where a viewer sees a difference"),
+RENDER_ROLES = {   # (caption, note), read out through _()
+    "reference": (N_("Reference"), N_("the scene with the reference lookup")),
+    "submission": (N_("Your code"), N_("the same scene with your lookup")),
+    "difference": (N_("Difference"), N_("brighter where your render differs more")),
+    "flip": (N_("FLIP error map"), N_("brighter where a viewer sees a difference")),
 }
 ARROWS_ARTIFACT = "arrows"
 CHART_ARTIFACT = "speed_accuracy_chart"
 
 # Figures people can read without knowing the metric's name.
-METRIC_LABELS = {
-    "ssim": ("SSIM", "1 means identical"),
-    "flip_mean": ("FLIP mean error", "0 means identical"),
-    "ns_per_lookup": ("time per lookup", "nanoseconds"),
-    "speed_ratio": ("time relative to the reference", "1 means as fast"),
+METRIC_LABELS = {   # (label, meaning), read out through _()
+    "ssim": ("SSIM", N_("1 means identical")),
+    "flip_mean": (N_("FLIP mean error"), N_("0 means identical")),
+    "ns_per_lookup": (N_("time per lookup"), N_("nanoseconds")),
+    "speed_ratio": (N_("time relative to the reference"), N_("1 means as fast")),
 }
 # Metrics the page shows in their own sections (the renders' figures, the
 # speed card): the details leave them out rather than repeat them.
@@ -50,6 +51,16 @@ STATE_CLASS = {
     STATE_PASSED: "passed", STATE_PARTIAL: "partial", STATE_FAILED: "failed",
     STATE_ERROR: "error", STATE_SKIPPED: "skipped", STATE_INFO: "info",
 }
+# The state words in the pills (view.STATE_* are keys, not words).
+STATE_WORD = Translated({
+    STATE_PASSED: N_("passed"), STATE_PARTIAL: N_("partial"), STATE_FAILED: N_("failed"),
+    STATE_ERROR: N_("not run"), STATE_SKIPPED: N_("skipped"), STATE_INFO: N_("info"),
+})
+# Fonts with Japanese glyphs after the Latin ones (packages.txt installs
+# fonts-noto-cjk or fonts-ipafont-gothic for the pictures; browsers have their own).
+SANS = ('system-ui, -apple-system, "Segoe UI", Roboto, "Noto Sans", "Liberation Sans", '
+        '"Hiragino Sans", "Hiragino Kaku Gothic ProN", "Yu Gothic", Meiryo, "Noto Sans CJK JP", '
+        '"Noto Sans JP", "IPAexGothic", "IPAGothic", sans-serif')
 STATE_MARK = {
     STATE_PASSED: "✓", STATE_PARTIAL: "◐", STATE_FAILED: "✗",
     STATE_ERROR: "!", STATE_SKIPPED: "–", STATE_INFO: "i",
@@ -102,7 +113,7 @@ def image_tag(path: Path | None, alt: str, css_class: str = "") -> str:
         data = b""
     mime = _image_mime(data)
     if mime is None:
-        return f'<div class="missing" role="img" aria-label="{e(alt)}">image not available</div>'
+        return f'<div class="missing" role="img" aria-label="{e(alt)}">{e(_("image not available"))}</div>'
     size = _png_size(data)
     dims = f' width="{size[0]}" height="{size[1]}"' if size else ""
     cls = f' class="{css_class}"' if css_class else ""
@@ -132,14 +143,14 @@ def _header(view: ReportView) -> str:
     return f"""
 <header class="hero">
   <div class="who">
-    <p class="eyebrow">Cube-map environment mapping · feedback</p>
+    <p class="eyebrow">{e(_("Cube-map environment mapping · feedback"))}</p>
     <h1>{e(view.submission)}</h1>
     <p class="meta"><span class="badge {status_cls}">{e(view.status_text)}</span>
       {checks_line}</p>
   </div>
   <div class="ring {_score_class(view.score, view.max_score, view.status)}" style="--p:{pct:.1f}"
-       role="img" aria-label="score {e(points(view.score))} of {e(points(view.max_score))}">
-    <div><strong>{e(points(view.score))}</strong><span>of {e(points(view.max_score))}</span></div>
+       role="img" aria-label="{e(_("score %(score)s of %(max_score)s") % {"score": points(view.score), "max_score": points(view.max_score)})}">
+    <div><strong>{e(points(view.score))}</strong><span>{e(_("of %(max_score)s") % {"max_score": points(view.max_score)})}</span></div>
   </div>
 </header>"""
 
@@ -147,16 +158,16 @@ def _header(view: ReportView) -> str:
 def _notices(view: ReportView) -> str:
     out = []
     if view.status_explanation:
-        out.append(f'<div class="callout failed"><strong>{e(view.status_text.capitalize())}.</strong> '
+        out.append(f'<div class="callout failed"><strong>{e(_("%(status)s.") % {"status": view.status_text.capitalize()})}</strong> '
                    f"{e(view.status_explanation)}</div>")
     for w in view.warnings:
-        out.append(f'<div class="callout partial"><strong>Warning.</strong> {e(w)}</div>')
+        out.append(f'<div class="callout partial"><strong>{e(_("Warning."))}</strong> {e(w)}</div>')
     return "\n".join(out)
 
 
 def _pill(state: str) -> str:
     return (f'<span class="pill {STATE_CLASS[state]}">{STATE_MARK[state]} '
-            f'<span class="word">{e(state)}</span></span>')
+            f'<span class="word">{e(STATE_WORD[state])}</span></span>')
 
 
 def _score_table(view: ReportView) -> str:
@@ -173,17 +184,18 @@ def _score_table(view: ReportView) -> str:
             f"<td>{e(c.title)}</td>"
             f'<td class="pts">{bar}{e(check_points(c))}</td></tr>')
     for h in view.hidden:
-        many = h.count != 1
-        rows.append(f'<tr class="hidden-row"><td><span class="pill skipped">hidden</span></td><td></td>'
-                    f"<td>{h.count} more check{'s' if many else ''}, {e(h.when)}; "
-                    f"not counted here</td><td class=\"pts\">{e(points(h.max_score))} points</td></tr>")
-    rows.append(f'<tr class="total"><td></td><td></td><td>Total</td>'
+        more = ngettext("%(count)d more check, %(when)s; not counted here",
+                        "%(count)d more checks, %(when)s; not counted here", h.count) % {"count": h.count, "when": h.when}
+        rows.append(f'<tr class="hidden-row"><td><span class="pill skipped">{e(_("hidden"))}</span></td><td></td>'
+                    f"<td>{e(more)}</td><td class=\"pts\">"
+                    f"{e(_('%(points)s points') % {'points': points(h.max_score)})}</td></tr>")
+    rows.append(f'<tr class="total"><td></td><td></td><td>{e(_("Total"))}</td>'
                 f'<td class="pts">{e(points(view.score))} / {e(points(view.max_score))}</td></tr>')
     return f"""
 <section>
-  <h2>Checks</h2>
+  <h2>{e(_("Checks"))}</h2>
   <table class="checks">
-    <thead><tr><th>Result</th><th class="num">#</th><th>Check</th><th class="pts">Points</th></tr></thead>
+    <thead><tr><th>{e(_("Result"))}</th><th class="num">#</th><th>{e(_("Check"))}</th><th class="pts">{e(_("Points"))}</th></tr></thead>
     <tbody>
       {"".join(rows)}
     </tbody>
@@ -204,18 +216,18 @@ def _diagnosis_card(group: DiagnosisGroup) -> str:
   <h3>{e(info.title)} <code class="id">{e(info.id)}</code></h3>
   <ul class="findings">{"".join(findings)}</ul>
   <p>{catalogue_html(info.explanation)}</p>
-  <p class="todo"><strong>What to do.</strong> {catalogue_html(info.what_to_do)}</p>
+  <p class="todo"><strong>{e(_("What to do."))}</strong> {catalogue_html(info.what_to_do)}</p>
 </article>"""
 
 
 def _diagnoses(view: ReportView) -> str:
     if not view.diagnoses:
         if view.checks and view.score >= view.max_score:
-            return ('<section><div class="callout passed"><strong>All correct.</strong> '
+            return (f'<section><div class="callout passed"><strong>{e(_("All correct."))}</strong> '
                     f"{e(all_correct(view))}</div></section>")
         return ""
     cards = "".join(_diagnosis_card(g) for g in view.diagnoses)
-    return f'<section><h2>What to fix</h2>{cards}</section>'
+    return f'<section><h2>{e(_("What to fix"))}</h2>{cards}</section>'
 
 
 def _render_groups(view: ReportView) -> dict[str, tuple[CheckResult, dict[str, Path]]]:
@@ -240,6 +252,7 @@ def _figures_line(items: list[tuple[str, float | None]]) -> str:
         if value is None:
             continue
         label, meaning = METRIC_LABELS.get(name, (name, ""))
+        label, meaning = _(label), _(meaning) if meaning else ""
         meaning_html = f' <span class="note">({e(meaning)})</span>' if meaning else ""
         parts.append(f"<span><strong>{e(label)}</strong> {e(figure(value))}{meaning_html}</span>")
     return f'<p class="figures">{"".join(parts)}</p>' if parts else ""
@@ -253,12 +266,12 @@ def _renders(view: ReportView) -> str:
     for suffix in sorted(groups):
         check, paths = groups[suffix]
         title = f"<h3>{e(suffix.replace('_', ' '))}</h3>" if suffix else ""
-        figs = "".join(_figure(paths.get(role), caption, note, "pixels")
+        figs = "".join(_figure(paths.get(role), _(caption), _(note), "pixels")
                        for role, (caption, note) in RENDER_ROLES.items() if role in paths)
         figures = _figures_line([("ssim", _metric(check, "ssim", suffix)),
                                  ("flip_mean", _metric(check, "flip_mean", suffix))])
         blocks.append(f'<div class="render-set">{title}<div class="renders">{figs}</div>{figures}</div>')
-    return f"<section><h2>Renders</h2>{''.join(blocks)}</section>"
+    return f"<section><h2>{e(_('Renders'))}</h2>{''.join(blocks)}</section>"
 
 
 def _arrows_and_speed(view: ReportView) -> str:
@@ -266,9 +279,9 @@ def _arrows_and_speed(view: ReportView) -> str:
     arrows = view.artifact(ARROWS_ARTIFACT)
     if arrows is not None:
         cards.append(
-            '<div class="card"><h2>Axis arrows</h2>'
-            + _figure(arrows, "The test map rendered with your code",
-                      "red, green and blue arrows must point along +x, +y and +z", "pixels")
+            f'<div class="card"><h2>{e(_("Axis arrows"))}</h2>'
+            + _figure(arrows, _("The test map rendered with your code"),
+                      _("red, green and blue arrows must point along +x, +y and +z"), "pixels")
             + "</div>")
     chart = view.artifact(CHART_ARTIFACT)
     ns, ratio = view.metric("ns_per_lookup"), view.metric("speed_ratio")
@@ -276,13 +289,15 @@ def _arrows_and_speed(view: ReportView) -> str:
         if chart is None:
             body = ""
         elif lookup_works(view):
-            body = (_figure(chart, "Speed against accuracy", "your lookup is the marked point")
+            body = (_figure(chart, _("Speed against accuracy"), _("your lookup is the marked point"))
                     + f'<p class="reading">{e(chart_reading(view))}</p>')
         else:
             # Where a wrong lookup sits on the chart says nothing about speed.
-            body = ('<p class="reading">The chart of speed against accuracy is shown once your '
-                    "lookup gives the reference's colours: fix what is listed above first.</p>")
-        cards.append(f'<div class="card"><h2>Speed</h2>{body}'
+            body = ('<p class="reading">' + escape(_("The chart of speed against accuracy is shown once your "
+                                                 "lookup gives the reference's colours: fix what is listed above first."),
+                                                 quote=False)
+                    + "</p>")
+        cards.append(f'<div class="card"><h2>{e(_("Speed"))}</h2>{body}'
                      f'{_figures_line([("ns_per_lookup", ns), ("speed_ratio", ratio)])}</div>')
     return f'<section class="pair">{"".join(cards)}</section>' if cards else ""
 
@@ -298,12 +313,13 @@ def chart_reading(view: ReportView) -> str:
     ns, ratio = view.metric("ns_per_lookup"), view.metric("speed_ratio")
     speed = []
     if ns is not None:
-        speed.append(f"{figure(ns)} ns per lookup")
+        speed.append(_("%(ns)s ns per lookup") % {"ns": figure(ns)})
     if ratio is not None:
-        speed.append(f"{figure(ratio)} times the reference's time")
-    yours = f"Your lookup ({', '.join(speed)}) is the marked point" if speed else "Your lookup is the marked point"
-    return (f"{yours}; the lines are the study's lookup methods (the handout's and others, named in the "
-            "legend) at several face sizes. Further left is faster, lower is more accurate.")
+        speed.append(_("%(ratio)s times the reference's time") % {"ratio": figure(ratio)})
+    yours = (_("Your lookup (%(speed)s) is the marked point") % {"speed": ", ".join(speed)} if speed
+             else _("Your lookup is the marked point"))
+    return _("%(yours)s; the lines are the study's lookup methods (the handout's and others, named in the "
+             "legend) at several face sizes. Further left is faster, lower is more accurate.") % {"yours": yours}
 
 
 def _is_placed(name: str) -> bool:
@@ -319,7 +335,7 @@ def _details(view: ReportView) -> str:
         body += _worst_cases(c)
         shown = {k: v for k, v in sorted(c.metrics.items()) if not PLACED_METRIC.match(k)}
         if shown:
-            rows = "".join(f"<tr><td>{e(METRIC_LABELS.get(k, (k.replace('_', ' '),))[0])}</td>"
+            rows = "".join(f"<tr><td>{e(_(METRIC_LABELS.get(k, (k.replace('_', ' '),))[0]))}</td>"
                            f"<td>{e(figure(v))}</td></tr>" for k, v in shown.items())
             body += f'<div class="wide"><table class="metrics"><tbody>{rows}</tbody></table></div>'
         extra = [(n, p) for n, p in sorted(c.artifacts.items()) if not _is_placed(n)]
@@ -333,7 +349,7 @@ def _details(view: ReportView) -> str:
             f"<details{open_attr}><summary>{_pill(state)} <span class=\"num\">{e(c.number)}</span> "
             f"<span class=\"title\">{e(c.title)}</span> <span class=\"pts\">{e(check_points(c))}</span>"
             f'</summary><div class="output">{body}</div></details>')
-    return f"<section><h2>Details of each check</h2>{''.join(items)}</section>" if items else ""
+    return f"<section><h2>{e(_('Details of each check'))}</h2>{''.join(items)}</section>" if items else ""
 
 
 def _worst_cases(check: CheckResult) -> str:
@@ -344,10 +360,10 @@ def _worst_cases(check: CheckResult) -> str:
         cells = "".join(f"<tr><td><code>{e(call)}</code></td><td>{e(should)}</td><td>{e(got)}</td></tr>"
                         for call, should, got in rows)
         if more:
-            cells += f'<tr><td colspan="3">... and {more} more</td></tr>'
-        title = f"Worst cases, {e(group)}" if group else "Worst cases"
+            cells += f'<tr><td colspan="3">{e(_("... and %(more)d more") % {"more": more})}</td></tr>'
+        title = e(_("Worst cases, %(group)s") % {"group": _(group)}) if group else e(_("Worst cases"))
         out.append(f'<p><strong>{title}</strong></p><div class="wide"><table class="cases">'
-                   "<thead><tr><th>lookup</th><th>should</th><th>yours</th></tr></thead>"
+                   f"<thead><tr><th>{e(_('lookup'))}</th><th>{e(_('should'))}</th><th>{e(_('yours'))}</th></tr></thead>"
                    f"<tbody>{cells}</tbody></table></div>")
     return "".join(out)
 
@@ -356,18 +372,18 @@ def _build_log(view: ReportView) -> str:
     if not view.build_log.strip():
         return ""
     failed = view.status == BUILD_ERROR
-    title = "Compiler messages" if failed else "Compiler messages (warnings)"
+    title = e(_("Compiler messages") if failed else _("Compiler messages (warnings)"))
     return (f'<section><details{" open" if failed else ""} class="log"><summary>{title}</summary>'
             f"<pre>{e(truncate_middle(view.build_log))}</pre></details></section>")
 
 
 def _footer(view: ReportView) -> str:
-    parts = [f"graded in {e(seconds(view.execution_time_s))}",
-             f"your code ran under: {e(view.isolation_text)}"]
+    parts = [e(_("graded in %(time)s") % {"time": seconds(view.execution_time_s)}),
+             e(_("your code ran under: %(isolation)s") % {"isolation": view.isolation_text})]
     if view.source_sha256:
         parts.append(f"source sha256 <code>{e(view.source_sha256[:16])}…</code>")
     if not view.complete and view.hidden:
-        parts.append("hidden checks are not shown")
+        parts.append(e(_("hidden checks are not shown")))
     return f'<footer>{" · ".join(parts)}</footer>'
 
 
@@ -380,14 +396,14 @@ def render(view: ReportView) -> str:
         _build_log(view) if view.status != BUILD_ERROR else "",
         _footer(view)) if s)
     return f"""<!DOCTYPE html>
-<html lang="en">
+<html lang="{language()}">
 <head>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <meta http-equiv="Content-Security-Policy" content="default-src 'none'; img-src data:; style-src 'unsafe-inline'">
 <meta name="color-scheme" content="light dark">
-<title>Feedback: {e(view.submission)}</title>
-<style>{CSS}</style>
+<title>{e(_("Feedback: %(submission)s") % {"submission": view.submission})}</title>
+<style>{CSS.replace("@SANS@", SANS)}</style>
 </head>
 <body>
 <main>
@@ -419,7 +435,7 @@ CSS = """
 * { box-sizing: border-box; }
 html { background: var(--bg); }
 body { margin: 0; color: var(--text); background: var(--bg);
-  font: 16px/1.55 system-ui, -apple-system, "Segoe UI", Roboto, "Noto Sans", "Liberation Sans", sans-serif; }
+  font: 16px/1.55 @SANS@; }
 main { max-width: 1120px; margin: 0 auto; padding: 32px 24px 48px; overflow-wrap: anywhere; }
 h1, h2, h3 { line-height: 1.25; margin: 0 0 .6em; }
 h1 { font-size: 1.9rem; letter-spacing: -.01em; overflow-wrap: anywhere; }

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
+from ..i18n import _
 from ..results import BUILD_ERROR
 from ..diagnoses import describe
 from .text import clean, points, truncate_middle
@@ -27,13 +28,14 @@ SUITE_NAME = "envmap"
 def _check_text(check) -> str:
     parts = [check_output(check)]
     for group, rows, more in mismatch_groups(check):
-        lines = [f"Worst cases{', ' + group if group else ''}:"]
-        lines += [f"  {call}: should {should}; yours {got}" for call, should, got in rows]
-        parts.append("\n".join(lines + ([f"  ... and {more} more"] if more else [])))
+        lines = [_("Worst cases, %(group)s:") % {"group": _(group)} if group else _("Worst cases:")]
+        lines += ["  " + _("%(call)s: should %(should)s; yours %(got)s") % {"call": call, "should": should, "got": got}
+                  for call, should, got in rows]
+        parts.append("\n".join(lines + (["  " + _("... and %(more)d more") % {"more": more}] if more else [])))
     for d in check.diagnoses:
         info = describe(d.id)
         face = f" [{d.face}]" if d.face else ""
-        parts.append(f"{d.id}{face}: {truncate_middle(d.detail, TEXT_LIMIT)}\n  What to do: {info.what_to_do}")
+        parts.append(f"{d.id}{face}: {truncate_middle(d.detail, TEXT_LIMIT)}\n  {_('What to do:')} {info.what_to_do}")
     return truncate_middle(clean("\n\n".join(p for p in parts if p)))
 
 
@@ -59,27 +61,27 @@ def render(view: ReportView) -> str:
         name = clean(f"{check.number} {check.title}".strip())
         tc = case(name, f"{SUITE_NAME}.{check.name}", check.duration_s)
         state = check_state(check)
-        message = f"{points(check.score)} / {points(check.max_score)} points"
+        message = _("%(score)s / %(max_score)s points") % {"score": points(check.score), "max_score": points(check.max_score)}
         text = _check_text(check)
         if state in (STATE_PASSED, STATE_INFO):
             if text:
                 ET.SubElement(tc, "system-out").text = text
         elif state == STATE_ERROR:
             counts["errors"] += 1
-            ET.SubElement(tc, "error", message=f"could not run (grader problem); {message}",
+            ET.SubElement(tc, "error", message=_("could not run (grader problem); %(points)s") % {"points": message},
                           type="error").text = text
         elif state == STATE_SKIPPED:
             counts["skipped"] += 1
-            ET.SubElement(tc, "skipped", message=text or "skipped")
+            ET.SubElement(tc, "skipped", message=text or _("skipped"))
         else:
             counts["failures"] += 1
             ET.SubElement(tc, "failure", message=message, type=state).text = text
 
     for h in view.hidden:
         for i in range(h.count):
-            tc = case(f"hidden check {i + 1}", f"{SUITE_NAME}.hidden", 0.0)
+            tc = case(_("hidden check %(number)d") % {"number": i + 1}, f"{SUITE_NAME}.hidden", 0.0)
             counts["skipped"] += 1
-            ET.SubElement(tc, "skipped", message=f"hidden: {h.when}")
+            ET.SubElement(tc, "skipped", message=_("hidden: %(when)s") % {"when": h.when})
 
     if not view.checks and not view.hidden:
         if view.status == BUILD_ERROR:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from html import escape
 
+from ..i18n import _, ngettext
 from ..results import BUILD_ERROR, CheckResult
 from .text import clean, inert_markdown, md_code, md_escape, md_fence, points, truncate_middle
 from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
@@ -31,7 +32,7 @@ STATE_ICON = {
 
 def check_points(check: CheckResult) -> str:
     if check_state(check) == STATE_INFO:
-        return "no points"
+        return _("no points")
     return f"{points(check.score)} / {points(check.max_score)}"
 
 
@@ -42,44 +43,48 @@ def html_text(text: str) -> str:
 
 def all_correct(view: ReportView) -> str:
     if view.hidden:
-        return "Every visible check passed."
-    return "Everything the grader checks is correct. Well done!"
+        return _("Every visible check passed.")
+    return _("Everything the grader checks is correct. Well done!")
 
 
 def _score_line(view: ReportView) -> str:
-    parts = [f"**Score: {points(view.score)} / {points(view.max_score)}**", view.status_text]
+    parts = ["**" + _("Score: %(score)s / %(max_score)s") % {"score": points(view.score), "max_score": points(view.max_score)}
+             + "**", view.status_text]
     if view.passed_line:
         parts.append(view.passed_line)
     return " · ".join(parts)
 
 
 def isolation_line(view: ReportView) -> str:
-    return f"_Your code ran under: {md_escape(view.isolation_text)}._"
+    return "_" + _("Your code ran under: %(isolation)s.") % {"isolation": md_escape(view.isolation_text)} + "_"
 
 
 def _warnings(view: ReportView) -> list[str]:
-    return [f"> **Warning:** {md_escape(w)}" for w in view.warnings]
+    return [f"> **{_('Warning:')}** {md_escape(w)}" for w in view.warnings]
 
 
 def _hidden_note(view: ReportView, about_score: bool = True) -> list[str]:
     lines = []
     for h in view.hidden:
-        many = h.count != 1
-        text = (f"{h.count} more check{'s' if many else ''} ({points(h.max_score)} points) "
-                f"{'are' if many else 'is'} {h.when}")
+        values = {"count": h.count, "points": points(h.max_score), "when": h.when}
         if about_score:
-            text += f"; {'they are' if many else 'it is'} not counted in the score above"
+            text = ngettext("%(count)d more check (%(points)s points) is %(when)s; it is not counted in the score above",
+                            "%(count)d more checks (%(points)s points) are %(when)s; they are not counted in the score above",
+                            h.count) % values
+        else:
+            text = ngettext("%(count)d more check (%(points)s points) is %(when)s",
+                            "%(count)d more checks (%(points)s points) are %(when)s", h.count) % values
         lines.append(f"_{text}._")
     return lines
 
 
 def score_table(view: ReportView) -> list[str]:
-    lines = ["| | # | Check | Points |", "|:-:|:--|:--|--:|"]
+    lines = [f"| | # | {_('Check')} | {_('Points')} |", "|:-:|:--|:--|--:|"]
     for c in view.checks:
         state = check_state(c)
         lines.append(f"| {STATE_ICON[state]} | {md_escape(c.number)} | "
                      f"{md_escape(c.title)} | {check_points(c)} |")
-    lines.append(f"| | | **Total** | **{points(view.score)} / {points(view.max_score)}** |")
+    lines.append(f"| | | **{_('Total')}** | **{points(view.score)} / {points(view.max_score)}** |")
     return lines
 
 
@@ -91,14 +96,14 @@ def diagnosis_section(group: DiagnosisGroup, level: str = "###") -> list[str]:
         hint = f" _{md_escape(truncate_middle(d.hint, TEXT_LIMIT))}_" if d.hint else ""
         detail = truncate_middle(d.detail, TEXT_LIMIT)
         lines.append(f"- {where}{md_escape(detail, line_start=not where)}{hint}")
-    lines += ["", info.explanation, "", f"**What to do:** {info.what_to_do}", ""]
+    lines += ["", info.explanation, "", f"**{_('What to do:')}** {info.what_to_do}", ""]
     return lines
 
 
 def _diagnoses(view: ReportView, level: str) -> list[str]:
     if not view.diagnoses:
         return []
-    lines = [f"{level} What to fix", ""]
+    lines = [f"{level} {_('What to fix')}", ""]
     for group in view.diagnoses:
         lines += diagnosis_section(group, level + "#")
     return lines
@@ -109,8 +114,8 @@ def _build_log(view: ReportView, level: str) -> list[str]:
         return []
     log = md_fence(truncate_middle(view.build_log), "text")
     if view.status == BUILD_ERROR:
-        return [f"{level} Compiler messages", "", log, ""]
-    return ["<details><summary>Compiler messages (warnings)</summary>", "", log, "",
+        return [f"{level} {_('Compiler messages')}", "", log, ""]
+    return [f"<details><summary>{html_text(_('Compiler messages (warnings)'))}</summary>", "", log, "",
             "</details>", ""]
 
 
@@ -119,13 +124,14 @@ def worst_cases(check: CheckResult) -> list[str]:
     lines = []
     for group, rows, more in mismatch_groups(check):
         if group:
-            lines += [f"**Worst cases, {md_escape(group)}:**", ""]
+            lines += ["**" + _("Worst cases, %(group)s:") % {"group": md_escape(_(group))} + "**", ""]
         else:
-            lines += ["**Worst cases:**", ""]
-        lines += [f"- {md_escape(call, line_start=True)}: should {md_escape(should)}; yours {md_escape(got)}"
+            lines += ["**" + _("Worst cases:") + "**", ""]
+        lines += ["- " + _("%(call)s: should %(should)s; yours %(got)s") % {
+                      "call": md_escape(call, line_start=True), "should": md_escape(should), "got": md_escape(got)}
                   for call, should, got in rows]
         if more:
-            lines.append(f"- ... and {more} more")
+            lines.append("- " + _("... and %(more)d more") % {"more": more})
         lines.append("")
     return lines
 
@@ -142,7 +148,7 @@ def _details(view: ReportView) -> list[str]:
         body = [inert_markdown(truncate_middle(output)), ""] if output else []
         lines += [f"<details><summary>{summary}</summary>", "", *body, *cases,
                   "</details>", ""]
-    return ["## Details of each check", ""] + lines if lines else []
+    return [f"## {_('Details of each check')}", ""] + lines if lines else []
 
 
 def _head(view: ReportView) -> list[str]:
@@ -156,13 +162,13 @@ def _head(view: ReportView) -> list[str]:
 
 def render(view: ReportView) -> str:
     """The whole report.md."""
-    lines = [f"# Environment mapping: {md_escape(view.submission)}", "",
+    lines = ["# " + _("Environment mapping: %(submission)s") % {"submission": md_escape(view.submission)}, "",
              _score_line(view), "", isolation_line(view), ""]
     lines += _head(view)
     if view.status == BUILD_ERROR:
         lines += _build_log(view, "##")
     if view.checks:
-        lines += ["## Checks", ""] + score_table(view) + [""]
+        lines += [f"## {_('Checks')}", ""] + score_table(view) + [""]
     if view.hidden:
         lines += _hidden_note(view) + [""]
     lines += _diagnoses(view, "##")
@@ -183,7 +189,7 @@ def summary(view: ReportView) -> str:
     if view.hidden:
         lines += _hidden_note(view, about_score=False) + [""]
     if not lines:
-        lines = ["All visible checks passed." if view.score >= view.max_score
-                 else "See each check below for details.", ""]
+        lines = [_("All visible checks passed.") if view.score >= view.max_score
+                 else _("See each check below for details."), ""]
     lines.append(isolation_line(view))
     return "\n".join(lines).rstrip("\n") + "\n"

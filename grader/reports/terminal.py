@@ -6,6 +6,8 @@ import io
 from pathlib import Path
 
 from rich import box
+
+from ..i18n import _, ngettext
 from rich.console import Console, Group
 from rich.padding import Padding
 from rich.panel import Panel
@@ -45,25 +47,26 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
         "  ", (view.status_text, "dim" if view.status == "graded" else "bold red"),
         "  ", (f"({seconds(view.execution_time_s)})", "dim"))
     parts.append(head)
-    parts.append(Text(f"your code ran under: {view.isolation_text}", style="dim"))
+    parts.append(Text(_("your code ran under: %(isolation)s") % {"isolation": view.isolation_text}, style="dim"))
     if view.status_explanation:
         parts.append(Text(view.status_explanation, style="red"))
     for w in view.warnings:
-        parts.append(Text.assemble(("warning: ", "bold yellow"), w))
+        parts.append(Text.assemble((_("warning: "), "bold yellow"), w))
 
     if view.status == BUILD_ERROR and view.build_log.strip():
         lines = view.build_log.strip().splitlines()
         shown = "\n".join(lines[:LOG_LINES])
-        more = f"\n... {len(lines) - LOG_LINES} more lines in the reports" if len(lines) > LOG_LINES else ""
-        parts.append(Panel(Text(shown + more), title="compiler messages", box=box.ROUNDED,
+        more = ("\n" + _("... %(count)d more lines in the reports") % {"count": len(lines) - LOG_LINES}
+                if len(lines) > LOG_LINES else "")
+        parts.append(Panel(Text(shown + more), title=_("compiler messages"), box=box.ROUNDED,
                            border_style="red", expand=False))
 
     if view.checks:
         table = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False)
         table.add_column("", no_wrap=True)
         table.add_column("#", style="dim", no_wrap=True)
-        table.add_column("check")
-        table.add_column("points", justify="right", no_wrap=True)
+        table.add_column(_("check"))
+        table.add_column(_("points"), justify="right", no_wrap=True)
         for c in view.checks:
             mark, style = STATE_STYLE[check_state(c)]
             # Text, not str: rich would read "[...]" in a string as markup.
@@ -71,9 +74,9 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
                           Text(check_points(c), style=style))
         parts.append(table)
     for h in view.hidden:
-        many = h.count != 1
-        parts.append(Text(f"{h.count} hidden check{'s' if many else ''} "
-                          f"({points(h.max_score)} points), {h.when}", style="dim"))
+        parts.append(Text(ngettext("%(count)d hidden check (%(points)s points), %(when)s",
+                                   "%(count)d hidden checks (%(points)s points), %(when)s", h.count)
+                          % {"count": h.count, "points": points(h.max_score), "when": h.when}, style="dim"))
 
     for group in view.diagnoses:
         faces = f" [{', '.join(group.faces)}]" if group.faces else ""
@@ -82,11 +85,11 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
         for d in group.findings:
             where = f"{d.face}: " if d.face else ""
             parts.append(Padding(Text(f"{where}{d.detail}"), (0, 0, 0, 4), expand=False))
-        parts.append(Padding(Text.assemble(("what to do: ", "cyan"), group.info.what_to_do),
+        parts.append(Padding(Text.assemble((_("what to do: "), "cyan"), group.info.what_to_do),
                              (0, 0, 0, 4), expand=False))
 
     if report_paths:
-        parts.append(Text("reports:", style="dim"))
+        parts.append(Text(_("reports:"), style="dim"))
         for name in sorted(report_paths):
             parts.append(Text(f"  {report_paths[name]}", style="dim"))
     return Group(*parts)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from .. import diagnoses as catalogue
+from ..i18n import N_, Translated, _
 from ..results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED,
                        TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult,
                        TexelHit)
@@ -26,30 +27,30 @@ VISIBLE = "visible"
 TEXT_LIMIT = 2000
 
 # The sentence a report shows for a submission's overall status.
-STATUS_TEXT = {
-    GRADED: "graded",
-    BUILD_ERROR: "did not compile",
-    TIMEOUT: "timed out",
-    UNGRADABLE: "could not be graded",
-}
+STATUS_TEXT = Translated({
+    GRADED: N_("graded"),
+    BUILD_ERROR: N_("did not compile"),
+    TIMEOUT: N_("timed out"),
+    UNGRADABLE: N_("could not be graded"),
+})
 
 # What a student is told when the status is not a plain "graded".
-STATUS_EXPLANATION = {
-    BUILD_ERROR: "Your code did not compile, so the checks could not run. "
-                 "The compiler's messages are below.",
-    TIMEOUT: "Your code took longer than the time allowed on some calls: they were "
-             "stopped (or, once the grading's time was used up, not run) and count as wrong.",
-    UNGRADABLE: "This submission could not be graded because of a problem in "
-                "the grader, not in your code. The score shown is not final: "
-                "please tell your instructor.",
-}
+STATUS_EXPLANATION = Translated({
+    BUILD_ERROR: N_("Your code did not compile, so the checks could not run. "
+                    "The compiler's messages are below."),
+    TIMEOUT: N_("Your code took longer than the time allowed on some calls: they were "
+                "stopped (or, once the grading's time was used up, not run) and count as wrong."),
+    UNGRADABLE: N_("This submission could not be graded because of a problem in "
+                   "the grader, not in your code. The score shown is not final: "
+                   "please tell your instructor."),
+})
 
 # When a hidden check's results are shown, in Gradescope's terms.
-HIDDEN_WHEN = {
-    "hidden": "not shown to students",
-    "after_due_date": "shown after the due date",
-    "after_published": "shown when grades are published",
-}
+HIDDEN_WHEN = Translated({
+    "hidden": N_("not shown to students"),
+    "after_due_date": N_("shown after the due date"),
+    "after_published": N_("shown when grades are published"),
+})
 
 # Per-check states for display (finer than Gradescope's passed/failed).
 # "info": a check worth no points (e.g. the diagnosis from position-encoding
@@ -59,19 +60,19 @@ STATE_PASSED, STATE_PARTIAL, STATE_FAILED, STATE_ERROR, STATE_SKIPPED, STATE_INF
 
 # How the submission's code was kept from the grader (GradeResult.isolation,
 # set from grader.worker's runner), in words for every report.
-ISOLATION_TEXT = {
-    "bubblewrap": "bubblewrap sandbox",
-    "privilege-drop": "separate unprivileged user with a system-call filter",
-    "unsafe-none": "no sandbox (the instructor chose --unsafe-no-sandbox)",
-    "": "none needed (no code of the submission ran)",
-}
+ISOLATION_TEXT = Translated({
+    "bubblewrap": N_("bubblewrap sandbox"),
+    "privilege-drop": N_("separate unprivileged user with a system-call filter"),
+    "unsafe-none": N_("no sandbox (the instructor chose --unsafe-no-sandbox)"),
+    "": N_("none needed (no code of the submission ran)"),
+})
 
 
 # What a check without output says, by its status.
-DEFAULT_OUTPUT = {
-    ERROR: "This check could not run because of a problem in the grader, not in your code.",
-    SKIPPED: "This check did not run because a check it depends on failed.",
-}
+DEFAULT_OUTPUT = Translated({
+    ERROR: N_("This check could not run because of a problem in the grader, not in your code."),
+    SKIPPED: N_("This check did not run because a check it depends on failed."),
+})
 
 
 def check_output(check: CheckResult) -> str:
@@ -94,8 +95,9 @@ def _numbers(values, decimals: int | None = None) -> str:
 def hit_text(hit: TexelHit) -> str:
     """Where a lookup landed, in the handout's terms."""
     if not hit.face:
-        return "a colour that is in no face of the texture"
-    return f"face {clean(hit.face)} at texel {_numbers(hit.texel, 2)}, (u, v) = {_numbers(hit.uv, 4)}"
+        return _("a colour that is in no face of the texture")
+    return _("face %(face)s at texel %(texel)s, (u, v) = %(uv)s") % {
+        "face": clean(hit.face), "texel": _numbers(hit.texel, 2), "uv": _numbers(hit.uv, 4)}
 
 
 def mismatch_groups(check: CheckResult) -> list[tuple[str, list[tuple[str, str, str]], int]]:
@@ -106,8 +108,10 @@ def mismatch_groups(check: CheckResult) -> list[tuple[str, list[tuple[str, str, 
     / "gave ..." where the texture does not say where a colour came from."""
     groups: dict[str, list[tuple[str, str, str]]] = {}
     for m in check.mismatches:
-        should = f"sample {hit_text(m.expected_at)}" if m.expected_at else f"give colour {_numbers(m.expected)}"
-        got = f"sampled {hit_text(m.got_at)}" if m.got_at else f"gave colour {_numbers(m.got)}"
+        should = (_("sample %(where)s") % {"where": hit_text(m.expected_at)} if m.expected_at
+                  else _("give colour %(colour)s") % {"colour": _numbers(m.expected)})
+        got = (_("sampled %(where)s") % {"where": hit_text(m.got_at)} if m.got_at
+               else _("gave colour %(colour)s") % {"colour": _numbers(m.got)})
         groups.setdefault(clean(m.group), []).append((clean(m.call), should, got))
     out = []
     for group, rows in groups.items():
@@ -176,7 +180,7 @@ class ReportView:
 
     @property
     def isolation_text(self) -> str:
-        return ISOLATION_TEXT.get(self.isolation, self.isolation or "unknown")
+        return ISOLATION_TEXT.get(self.isolation, self.isolation or _("unknown"))
 
     @property
     def scored_checks(self) -> list[CheckResult]:
@@ -187,7 +191,7 @@ class ReportView:
     def passed_line(self) -> str:
         scored = self.scored_checks
         passed = sum(check_state(c) == STATE_PASSED for c in scored)
-        return f"{passed} of {len(scored)} checks passed" if scored else ""
+        return _("%(passed)d of %(total)d checks passed") % {"passed": passed, "total": len(scored)} if scored else ""
 
     @property
     def refused(self) -> bool:
@@ -198,13 +202,13 @@ class ReportView:
 
     @property
     def status_text(self) -> str:
-        return "not built" if self.refused else STATUS_TEXT.get(self.status, self.status)
+        return _("not built") if self.refused else STATUS_TEXT.get(self.status, self.status)
 
     @property
     def status_explanation(self) -> str:
         if self.refused:
-            return ("Your submission was refused before it could be built or run, so the checks "
-                    "could not run: the diagnosis below says why and what to do.")
+            return _("Your submission was refused before it could be built or run, so the checks "
+                     "could not run: the diagnosis below says why and what to do.")
         return STATUS_EXPLANATION.get(self.status, "")
 
     def counts(self) -> dict[str, int]:
@@ -245,7 +249,7 @@ def build_view(result: GradeResult, include_hidden: bool = False) -> ReportView:
 
     hidden: dict[str, HiddenSummary] = {}
     for c in withheld:
-        when = HIDDEN_WHEN.get(c.visibility, "not shown to students")
+        when = HIDDEN_WHEN.get(c.visibility, HIDDEN_WHEN["hidden"])
         h = hidden.setdefault(when, HiddenSummary(0, 0.0, when))
         h.count += 1
         h.max_score += c.max_score

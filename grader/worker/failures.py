@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import signal
 
+from ..i18n import N_, _
 from . import protocol
 from .protocol import CrashReport
 
@@ -65,12 +66,12 @@ def signal_name(signo: int) -> str:
 
 def _buffer_name(where: int) -> str:
     if 0 <= where < 6:
-        return f"face {FACE_NAMES[where]}"
-    return "the six faces' buffer"
+        return _("face %(face)s") % {"face": FACE_NAMES[where]}
+    return _("the six faces' buffer")
 
 
 def _bytes(n: int) -> str:
-    return "1 byte" if n == 1 else f"{n} bytes"
+    return _("1 byte") if n == 1 else _("%(count)d bytes") % {"count": n}
 
 
 def _forbidden_message(text: str) -> str:
@@ -108,88 +109,102 @@ def from_crash(report: CrashReport, output: str, limits_cpu_s: int | None = None
         return SubmissionFailure(FORBIDDEN_SYSCALL, _forbidden_message(report.text), signal_name=sig,
                                  crash=report, output=output, detail=report.text.partition(" ")[0])
     if report.cause == protocol.CAUSE_GUARD_AFTER:
-        at = "right after" if report.distance == 0 else f"{_bytes(report.distance)} after"
-        return SubmissionFailure(OUT_OF_BOUNDS_READ,
-                                 f"out-of-bounds read ({sig}): {at} the last texel of {_buffer_name(report.where)}",
+        words = {"sig": sig, "bytes": _bytes(report.distance), "buffer": _buffer_name(report.where)}
+        text = (_("out-of-bounds read (%(sig)s): right after the last texel of %(buffer)s") if report.distance == 0
+                else _("out-of-bounds read (%(sig)s): %(bytes)s after the last texel of %(buffer)s"))
+        return SubmissionFailure(OUT_OF_BOUNDS_READ, text % words,
                                  signal_name=sig, crash=report, output=output, detail="after")
     if report.cause == protocol.CAUSE_GUARD_BEFORE:
         return SubmissionFailure(OUT_OF_BOUNDS_READ,
-                                 f"out-of-bounds read ({sig}): {_bytes(report.distance)} before the first "
-                                 f"texel of {_buffer_name(report.where)}",
+                                 _("out-of-bounds read (%(sig)s): %(bytes)s before the first texel of %(buffer)s")
+                                 % {"sig": sig, "bytes": _bytes(report.distance), "buffer": _buffer_name(report.where)},
                                  signal_name=sig, crash=report, output=output, detail="before")
     if report.cause == protocol.CAUSE_TEXTURE_WRITE:
-        return SubmissionFailure(CRASH, f"wrote into {_buffer_name(report.where)}, which is read-only ({sig})",
+        return SubmissionFailure(CRASH, _("wrote into %(buffer)s, which is read-only (%(sig)s)")
+                                 % {"buffer": _buffer_name(report.where), "sig": sig},
                                  signal_name=sig, crash=report, output=output, detail="texture-write")
     if report.cause == protocol.CAUSE_STACK_OVERFLOW:
-        return SubmissionFailure(CRASH, f"stack overflow ({sig})", signal_name=sig, crash=report,
+        return SubmissionFailure(CRASH, _("stack overflow (%(sig)s)") % {"sig": sig}, signal_name=sig, crash=report,
                                  output=output, detail="stack-overflow")
     if report.cause == protocol.CAUSE_CPU_LIMIT:
-        limit = f" of {limits_cpu_s} s" if limits_cpu_s else ""
-        return SubmissionFailure(TIMEOUT, f"used up its CPU-time limit{limit} ({sig})", signal_name=sig,
+        text = (_("used up its CPU-time limit of %(limit)s s (%(sig)s)") if limits_cpu_s
+                else _("used up its CPU-time limit (%(sig)s)")) % {"limit": limits_cpu_s, "sig": sig}
+        return SubmissionFailure(TIMEOUT, text, signal_name=sig,
                                  crash=report, output=output, detail="cpu")
     # A plain signal.
     if report.signo == signal.SIGABRT and "terminate called" in output:
-        return SubmissionFailure(EXCEPTION, "an uncaught C++ exception ended the program (SIGABRT)",
+        return SubmissionFailure(EXCEPTION, _("an uncaught C++ exception ended the program (SIGABRT)"),
                                  signal_name=sig, crash=report, output=output, detail="terminate")
     if report.signo == signal.SIGSEGV:
         if report.address < 65536:
-            return SubmissionFailure(CRASH, f"segmentation fault ({sig}): a read or write through a null pointer",
+            return SubmissionFailure(CRASH, _("segmentation fault (%(sig)s): a read or write through a null pointer")
+                                     % {"sig": sig},
                                      signal_name=sig, crash=report, output=output, detail="null")
-        return SubmissionFailure(CRASH, f"segmentation fault ({sig}): an invalid memory access",
+        return SubmissionFailure(CRASH, _("segmentation fault (%(sig)s): an invalid memory access") % {"sig": sig},
                                  signal_name=sig, crash=report, output=output, detail="invalid")
     if report.signo == signal.SIGFPE:
-        what = "integer division by zero" if report.si_code == 1 else "an arithmetic error"  # FPE_INTDIV
+        what = _("integer division by zero") if report.si_code == 1 else _("an arithmetic error")  # FPE_INTDIV
         return SubmissionFailure(CRASH, f"{what} ({sig})", signal_name=sig, crash=report, output=output,
                                  detail="intdiv" if report.si_code == 1 else "arith")
-    what = {signal.SIGABRT: "abort() was called", signal.SIGILL: "an illegal instruction",
-            signal.SIGBUS: "a bus error (invalid memory access)"}.get(report.signo, "the worker was stopped")
+    what = _({signal.SIGABRT: N_("abort() was called"), signal.SIGILL: N_("an illegal instruction"),
+              signal.SIGBUS: N_("a bus error (invalid memory access)")}.get(report.signo, N_("the worker was stopped")))
     return SubmissionFailure(CRASH, f"{what} ({sig})", signal_name=sig, crash=report, output=output)
 
 
 def hint(failure: SubmissionFailure, function: str, *, timeout_s: float | None = None,
          memory_mb: int | None = None) -> str:
-    """What usually causes this failure, in plain words."""
+    """What usually causes this failure, in plain words (the current language, grader.i18n)."""
+    words = _hint_id(failure, function, timed=bool(timeout_s), limited=bool(memory_mb))
+    return _(words) % {"within": f"{timeout_s:g}" if timeout_s else "", "limit": memory_mb} if words else ""
+
+
+def _hint_id(failure: SubmissionFailure, function: str, timed: bool, limited: bool) -> str:
+    """hint()'s words as a catalogue id (%(within)s: the time limit in s, %(limit)s: the memory limit in MiB)."""
     kind, detail = failure.kind, failure.detail
     if kind == OUT_OF_BOUNDS_READ:
         if function == "readTexture":
             if detail == "after":
-                return ("reading x = W or y = H: clamp the lattice coordinates to W-1 and H-1, "
-                        "as the handout's sample code does")
-            return "reading x = -1 or y = -1: clamp the lattice coordinates to 0 as well as to W-1 and H-1"
-        return ("fetchColor read outside the six faces: check the face index (0..5), that u and v stay in "
-                "[0, 1], and that readTexture clamps its lattice coordinates")
+                return N_("reading x = W or y = H: clamp the lattice coordinates to W-1 and H-1, "
+                          "as the handout's sample code does")
+            return N_("reading x = -1 or y = -1: clamp the lattice coordinates to 0 as well as to W-1 and H-1")
+        return N_("fetchColor read outside the six faces: check the face index (0..5), that u and v stay in "
+                  "[0, 1], and that readTexture clamps its lattice coordinates")
     if kind == CRASH:
         return {
-            "stack-overflow": "unbounded recursion: a function that calls itself without ever reaching a base case",
-            "null": "a null or uninitialised pointer was used: check every pointer before reading through it",
-            "invalid": "an index far outside an array, or a pointer to memory that is gone",
-            "intdiv": ("integer division by zero: check divisors that can be 0 (a component, a size); "
-                       "compute u and v in floating point"),
-            "arith": "an arithmetic error in integer code",
-            "texture-write": "the texture is read-only: fetchColor and readTexture must not change texels",
+            "stack-overflow": N_("unbounded recursion: a function that calls itself without ever reaching a base case"),
+            "null": N_("a null or uninitialised pointer was used: check every pointer before reading through it"),
+            "invalid": N_("an index far outside an array, or a pointer to memory that is gone"),
+            "intdiv": N_("integer division by zero: check divisors that can be 0 (a component, a size); "
+                         "compute u and v in floating point"),
+            "arith": N_("an arithmetic error in integer code"),
+            "texture-write": N_("the texture is read-only: fetchColor and readTexture must not change texels"),
         }.get(detail, {
-            "SIGABRT": "abort() or a failed assert() stopped the program; so does the C library on a double free",
-            "SIGILL": ("an illegal instruction: often a function that does not return a value on every path, "
-                       "which the compiler may turn into a trap"),
-            "SIGBUS": "a misaligned or invalid memory access",
-        }.get(failure.signal_name or "", "the program stopped on a signal"))
+            "SIGABRT": N_("abort() or a failed assert() stopped the program; so does the C library on a double free"),
+            "SIGILL": N_("an illegal instruction: often a function that does not return a value on every path, "
+                         "which the compiler may turn into a trap"),
+            "SIGBUS": N_("a misaligned or invalid memory access"),
+        }.get(failure.signal_name or "", N_("the program stopped on a signal")))
     if kind == TIMEOUT:
-        within = f" within {timeout_s:g} s" if timeout_s else ""
-        return (f"did not finish{within}: usually an infinite loop (a loop whose condition never changes) "
-                "or far too much work per lookup")
+        if timed:
+            return N_("did not finish within %(within)s s: usually an infinite loop (a loop whose condition never "
+                      "changes) or far too much work per lookup")
+        return N_("did not finish: usually an infinite loop (a loop whose condition never changes) "
+                  "or far too much work per lookup")
     if kind == EXCEPTION:
         if "bad_alloc" in failure.message or detail == "bad_alloc":
-            limit = f" (limit {memory_mb} MiB)" if memory_mb else ""
-            return f"ran out of memory{limit}: memory allocated without end, e.g. in a loop or on every call"
-        return "an exception was thrown and not caught: return a colour for every input instead of throwing"
+            if limited:
+                return N_("ran out of memory (limit %(limit)s MiB): memory allocated without end, e.g. in a loop "
+                          "or on every call")
+            return N_("ran out of memory: memory allocated without end, e.g. in a loop or on every call")
+        return N_("an exception was thrown and not caught: return a colour for every input instead of throwing")
     if kind == FORBIDDEN_SYSCALL:
-        return ("submissions may only compute colours: remove the call (no new processes, no writing files, "
-                "no network, no signals to other processes, no changes to the grader's memory)")
+        return N_("submissions may only compute colours: remove the call (no new processes, no writing files, "
+                  "no network, no signals to other processes, no changes to the grader's memory)")
     if kind == EXITED:
-        return "exit() (or similar) was called: return a colour instead of ending the program"
+        return N_("exit() (or similar) was called: return a colour instead of ending the program")
     if kind == PROTOCOL:
-        return ("the worker's replies were corrupted: the submission wrote to file descriptors it does not own, "
-                "or overwrote memory it does not own")
+        return N_("the worker's replies were corrupted: the submission wrote to file descriptors it does not own, "
+                  "or overwrote memory it does not own")
     if kind == LOAD_ERROR:
-        return "the built library could not be loaded; this is usually a problem of the build, not of your code"
+        return N_("the built library could not be loaded; this is usually a problem of the build, not of your code")
     return ""

@@ -32,6 +32,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..i18n import _
 from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, from_crash, hint
 from .process import Limits, Worker, WorkerHarnessError
 from .sandbox import ISOLATION, resolve_mode
@@ -61,7 +62,7 @@ class Failure:
 
     def describe(self) -> str:
         """One sentence for a report."""
-        return f"{self.input}: {self.message}. {self.hint}"
+        return _("%(input)s: %(message)s. %(hint)s") % {"input": self.input, "message": self.message, "hint": self.hint}
 
 
 @dataclass
@@ -229,7 +230,7 @@ class SubmissionRunner:
                     rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
             except SubmissionFailure as failure:
                 self._drop_worker()
-                timed.failure = self._failure(failure, "fetchColor", None, "timing fetchColor over a batch")
+                timed.failure = self._failure(failure, "fetchColor", None, _("timing fetchColor over a batch"))
                 break
             except _LoadFailed:
                 timed.failure = self._load_failure
@@ -239,8 +240,8 @@ class SubmissionRunner:
                 # delivery, the handler) is in its time: it times nothing.
                 index, report = worker.faults[0]
                 timed.failure = self._failure(from_crash(report, "", self.limits.cpu_seconds), "fetchColor", None,
-                                              f"timing fetchColor over a batch ({describe_fetch(dirs[index])} "
-                                              f"and {len(worker.faults) - 1} more crashed)")
+                                              _("timing fetchColor over a batch (%(call)s and %(more)d more crashed)")
+                                              % {"call": describe_fetch(dirs[index]), "more": len(worker.faults) - 1})
                 break
             timed.cpu_ns.append(ns)
             timed.lookups.append(len(dirs))
