@@ -1,0 +1,205 @@
+"""Where the checks get the reference's answers: one small interface.
+
+Every check asks the reference the same few questions: which face and (u, v)
+a direction falls on, the handout's fetch and readTexture over given texels,
+a map's faces, a scene's camera paths and the image they resolve to. In the
+grader the answers come from the live C reference (`LiveReference`). The
+student kit cannot hold the lookup, so it receives the answers instead:
+`Recorder` wraps the live reference while the grader's own checks run on the
+kit's fixed public inputs at kit-build time and keeps every answer, keyed by
+a digest of the question; `Replay` answers from that file in the kit. A new
+check asks through `current()` and works in both places without extra work.
+`resolve` (a render's image from colours the submission gave) is the
+renderer's (render.c, which the kit ships), not a lookup: both compute it.
+
+A question the recording did not see (an input that depends on the
+submission's answers, or a kit built from other inputs) raises
+`MissingAnswer` naming it: the kit never guesses an answer.
+"""
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+from pathlib import Path
+from typing import Iterator, Protocol
+
+import numpy as np
+
+from . import reference
+
+
+class Oracle(Protocol):
+    def direction_to_face(self, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
+    def fetch(self, texels: np.ndarray, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray: ...
+    def read_texture(self, texels: np.ndarray, faces, uv: np.ndarray, filter: str = "bilinear") -> np.ndarray: ...
+    def load_cross(self, path: str | os.PathLike) -> np.ndarray: ...
+    def trace(self, scene: str | os.PathLike, size: tuple[int, int], spp: int) -> reference.Escapes: ...
+    def resolve(self, escapes: reference.Escapes, rgb: np.ndarray) -> np.ndarray: ...
+
+
+class LiveReference:
+    """The C reference (grader.reference), exactly as the checks called it before."""
+
+    def direction_to_face(self, dirs):
+        return reference.direction_to_face(dirs)
+
+    def fetch(self, texels, dirs, filter="bilinear"):
+        return reference.CubeMap(texels).fetch(dirs, filter)
+
+    def read_texture(self, texels, faces, uv, filter="bilinear"):
+        return reference.CubeMap(texels).read_texture(faces, uv, filter)
+
+    def load_cross(self, path):
+        return reference.CubeMap.load_cross(path).faces
+
+    def trace(self, scene, size, spp):
+        loaded = reference.Scene.load(scene)
+        loaded.set_resolution(*size)
+        loaded.set_samples(spp)
+        return loaded.trace()
+
+    def resolve(self, escapes, rgb):
+        return escapes.resolve(rgb)
+
+
+def _digest(method: str, *parts) -> str:
+    """A question's key: the method and the exact bytes, dtype and shape of
+    each argument (a path stands for its file's bytes and its name)."""
+    h = hashlib.sha256(method.encode())
+    for part in parts:
+        if isinstance(part, (str, os.PathLike)) and Path(part).is_file():
+            h.update(b"file:" + Path(part).name.encode() + hashlib.sha256(Path(part).read_bytes()).digest())
+            continue
+        a = np.ascontiguousarray(part)
+        h.update(f"|{a.dtype.str}{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()[:32]
+
+
+class MissingAnswer(LookupError):
+    """The recorded answers hold nothing for this question."""
+
+
+# Each method's question as digest parts, and how its answer is stored
+# (a tuple of arrays; Escapes by its fields).
+_ESCAPE_FIELDS = ("dirs", "weights", "pixels", "width", "height", "hdr_gamma")
+
+
+def _question(method: str, args: tuple) -> str:
+    if method in ("fetch", "read_texture"):
+        texels, *rest = args
+        return _digest(method, np.ascontiguousarray(texels, np.float32), *rest)
+    if method == "trace":
+        scene, size, spp = args
+        return _digest(method, scene, np.asarray(size, np.int64), np.int64(spp))
+    return _digest(method, *args)
+
+
+def _pack(answer) -> tuple[np.ndarray, ...]:
+    if isinstance(answer, reference.Escapes):
+        return tuple(np.asarray(getattr(answer, f)) for f in _ESCAPE_FIELDS)
+    return tuple(answer) if isinstance(answer, tuple) else (answer,)
+
+
+def _unpack(method: str, arrays: list[np.ndarray]):
+    if method == "trace":
+        d, w, p, width, height, gamma = arrays
+        return reference.Escapes(d, w, p, int(width), int(height), float(gamma))
+    return tuple(arrays) if len(arrays) > 1 else arrays[0]
+
+
+class Recorder:
+    """An oracle that asks `inner` and keeps every answer (for the kit)."""
+
+    RECORDED = ("direction_to_face", "fetch", "read_texture", "load_cross", "trace")
+
+    def __init__(self, inner: Oracle):
+        self.inner = inner
+        self.answers: dict[str, tuple[np.ndarray, ...]] = {}
+
+    def _ask(self, method, *args):
+        answer = getattr(self.inner, method)(*args)
+        self.answers.setdefault(f"{method}:{_question(method, args)}", _pack(answer))
+        return answer
+
+    def direction_to_face(self, dirs):
+        return self._ask("direction_to_face", np.ascontiguousarray(dirs, np.float64).reshape(-1, 3))
+
+    def fetch(self, texels, dirs, filter="bilinear"):
+        return self._ask("fetch", texels, np.ascontiguousarray(dirs, np.float64).reshape(-1, 3), filter)
+
+    def read_texture(self, texels, faces, uv, filter="bilinear"):
+        uv = np.ascontiguousarray(uv, np.float64).reshape(-1, 2)
+        return self._ask("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
+
+    def load_cross(self, path):
+        return self._ask("load_cross", path)
+
+    def trace(self, scene, size, spp):
+        return self._ask("trace", scene, tuple(size), int(spp))
+
+    def resolve(self, escapes, rgb):
+        # Depends on the submission's colours: computed by the renderer, never recorded.
+        return self.inner.resolve(escapes, rgb)
+
+    def save(self, path: Path) -> None:
+        """One .npz: each answer's arrays as `<method>:<digest>/<i>`."""
+        arrays = {f"{key}/{i}": a for key, parts in self.answers.items() for i, a in enumerate(parts)}
+        np.savez_compressed(path, **arrays)
+
+
+class Replay:
+    """An oracle that answers only from a Recorder's file."""
+
+    def __init__(self, path: Path):
+        self.answers: dict[str, list[np.ndarray]] = {}
+        with np.load(path) as data:
+            for name in sorted(data.files, key=lambda n: (n.rsplit("/", 1)[0], int(n.rsplit("/", 1)[1]))):
+                self.answers.setdefault(name.rsplit("/", 1)[0], []).append(data[name])
+
+    def _answer(self, method, *args):
+        key = f"{method}:{_question(method, args)}"
+        if key not in self.answers:
+            raise MissingAnswer(f"no recorded reference answer for {method} on these inputs "
+                                f"(the kit answers only its own fixed public inputs)")
+        return _unpack(method, [a.copy() for a in self.answers[key]])
+
+    def direction_to_face(self, dirs):
+        return self._answer("direction_to_face", np.ascontiguousarray(dirs, np.float64).reshape(-1, 3))
+
+    def fetch(self, texels, dirs, filter="bilinear"):
+        return self._answer("fetch", texels, np.ascontiguousarray(dirs, np.float64).reshape(-1, 3), filter)
+
+    def read_texture(self, texels, faces, uv, filter="bilinear"):
+        uv = np.ascontiguousarray(uv, np.float64).reshape(-1, 2)
+        return self._answer("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
+
+    def load_cross(self, path):
+        return self._answer("load_cross", path)
+
+    def trace(self, scene, size, spp):
+        return self._answer("trace", scene, tuple(size), int(spp))
+
+    def resolve(self, escapes, rgb):
+        # The renderer's assembly (em_resolve, render.c), not a lookup: the kit
+        # ships and builds render.c, so it is computed, not recorded.
+        return escapes.resolve(rgb)
+
+
+_current: list[Oracle] = [LiveReference()]
+
+
+def current() -> Oracle:
+    """The oracle the checks ask now (the live reference unless `using` says otherwise)."""
+    return _current[-1]
+
+
+@contextlib.contextmanager
+def using(oracle: Oracle) -> Iterator[Oracle]:
+    """Ask `oracle` inside the block (the kit's Replay, the kit build's Recorder)."""
+    _current.append(oracle)
+    try:
+        yield oracle
+    finally:
+        _current.pop()

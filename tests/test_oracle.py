@@ -1,0 +1,87 @@
+"""grader.oracle: the checks get the reference's answers through one interface,
+so answers recorded once (the kit's) grade exactly as the live reference does."""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+
+from fake_lookups import FakeLookups
+from grader import geometry, oracle, reference
+from grader.checks import all_checks, run_checks
+from grader.checks.context import CheckContext
+
+CHECKS = all_checks()
+# Every check but speed (it times the live reference, and is grader-only).
+RECORDABLE = ("read_texture", "fetch_sweep", "diagnosis", "stability", "arrows", "renders")
+
+
+def _grade(lookups, tmp_path):
+    order = [c for c in CHECKS.values() if c.name in RECORDABLE]
+    ctx = CheckContext(lookups=lookups, seed=4321, artifacts=tmp_path / "images", quick=True)
+    return run_checks(order, ctx, [c.name for c in order]).results
+
+
+def _verdicts(results):
+    return [(r.name, r.status, round(r.fraction, 6), [(d.id, d.face) for d in r.diagnoses], r.output)
+            for r in results]
+
+
+def _refuse_live(monkeypatch):
+    """The C reference's answers refused to all but the fake submission
+    (which is built on them): a check must get them from the oracle."""
+    def refusing(original):
+        def call(*args, **kwargs):
+            if not sys._getframe(1).f_code.co_filename.endswith("fake_lookups.py"):
+                raise AssertionError(f"{original.__qualname__} asked outside the oracle during replay")
+            return original(*args, **kwargs)
+        return call
+    for owner, name in ((reference, "direction_to_face"), (reference.CubeMap, "fetch"),
+                        (reference.CubeMap, "fetch_with_faces"), (reference.CubeMap, "read_texture"),
+                        (reference.Scene, "trace"), (reference.Scene, "render")):
+        monkeypatch.setattr(owner, name, refusing(getattr(owner, name)))
+    monkeypatch.setattr(reference.CubeMap, "load_cross", classmethod(refusing(reference.CubeMap.load_cross.__func__)))
+
+
+@pytest.mark.parametrize("mistakes", [
+    {},
+    {"texture": "half-texel", "fetch": {"+X": "u-flipped"}},
+    {"fetch": {"+X": "wrong-face:-X", "-X": "wrong-face:+X"}},
+])
+def test_recorded_answers_grade_as_the_live_reference(tmp_path, monkeypatch, mistakes):
+    geometry.face_frames.cache_clear()       # its probes are questions too: ask them in the recording
+    recorder = oracle.Recorder(oracle.LiveReference())
+    with oracle.using(recorder):
+        live = _grade(FakeLookups(**mistakes), tmp_path / "live")
+    recorder.save(tmp_path / "answers.npz")
+    assert all(r.error_log in (None, "") for r in live), [r.error_log for r in live]
+
+    _refuse_live(monkeypatch)
+    geometry.face_frames.cache_clear()
+    with oracle.using(oracle.Replay(tmp_path / "answers.npz")):
+        replayed = _grade(FakeLookups(**mistakes), tmp_path / "replay")
+    assert _verdicts(replayed) == _verdicts(live)
+
+
+def test_a_question_not_recorded_is_refused_not_guessed(tmp_path):
+    recorder = oracle.Recorder(oracle.LiveReference())
+    recorder.direction_to_face(np.array([[1.0, 0.2, 0.1]]))
+    recorder.save(tmp_path / "answers.npz")
+    replay = oracle.Replay(tmp_path / "answers.npz")
+    face, uv = replay.direction_to_face(np.array([[1.0, 0.2, 0.1]]))
+    assert int(face[0]) == 0 and uv.shape == (1, 2)
+    with pytest.raises(oracle.MissingAnswer):
+        replay.direction_to_face(np.array([[1.0, 0.2, 0.1000001]]))
+    with pytest.raises(oracle.MissingAnswer):
+        replay.fetch(np.zeros((6, 2, 2, 3), np.float32), np.array([[1.0, 0.2, 0.1]]))
+
+
+def test_the_checks_ask_the_oracle_in_use(tmp_path):
+    # An empty recording: every check that needs the reference must fail to
+    # find its answer (a harness error), none may reach the C library.
+    oracle.Recorder(oracle.LiveReference()).save(tmp_path / "empty.npz")
+    with oracle.using(oracle.Replay(tmp_path / "empty.npz")):
+        results = _grade(FakeLookups(), tmp_path / "empty")
+    first = {r.name: r for r in results}["read_texture"]
+    assert "MissingAnswer" in (first.error_log or ""), first.error_log
