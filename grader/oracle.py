@@ -1,16 +1,18 @@
 """Where the checks get the reference's answers: one small interface.
 
-Every check asks the reference the same few questions: which face and (u, v)
-a direction falls on, the handout's fetch and readTexture over given texels,
-a map's faces, a scene's camera paths and the image they resolve to. In the
-grader the answers come from the live C reference (`LiveReference`). The
-student kit cannot hold the lookup, so it receives the answers instead:
-`Recorder` wraps the live reference while the grader's own checks run on the
-kit's fixed public inputs at kit-build time and keeps every answer, keyed by
-a digest of the question; `Replay` answers from that file in the kit. A new
-check asks through `current()` and works in both places without extra work.
-`resolve` (a render's image from colours the submission gave) is the
-renderer's (render.c, which the kit ships), not a lookup: both compute it.
+Every check asks the reference the same few questions: the lookup's (which
+face and (u, v) a direction falls on, the handout's fetch and readTexture
+over given texels) and the renderer's (a map's faces, a scene's camera paths,
+the image they resolve to). In the grader the answers come from the live C
+reference (`LiveReference`). The student kit cannot hold the lookup, so it
+receives the lookup's answers instead: `Recorder` wraps the live reference
+while the grader's own checks run on the kit's fixed public inputs at
+kit-build time and keeps every lookup answer, keyed by a digest of the
+question; `Replay` answers from that file in the kit. The renderer's answers
+are computed in both places (`Renderer`: cross.c, rgbe.c, scene.c, render.c,
+which the kit ships and builds; they depend on the submission's colours, or
+are too large to record). A new check asks through `current()` and works in
+both places without extra work.
 
 A question the recording did not see (an input that depends on the
 submission's answers, or a kit built from other inputs) raises
@@ -38,17 +40,8 @@ class Oracle(Protocol):
     def resolve(self, escapes: reference.Escapes, rgb: np.ndarray) -> np.ndarray: ...
 
 
-class LiveReference:
-    """The C reference (grader.reference), exactly as the checks called it before."""
-
-    def direction_to_face(self, dirs):
-        return reference.direction_to_face(dirs)
-
-    def fetch(self, texels, dirs, filter="bilinear"):
-        return reference.CubeMap(texels).fetch(dirs, filter)
-
-    def read_texture(self, texels, faces, uv, filter="bilinear"):
-        return reference.CubeMap(texels).read_texture(faces, uv, filter)
+class Renderer:
+    """The renderer's questions, computed by the C library (no lookup in them)."""
 
     def load_cross(self, path):
         return reference.CubeMap.load_cross(path).faces
@@ -63,14 +56,24 @@ class LiveReference:
         return escapes.resolve(rgb)
 
 
+class LiveReference(Renderer):
+    """The C reference (grader.reference), exactly as the checks called it before."""
+
+    def direction_to_face(self, dirs):
+        return reference.direction_to_face(dirs)
+
+    def fetch(self, texels, dirs, filter="bilinear"):
+        return reference.CubeMap(texels).fetch(dirs, filter)
+
+    def read_texture(self, texels, faces, uv, filter="bilinear"):
+        return reference.CubeMap(texels).read_texture(faces, uv, filter)
+
+
 def _digest(method: str, *parts) -> str:
     """A question's key: the method and the exact bytes, dtype and shape of
-    each argument (a path stands for its file's bytes and its name)."""
+    each argument."""
     h = hashlib.sha256(method.encode())
     for part in parts:
-        if isinstance(part, (str, os.PathLike)) and Path(part).is_file():
-            h.update(b"file:" + Path(part).name.encode() + hashlib.sha256(Path(part).read_bytes()).digest())
-            continue
         a = np.ascontiguousarray(part)
         h.update(f"|{a.dtype.str}{a.shape}|".encode())
         h.update(a.tobytes())
@@ -81,38 +84,19 @@ class MissingAnswer(LookupError):
     """The recorded answers hold nothing for this question."""
 
 
-# Each method's question as digest parts, and how its answer is stored
-# (a tuple of arrays; Escapes by its fields).
-_ESCAPE_FIELDS = ("dirs", "weights", "pixels", "width", "height", "hdr_gamma")
-
-
 def _question(method: str, args: tuple) -> str:
     if method in ("fetch", "read_texture"):
         texels, *rest = args
         return _digest(method, np.ascontiguousarray(texels, np.float32), *rest)
-    if method == "trace":
-        scene, size, spp = args
-        return _digest(method, scene, np.asarray(size, np.int64), np.int64(spp))
     return _digest(method, *args)
 
 
 def _pack(answer) -> tuple[np.ndarray, ...]:
-    if isinstance(answer, reference.Escapes):
-        return tuple(np.asarray(getattr(answer, f)) for f in _ESCAPE_FIELDS)
     return tuple(answer) if isinstance(answer, tuple) else (answer,)
 
 
-def _unpack(method: str, arrays: list[np.ndarray]):
-    if method == "trace":
-        d, w, p, width, height, gamma = arrays
-        return reference.Escapes(d, w, p, int(width), int(height), float(gamma))
-    return tuple(arrays) if len(arrays) > 1 else arrays[0]
-
-
 class Recorder:
-    """An oracle that asks `inner` and keeps every answer (for the kit)."""
-
-    RECORDED = ("direction_to_face", "fetch", "read_texture", "load_cross", "trace")
+    """An oracle that asks `inner` and keeps every lookup answer (for the kit)."""
 
     def __init__(self, inner: Oracle):
         self.inner = inner
@@ -134,13 +118,12 @@ class Recorder:
         return self._ask("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
 
     def load_cross(self, path):
-        return self._ask("load_cross", path)
+        return self.inner.load_cross(path)
 
     def trace(self, scene, size, spp):
-        return self._ask("trace", scene, tuple(size), int(spp))
+        return self.inner.trace(scene, size, spp)
 
     def resolve(self, escapes, rgb):
-        # Depends on the submission's colours: computed by the renderer, never recorded.
         return self.inner.resolve(escapes, rgb)
 
     def save(self, path: Path) -> None:
@@ -149,8 +132,8 @@ class Recorder:
         np.savez_compressed(path, **arrays)
 
 
-class Replay:
-    """An oracle that answers only from a Recorder's file."""
+class Replay(Renderer):
+    """An oracle that answers the lookup's questions only from a Recorder's file."""
 
     def __init__(self, path: Path):
         self.answers: dict[str, list[np.ndarray]] = {}
@@ -163,7 +146,8 @@ class Replay:
         if key not in self.answers:
             raise MissingAnswer(f"no recorded reference answer for {method} on these inputs "
                                 f"(the kit answers only its own fixed public inputs)")
-        return _unpack(method, [a.copy() for a in self.answers[key]])
+        arrays = [a.copy() for a in self.answers[key]]
+        return tuple(arrays) if len(arrays) > 1 else arrays[0]
 
     def direction_to_face(self, dirs):
         return self._answer("direction_to_face", np.ascontiguousarray(dirs, np.float64).reshape(-1, 3))
@@ -174,17 +158,6 @@ class Replay:
     def read_texture(self, texels, faces, uv, filter="bilinear"):
         uv = np.ascontiguousarray(uv, np.float64).reshape(-1, 2)
         return self._answer("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
-
-    def load_cross(self, path):
-        return self._answer("load_cross", path)
-
-    def trace(self, scene, size, spp):
-        return self._answer("trace", scene, tuple(size), int(spp))
-
-    def resolve(self, escapes, rgb):
-        # The renderer's assembly (em_resolve, render.c), not a lookup: the kit
-        # ships and builds render.c, so it is computed, not recorded.
-        return escapes.resolve(rgb)
 
 
 _current: list[Oracle] = [LiveReference()]

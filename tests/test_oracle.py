@@ -29,8 +29,8 @@ def _verdicts(results):
 
 
 def _refuse_live(monkeypatch):
-    """The C reference's answers refused to all but the fake submission
-    (which is built on them): a check must get them from the oracle."""
+    """The C reference's lookup refused to all but the fake submission
+    (which is built on it): a check must get its answers from the oracle."""
     def refusing(original):
         def call(*args, **kwargs):
             if not sys._getframe(1).f_code.co_filename.endswith("fake_lookups.py"):
@@ -39,9 +39,8 @@ def _refuse_live(monkeypatch):
         return call
     for owner, name in ((reference, "direction_to_face"), (reference.CubeMap, "fetch"),
                         (reference.CubeMap, "fetch_with_faces"), (reference.CubeMap, "read_texture"),
-                        (reference.Scene, "trace"), (reference.Scene, "render")):
+                        (reference.Scene, "render")):
         monkeypatch.setattr(owner, name, refusing(getattr(owner, name)))
-    monkeypatch.setattr(reference.CubeMap, "load_cross", classmethod(refusing(reference.CubeMap.load_cross.__func__)))
 
 
 @pytest.mark.parametrize("mistakes", [
@@ -85,3 +84,30 @@ def test_the_checks_ask_the_oracle_in_use(tmp_path):
         results = _grade(FakeLookups(), tmp_path / "empty")
     first = {r.name: r for r in results}["read_texture"]
     assert "MissingAnswer" in (first.error_log or ""), first.error_log
+
+
+@pytest.fixture(scope="module")
+def kit_answers(tmp_path_factory):
+    from grader.kit import answers
+    folder = tmp_path_factory.mktemp("kit_answers")
+    answers.record(folder / answers.ANSWERS, folder / "images", seed=4321, quick=True)
+    return folder / answers.ANSWERS
+
+
+# Mistakes the kit's recording never ran (it runs only a handout-like
+# submission and a silent readTexture): their questions must all be there.
+@pytest.mark.parametrize("mistakes", [
+    {"texture": "nearest"},
+    {"texture": "scrambled"},                       # no model fits: the worked case and the read-back
+    {"texture": "out-of-bounds", "fetch": {"+X": "u-flipped"}},
+    {"fetch": "not-normalized"},
+    {"texture": "half-texel", "fetch": {"+X": "wrong-face:-X", "-X": "wrong-face:+X"}},
+])
+def test_the_kits_recording_answers_submissions_it_never_saw(tmp_path, monkeypatch, kit_answers, mistakes):
+    live = _grade(FakeLookups(**mistakes), tmp_path / "live")
+    _refuse_live(monkeypatch)
+    geometry.face_frames.cache_clear()
+    with oracle.using(oracle.Replay(kit_answers)):
+        replayed = _grade(FakeLookups(**mistakes), tmp_path / "replay")
+    assert [r.error_log for r in replayed if r.error_log] == []
+    assert _verdicts(replayed) == _verdicts(live)
