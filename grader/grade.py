@@ -32,6 +32,7 @@ class GradeOptions:
     only: tuple[str, ...] = ()      # run only these checks
     include_hidden: bool = True     # reports show hidden checks (instructors); False for students
     allow_unsafe: bool = False      # run student code even when no sandbox is possible (grader.worker)
+    seed: int | None = None         # a fixed public seed instead of the secret's (the kit's inputs)
 
 
 def run_seed(secret: str, source_sha256: str) -> int:
@@ -90,8 +91,8 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
             result.checks[0].diagnoses.append(Diagnosis(diagnosis_id, first))
     else:
         secret = os.environ.get("GRADER_SECRET", rubric.get("grading", {}).get("secret", ""))
-        _run_checks(result, checks, selected, build.library, options, run_seed(secret, result.source_sha256),
-                    out_dir, entries)
+        seed = run_seed(secret, result.source_sha256) if options.seed is None else options.seed
+        _run_checks(result, checks, selected, build.library, options, seed, out_dir, entries)
 
     drop_consequences(result)
     score.apply(result, rubric)

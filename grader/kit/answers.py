@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import oracle
+from .. import oracle, score
 from ..checks import all_checks, run_checks
 from ..checks.context import CheckContext
 from ..checks.read_texture import FACES, WORKED_SIZE, sample_points, worked_case
@@ -70,7 +70,8 @@ def record(path: Path, artifacts: Path, seed: int = KIT_SEED, quick: bool = Fals
     recorder = oracle.Recorder(oracle.LiveReference())
     checks = kit_checks()
     with oracle.using(recorder):
-        ctx = CheckContext(lookups=_AsTheHandout(recorder), seed=seed, artifacts=artifacts, quick=quick)
+        ctx = CheckContext(lookups=_AsTheHandout(recorder), seed=seed, artifacts=artifacts, quick=quick,
+                           settings=score.load_rubric().get("checks", {}))   # as grader.grade passes them
         run_checks(checks, ctx, [c.name for c in checks])
         points = sample_points(*WORKED_SIZE, seed)
         for face in FACES:
