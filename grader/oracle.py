@@ -95,27 +95,31 @@ def _pack(answer) -> tuple[np.ndarray, ...]:
     return tuple(answer) if isinstance(answer, tuple) else (answer,)
 
 
-class Recorder:
+class _ByQuestion:
+    """The lookup's questions in one normal form, each handed to `_respond`."""
+
+    def direction_to_face(self, dirs):
+        return self._respond("direction_to_face", np.ascontiguousarray(dirs, np.float64).reshape(-1, 3))
+
+    def fetch(self, texels, dirs, filter="bilinear"):
+        return self._respond("fetch", texels, np.ascontiguousarray(dirs, np.float64).reshape(-1, 3), filter)
+
+    def read_texture(self, texels, faces, uv, filter="bilinear"):
+        uv = np.ascontiguousarray(uv, np.float64).reshape(-1, 2)
+        return self._respond("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
+
+
+class Recorder(_ByQuestion):
     """An oracle that asks `inner` and keeps every lookup answer (for the kit)."""
 
     def __init__(self, inner: Oracle):
         self.inner = inner
         self.answers: dict[str, tuple[np.ndarray, ...]] = {}
 
-    def _ask(self, method, *args):
+    def _respond(self, method, *args):
         answer = getattr(self.inner, method)(*args)
         self.answers.setdefault(f"{method}:{_question(method, args)}", _pack(answer))
         return answer
-
-    def direction_to_face(self, dirs):
-        return self._ask("direction_to_face", np.ascontiguousarray(dirs, np.float64).reshape(-1, 3))
-
-    def fetch(self, texels, dirs, filter="bilinear"):
-        return self._ask("fetch", texels, np.ascontiguousarray(dirs, np.float64).reshape(-1, 3), filter)
-
-    def read_texture(self, texels, faces, uv, filter="bilinear"):
-        uv = np.ascontiguousarray(uv, np.float64).reshape(-1, 2)
-        return self._ask("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
 
     def load_cross(self, path):
         return self.inner.load_cross(path)
@@ -132,7 +136,7 @@ class Recorder:
         np.savez_compressed(path, **arrays)
 
 
-class Replay(Renderer):
+class Replay(_ByQuestion, Renderer):
     """An oracle that answers the lookup's questions only from a Recorder's file."""
 
     def __init__(self, path: Path):
@@ -141,23 +145,13 @@ class Replay(Renderer):
             for name in sorted(data.files, key=lambda n: (n.rsplit("/", 1)[0], int(n.rsplit("/", 1)[1]))):
                 self.answers.setdefault(name.rsplit("/", 1)[0], []).append(data[name])
 
-    def _answer(self, method, *args):
+    def _respond(self, method, *args):
         key = f"{method}:{_question(method, args)}"
         if key not in self.answers:
             raise MissingAnswer(f"no recorded reference answer for {method} on these inputs "
                                 f"(the kit answers only its own fixed public inputs)")
         arrays = [a.copy() for a in self.answers[key]]
         return tuple(arrays) if len(arrays) > 1 else arrays[0]
-
-    def direction_to_face(self, dirs):
-        return self._answer("direction_to_face", np.ascontiguousarray(dirs, np.float64).reshape(-1, 3))
-
-    def fetch(self, texels, dirs, filter="bilinear"):
-        return self._answer("fetch", texels, np.ascontiguousarray(dirs, np.float64).reshape(-1, 3), filter)
-
-    def read_texture(self, texels, faces, uv, filter="bilinear"):
-        uv = np.ascontiguousarray(uv, np.float64).reshape(-1, 2)
-        return self._answer("read_texture", texels, np.asarray(np.broadcast_to(faces, (len(uv),)), np.int32), uv, filter)
 
 
 _current: list[Oracle] = [LiveReference()]

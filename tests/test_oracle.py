@@ -2,7 +2,9 @@
 so answers recorded once (the kit's) grade exactly as the live reference does."""
 from __future__ import annotations
 
+import json
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +14,7 @@ from grader import geometry, oracle, reference
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
 
+ROOT = Path(__file__).resolve().parent.parent
 CHECKS = all_checks()
 # Every check but speed (it times the live reference, and is grader-only).
 RECORDABLE = ("read_texture", "fetch_sweep", "diagnosis", "stability", "arrows", "renders")
@@ -111,3 +114,36 @@ def test_the_kits_recording_answers_submissions_it_never_saw(tmp_path, monkeypat
         replayed = _grade(FakeLookups(**mistakes), tmp_path / "replay")
     assert [r.error_log for r in replayed if r.error_log] == []
     assert _verdicts(replayed) == _verdicts(live)
+
+
+@pytest.fixture(scope="module")
+def kit_seed_answers(tmp_path_factory):
+    from grader.kit import answers
+    folder = tmp_path_factory.mktemp("kit_seed_answers")
+    answers.record(folder / answers.ANSWERS, folder / "images")
+    return folder / answers.ANSWERS
+
+
+def _grade_cli(submission, out, *flags):
+    import subprocess
+    subprocess.run([sys.executable, "-m", "grader", "grade", str(submission), "--kit-inputs", "--out", str(out), *flags],
+                   check=True, capture_output=True, cwd=ROOT)
+    result = json.loads((out / "results.json").read_text())
+    return [(t["name"], t.get("score")) for t in result["tests"]], (out / "report.md").read_text()
+
+
+# Real C++ in the worker: the kit's answers grade as the live reference does
+# on the kit's inputs (per-check points and the whole report), in both modes.
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.parametrize("name, flags", [
+    ("wrong/half-texel-offset", ()),
+    ("compound/rows-flipped-w1-half-trunc_uv-swapped-neg-y", ()),
+    ("compound/unclamped-offset-one_flips", ("--no-sandbox",)),
+    ("wrong/crash-null", ("--no-sandbox",)),
+])
+def test_grading_on_the_kits_answers_equals_the_live_reference(tmp_path, kit_seed_answers, name, flags):
+    submission = ROOT / "tests" / "submissions" / f"{name}.cpp"
+    live = _grade_cli(submission, tmp_path / "live", *flags)
+    replayed = _grade_cli(submission, tmp_path / "replay", "--kit-answers", str(kit_seed_answers), *flags)
+    assert replayed == live
