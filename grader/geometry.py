@@ -20,7 +20,7 @@ from functools import cache
 
 import numpy as np
 
-from . import reference
+from . import oracle, reference
 
 FACE_NAMES = reference.FACE_NAMES
 
@@ -29,7 +29,7 @@ def direction_to_face_uv(dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     """(face (n,) int, u (n,), v (n,)) for directions (n, 3), by the reference:
     ties go to the first of x, y, z; zero, NaN and infinite directions get
     face -1 and u = v = 0.5."""
-    face, uv = reference.direction_to_face(np.asarray(dirs, np.float64).reshape(-1, 3))
+    face, uv = oracle.current().direction_to_face(np.asarray(dirs, np.float64).reshape(-1, 3))
     return face.astype(np.int64), uv[:, 0], uv[:, 1]
 
 
@@ -45,7 +45,7 @@ def face_frames() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         for j in {0, 1, 2} - {k // 2}:
             probe = normal[k].copy()
             probe[j] = 0.5          # a or b is +-0.5 along this axis
-            face, uv = reference.direction_to_face(probe[None])
+            face, uv = oracle.current().direction_to_face(probe[None])
             if face[0] != k:
                 raise AssertionError(f"the reference maps {probe} to face {face[0]}, not {k}")
             a, b = 2 * uv[0] - 1

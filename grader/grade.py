@@ -33,6 +33,7 @@ class GradeOptions:
     include_hidden: bool = True     # reports show hidden checks (instructors); False for students
     allow_unsafe: bool = False      # run student code even when no sandbox is possible (grader.worker)
     lang: str | None = None         # students' language; None: the rubric's grading.language (grader.i18n)
+    seed: int | None = None         # a fixed public seed instead of the secret's (the kit's inputs)
 
 
 def run_seed(secret: str, source_sha256: str) -> int:
@@ -95,8 +96,8 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
             result.checks[0].diagnoses.append(Diagnosis(diagnosis_id, first))
     else:
         secret = os.environ.get("GRADER_SECRET", rubric.get("grading", {}).get("secret", ""))
-        _run_checks(result, checks, selected, build.library, options, run_seed(secret, result.source_sha256),
-                    out_dir, entries)
+        seed = run_seed(secret, result.source_sha256) if options.seed is None else options.seed
+        _run_checks(result, checks, selected, build.library, options, seed, out_dir, entries)
 
     drop_consequences(result)
     score.apply(result, rubric)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import PROJECT_ROOT, reference
+from .. import PROJECT_ROOT, oracle
 from ..i18n import N_, _, and_list, language
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
@@ -56,8 +56,8 @@ def disc_axes(classes: np.ndarray) -> list[list[int]]:
 @check()
 def arrows(ctx: CheckContext, result: CheckResult) -> None:
     """On test_environment_map.hdr the red, green and blue arrows point along +x, +y and +z."""
-    cube = reference.CubeMap.load_cross(TEST_MAP)
-    ctx.lookups.set_faces(cube.faces)
+    texels = oracle.current().load_cross(TEST_MAP)
+    ctx.lookups.set_faces(texels)
     caps = axis_caps()
     sphere = fibonacci_sphere(6000 if ctx.quick else 20_000)
     both = np.concatenate([caps.reshape(-1, 3), sphere])
@@ -66,7 +66,7 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
     n_caps = caps.shape[0] * caps.shape[1]
     sub_caps = colour_class(outcome.values[:n_caps]).reshape(caps.shape[:2])
     sub_sphere = colour_class(outcome.values[n_caps:])
-    ref_sphere = colour_class(cube.fetch(sphere))
+    ref_sphere = colour_class(oracle.current().fetch(texels, sphere))
 
     found = disc_axes(sub_caps)
     verdicts, passed = [], 0
@@ -97,7 +97,7 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
     if passed < 6:
         result.status = FAILED
     try:
-        result.artifacts["arrows"] = draw(ctx, cube, verdicts)
+        result.artifacts["arrows"] = draw(ctx, texels, verdicts)
     except Exception as e:  # a picture is a courtesy; its failure must not cost points
         result.output += "\n\n" + _("(The arrow picture could not be drawn: %(error)s)") % {"error": e}
 
@@ -138,18 +138,16 @@ def _fonts():
         return ImageFont.load_default(), ImageFont.load_default()
 
 
-def draw(ctx: CheckContext, cube: reference.CubeMap, verdicts: list[str]):
+def draw(ctx: CheckContext, texels: np.ndarray, verdicts: list[str]):
     """The large mirror ball of scenes/mirror_ball_test_map.cfg (every face in
     view) with the reference's and the submission's lookup, side by side,
     captioned with the verdicts."""
     from ..imaging import tone_map
-    scene = reference.Scene.load(ARROW_SCENE)
-    scene.set_resolution(200, 200)
-    scene.set_samples(2)
-    escapes = scene.trace()
+    ref = oracle.current()
+    escapes = ref.trace(ARROW_SCENE, (200, 200), 2)
     sub = ctx.lookups.fetch(escapes.dirs)
-    images = [escapes.resolve(cube.fetch(escapes.dirs)),
-              escapes.resolve(np.nan_to_num(sub.values, nan=0.0, posinf=0.0, neginf=0.0))]
+    images = [ref.resolve(escapes, ref.fetch(texels, escapes.dirs)),
+              ref.resolve(escapes, np.nan_to_num(sub.values, nan=0.0, posinf=0.0, neginf=0.0))]
     # Pillow, not matplotlib: two pictures, two titles and a caption do not
     # need a plotting library, and importing one was ~0.3 s of every grading.
     from PIL import Image, ImageDraw

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import reference
+from .. import oracle, reference
 from ..i18n import _
 from .directions import tied_axes
 
@@ -48,17 +48,18 @@ def _nudged(dirs: np.ndarray, axis: int) -> np.ndarray:
     return nudged
 
 
-def tie_alternatives(cube: reference.CubeMap, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
+def tie_alternatives(cube, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
     """(n, 3, 3) acceptable colours for each direction: the reference colour on
     each face the direction touches (ASSIGNMENT.md: at ties every touching face
-    is correct). Rows for faces not touched are NaN."""
+    is correct). Rows for faces not touched are NaN. `cube`: a
+    reference.CubeMap or its (6, H, W, 3) texels."""
     dirs = np.asarray(dirs, np.float64)
     tied = tied_axes(dirs)
     out = np.full((len(dirs), 3, 3), np.nan)
     for axis in range(3):
         rows = np.flatnonzero(tied[:, axis])
         if len(rows):
-            out[rows, axis] = cube.fetch(_nudged(dirs[rows], axis), filter)
+            out[rows, axis] = oracle.current().fetch(getattr(cube, "faces", cube), _nudged(dirs[rows], axis), filter)
     return out
 
 
@@ -69,14 +70,14 @@ def tied_face_uv(dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     faces = np.full((len(dirs), 4), -1, np.int64)
     uv = np.full((len(dirs), 4, 2), np.nan)
-    f, fuv = reference.direction_to_face(dirs)
+    f, fuv = oracle.current().direction_to_face(dirs)
     faces[:, 0], uv[:, 0] = f, np.where((f >= 0)[:, None], fuv, np.nan)
     tied = tied_axes(dirs)
     tied &= (tied.sum(axis=1) >= 2)[:, None]          # only real ties: elsewhere it is the first face again
     for axis in range(3):
         rows = np.flatnonzero(tied[:, axis])
         if len(rows):
-            f, fuv = reference.direction_to_face(_nudged(dirs[rows], axis))
+            f, fuv = oracle.current().direction_to_face(_nudged(dirs[rows], axis))
             faces[rows, axis + 1], uv[rows, axis + 1] = f, np.where((f >= 0)[:, None], fuv, np.nan)
     return faces, uv
 

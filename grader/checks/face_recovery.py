@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import reference
+from .. import oracle, reference
 from ..i18n import N_, _, and_list
 from ..results import Diagnosis
 
@@ -346,7 +346,7 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
     out = FetchAnalysis(kind)
 
     dirs = fibonacci_sphere(6000 if quick else 20_000)
-    ref_faces, ref_uv = reference.direction_to_face(dirs)
+    ref_faces, ref_uv = oracle.current().direction_to_face(dirs)
     # One batch per face, its centre first: crashes near one face's edges
     # (the runner stops a batch after a few) cannot starve another face, nor
     # that face's own centre.

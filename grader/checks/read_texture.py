@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import reference
+from .. import oracle, reference
 from ..i18n import N_, _, and_list
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
@@ -179,10 +179,14 @@ def _texels_in_words(weights: np.ndarray) -> str:
     return text
 
 
-def worked_case(lookups, face: int, u: float, v: float) -> str:
+def worked_case(lookups, face: int, u: float, v: float, among: np.ndarray | None = None) -> str:
     """One readTexture call in numbers: which texels the handout reads at
-    (u, v) and which the student's does, with their weights."""
+    (u, v) and which the student's does, with their weights. `among`: the
+    (m, 2) points (u, v) was drawn from; the handout is asked at all of them,
+    so the question (grader.oracle) is the same whichever point failed."""
     w, h = WORKED_SIZE
+    points = np.array([[u, v]]) if among is None else np.asarray(among, np.float64)
+    at = int(np.flatnonzero((points == [u, v]).all(axis=1))[0])
 
     def theirs(faces):
         lookups.set_faces(faces)
@@ -190,7 +194,7 @@ def worked_case(lookups, face: int, u: float, v: float) -> str:
         return np.asarray(out.values, np.float64)[0] if bool(np.asarray(out.evaluated)[0]) else None
 
     def handout(faces):
-        return reference.CubeMap(faces).read_texture(face, np.array([[u, v]]), "bilinear")[0]
+        return oracle.current().read_texture(faces, face, points, "bilinear")[at]
 
     ref, sub = texel_weights(handout, face, w, h), texel_weights(theirs, face, w, h)
     values = {"u": _coordinate(u, w), "v": _coordinate(v, h), "w": w, "h": h, "handout": _texels_in_words(ref)}
@@ -212,16 +216,16 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
     total = matched = single = answered = 0
     lines, diagnoses = [], []
-    worked_at: tuple[int, float, float] | None = None
+    worked_at: tuple[int, float, float, np.ndarray] | None = None
     by_size = []
     for w, h in FACE_SIZES:
         size_total, size_matched = total, matched
         uv = sample_points(w, h, ctx.seed)
         for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
-            cube = reference.CubeMap(faces)
-            ctx.lookups.set_faces(cube.faces)
+            texels = np.ascontiguousarray(faces, np.float32)
+            ctx.lookups.set_faces(texels)
             for face in FACES:
-                expected = cube.read_texture(face, uv, "bilinear")
+                expected = oracle.current().read_texture(texels, face, uv, "bilinear")
                 tol = tolerance(w, h, float(np.abs(faces[face]).max()))
                 for placement in ("end", "start"):
                     outcome = ctx.lookups.read_texture(face, uv, placement)
@@ -236,7 +240,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                     if worked_at is None and (w, h) == WORKED_SIZE and kind == "coordinate" and placement == "end":
                         wrong = [i for i in cmp.failures if ran[i]]
                         if wrong:
-                            worked_at = (face, float(uv[wrong[0], 0]), float(uv[wrong[0], 1]))
+                            worked_at = (face, float(uv[wrong[0], 0]), float(uv[wrong[0], 1]), uv)
                     if cmp.fraction < 1.0 and len(lines) < 6:
                         name = reference.FACE_NAMES[face]
                         values = {"face": name, "w": w, "h": h}

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import fixtures, reference
+from .. import fixtures, oracle
 from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
@@ -53,12 +53,11 @@ def matched_share(expected_display: np.ndarray, got_display: np.ndarray) -> floa
 def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
     """(image, outcome): the fixture's scene traced by the reference, the
     environment looked up by the submission in its worker."""
-    escapes = fixtures.prepared_scene(fixture).trace()
-    cube = reference.CubeMap.load_cross(fixture.map)
-    ctx.lookups.set_faces(cube.faces)
+    escapes = oracle.current().trace(fixture.scene, fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
+    ctx.lookups.set_faces(oracle.current().load_cross(fixture.map))
     outcome = ctx.lookups.fetch(escapes.dirs)
     rgb = np.nan_to_num(outcome.values, nan=0.0, posinf=0.0, neginf=0.0)
-    return escapes.resolve(rgb), outcome
+    return oracle.current().resolve(escapes, rgb), outcome
 
 
 @check()

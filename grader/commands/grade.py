@@ -15,6 +15,7 @@ instructor first).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 from pathlib import Path
 
@@ -40,6 +41,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--visible-only", action="store_true",
                    help="run only the checks the rubric makes visible (students' self-check; "
                         "implies --student-view)")
+    p.add_argument("--kit-inputs", action="store_true",
+                   help="grade on the student kit's fixed public inputs (its seed; the checks the kit runs): "
+                        "what the kit's self-check gives; implies --visible-only")
+    p.add_argument("--kit-answers", type=Path, metavar="NPZ",
+                   help="with --kit-inputs: the reference's lookup answers from this recording "
+                        "(grader.kit.answers) instead of the live reference, as the kit has them")
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
     p.add_argument("--sanitize", action="store_true", help="build with AddressSanitizer for exact memory-error reports")
     p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
@@ -78,10 +85,8 @@ def visible_checks(rubric_path: Path) -> tuple[str, ...]:
 
 
 def run(args) -> int:
-    from ..grade import GradeOptions, grade
+    from ..grade import GradeOptions
     from ..worker.sandbox import SandboxUnavailable
-    from ..reports.terminal import print_summary
-    from ..results import UNGRADABLE
     submissions = args.submissions or example_submissions()
     missing = [s for s in submissions if not s.exists()]
     if missing:
@@ -91,12 +96,23 @@ def run(args) -> int:
     if not submissions:
         print(f"grade: nothing to grade: name a submission, or put examples in {EXAMPLES}", file=sys.stderr)
         return 2
+    if args.kit_answers is not None and not args.kit_inputs:
+        print("grade: --kit-answers needs --kit-inputs (the answers are the kit inputs')", file=sys.stderr)
+        return 2
+    if args.kit_answers is not None and not args.kit_answers.is_file():
+        print(f"grade: {args.kit_answers} does not exist (make it with grader.kit.answers.record)", file=sys.stderr)
+        return 2
+    args.visible_only = args.visible_only or args.kit_inputs
     student_view = args.student_view or args.visible_only
     options = GradeOptions(sanitize=args.sanitize, sandbox=args.sandbox, allow_stale=args.allow_stale,
                            quick=args.quick, include_hidden=not student_view, allow_unsafe=args.allow_unsafe,
                            lang=args.lang)
     if args.visible_only:
         options.only = visible_checks(options.rubric)
+    if args.kit_inputs:
+        from ..kit import answers
+        options.seed = answers.KIT_SEED
+        options.only = tuple(name for name in options.only if name not in answers.NOT_IN_KIT)
     from ..worker.lookups import MODES
     from ..worker.sandbox import resolve_mode
     try:   # before anything is built: no isolation here is the instructor's to fix
@@ -104,6 +120,16 @@ def run(args) -> int:
     except SandboxUnavailable as e:
         print(f"grade: {e}", file=sys.stderr)
         return 3
+    from .. import oracle
+    with oracle.using(oracle.Replay(args.kit_answers)) if args.kit_answers else contextlib.nullcontext():
+        return _grade_each(args, submissions, options, student_view)
+
+
+def _grade_each(args, submissions, options, student_view) -> int:
+    from ..grade import grade
+    from ..worker.sandbox import SandboxUnavailable
+    from ..reports.terminal import print_summary
+    from ..results import UNGRADABLE
     status, written = 0, []
     from ..fixtures import StaleFixtures
     from ..score import RubricError

@@ -2,10 +2,13 @@
 public inputs, and what each known mistake would return on them.
 
 Everything here is computed with the grader's own reference (grader.reference)
-and the grader's own input sets and mistake models (grader.checks.*), so the
-kit's self-check judges exactly as the grader's visible checks do, on public
-inputs instead of secret-seeded ones. The kit receives numbers, never code:
-no (u, v) table, no filter.
+and the grader's own input sets and mistake models (grader.checks.*), but the
+kit's self-check (student_template/selfcheck/) judges with its own second
+implementation of the checks, which has drifted from the grader (issue 20:
+12 of 13 wrong submissions score differently). Its replacement is under way:
+grader.kit.answers records the lookup's answers for the grader's own checks
+(grader.oracle), which the kit is to run itself. The kit receives numbers,
+never code: no (u, v) table, no filter.
 
 Files are raw little-endian arrays: inputs (directions, (u, v)) in float64, so
 ties stay exact; expected colours in float32, whose rounding (6e-8 relative)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import reference
+from ... import oracle
 from ..compare import compare, tied_face_uv
 
 # A fetchColor computing (u, v) in float (or in another order) differs from
@@ -96,7 +96,7 @@ def _handout(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarra
     out = np.full((len(uv), 3), np.nan)
     rows = faces >= 0
     if rows.any():
-        out[rows] = reference.CubeMap(texels).read_texture(faces[rows], uv[rows], "bilinear")
+        out[rows] = oracle.current().read_texture(texels, faces[rows], uv[rows], "bilinear")
     return out
 
 
@@ -143,4 +143,4 @@ def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, i
 
 def reference_faces(dirs: np.ndarray) -> np.ndarray:
     """The face the reference picks for each direction (-1: none)."""
-    return reference.direction_to_face(np.asarray(dirs, np.float64).reshape(-1, 3))[0]
+    return oracle.current().direction_to_face(np.asarray(dirs, np.float64).reshape(-1, 3))[0]

@@ -1,0 +1,80 @@
+"""The kit's reference answers: what the lookup answers on the kit's fixed
+public inputs, recorded at kit-build time (grader.oracle.Recorder) by running
+the grader's own checks with the kit's seed, so that the kit can run those
+same checks (grader.oracle.Replay) without the lookup.
+
+Almost every question a check asks depends on the seed alone (directions,
+(u, v) points, textures), not on the submission's answers, so one run down
+each path records them: a submission answering as the handout does, and one
+whose readTexture never answers (read_texture's worked case, asked per face
+over the whole sample set). tests/test_oracle.py replays submissions the
+recording never saw and finds every answer. Speed is left out: it times the
+live reference, which the kit cannot do (the kit scores the other checks).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import oracle, score
+from ..checks import all_checks, run_checks
+from ..checks.context import CheckContext
+from ..checks.read_texture import FACES, WORKED_SIZE, sample_points, worked_case
+from ..worker.runner import Outcome
+
+KIT_SEED = 20261201          # public, unrelated to the course secret (as grader.kit.data)
+ANSWERS = "reference_answers.npz"
+NOT_IN_KIT = ("speed",)
+
+
+class _AsTheHandout:
+    """SubmissionLookups answering as the handout (the reference), in-process:
+    only the recording's driver, never a graded submission."""
+
+    def __init__(self, ask: oracle.Oracle):
+        self.ask, self.faces = ask, np.zeros((6, 1, 1, 3), np.float32)
+
+    def set_faces(self, faces):
+        self.faces = np.ascontiguousarray(faces, np.float32)
+
+    def _outcome(self, values):
+        values = np.asarray(values, np.float64)
+        return Outcome(values=values, evaluated=np.ones(len(values), bool))
+
+    def fetch(self, dirs, placement="end"):
+        return self._outcome(oracle.LiveReference().fetch(self.faces, dirs))
+
+    def read_texture(self, face, uv, placement="end"):
+        return self._outcome(oracle.LiveReference().read_texture(self.faces, face, uv))
+
+    def time_fetch(self, passes):      # pragma: no cover - speed is not in the kit
+        raise NotImplementedError
+
+
+class _NeverAnswers(_AsTheHandout):
+    def read_texture(self, face, uv, placement="end"):
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        return Outcome(values=np.full((len(uv), 3), np.nan), evaluated=np.zeros(len(uv), bool))
+
+
+def kit_checks() -> list:
+    return [c for c in all_checks().values() if c.name not in NOT_IN_KIT]
+
+
+def record(path: Path, artifacts: Path, seed: int = KIT_SEED, quick: bool = False) -> int:
+    """Record the answers into `path` (.npz); returns how many questions.
+    `quick`: the checks' smaller sets (tests)."""
+    from ..geometry import face_frames
+    face_frames.cache_clear()            # its probes are questions too
+    recorder = oracle.Recorder(oracle.LiveReference())
+    checks = kit_checks()
+    with oracle.using(recorder):
+        ctx = CheckContext(lookups=_AsTheHandout(recorder), seed=seed, artifacts=artifacts, quick=quick,
+                           settings=score.load_rubric().get("checks", {}))   # as grader.grade passes them
+        run_checks(checks, ctx, [c.name for c in checks])
+        points = sample_points(*WORKED_SIZE, seed)
+        for face in FACES:
+            worked_case(_NeverAnswers(recorder), face, *points[0], among=points)
+    recorder.save(path)
+    return len(recorder.answers)
