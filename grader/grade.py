@@ -69,7 +69,11 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
         build = build_submission(submission, sanitize=options.sanitize)
     except HarnessBuildError as e:   # our own sources failed to build: not the student's fault
         result.status = UNGRADABLE
-        result.warnings.append(f"The grader could not build its own files: {e}")
+        from .build_confinement import BuildConfinementError
+        # Confinement: our files are open to the compiler's uid, so nothing of
+        # the student's was built; its message says what to close.
+        result.warnings.append(str(e) if isinstance(e, BuildConfinementError)
+                               else f"The grader could not build its own files: {e}")
         score.apply(result, rubric)
         if write_reports:
             from .reports import write_all

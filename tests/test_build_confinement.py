@@ -71,6 +71,18 @@ def test_when_our_files_cannot_be_closed_nothing_is_built(layout, tmp_path, monk
     assert not [p for p in scratch.iterdir() if p.name.startswith("envmap-build-")]
 
 
+def test_a_grading_that_cannot_confine_is_ungradable_and_says_why(layout, tmp_path, monkeypatch):
+    # The instructor reads what to close, not "could not build its own files".
+    from grader import grade as grading
+    monkeypatch.setattr(build_confinement, "_close", lambda root: None)
+    monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
+    source = layout / "submission" / "EnvironmentMap.cpp"
+    source.write_bytes(GOOD + f"\n// not in any build cache: {os.getpid()} {tmp_path.name}\n".encode())
+    result = grading.grade(layout / "submission", tmp_path / "out", grading.GradeOptions(quick=True, allow_stale=True))
+    assert result.status == "ungradable"
+    assert any("chmod o-rwx" in w and "could not build its own files" not in w for w in result.warnings), result.warnings
+
+
 def test_a_privilege_drop_build_closes_the_layout_and_builds(layout, tmp_path, monkeypatch):
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
     result = build_submission(layout / "submission", cache_dir=tmp_path / "cache")
