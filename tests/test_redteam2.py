@@ -74,9 +74,6 @@ def by_name(result):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="the speed check's timing faces are a public closed form (0.5 + 0.5 x the "
-                   "direction through each texel centre): a 600x-slow lookup computes it instead of reading "
-                   "texels, within float rounding of the bilinear answer, and gets 5 / 5")
 def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
     (speed,) = graded("analytic_when_timed", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
@@ -105,9 +102,6 @@ def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="only the first 5,000 timed answers of each 50,000-lookup pass are compared "
-                   "with anything (speed.JUDGED): black for the rest, counted from the judge's last direct "
-                   "readTexture call, makes an 11x lookup measure about 1.2x, 5 / 5")
 def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
     (speed,) = graded("unchecked_tail_of_timed_pass", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
