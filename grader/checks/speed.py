@@ -105,7 +105,7 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
             untimed = np.asarray(ctx.lookups.fetch(judged).values, np.float64)
             timed_values = np.asarray(timed.values[0], np.float64)[picked]
             right += int(own_read.judge(ctx.lookups, judged, untimed, tol, (TIMED_FACE, TIMED_FACE), texels=cube_faces,
-                                        texture_mismatch=texture.mismatch if texture is not None else 0.0).ok.sum())
+                                        texture_mismatch=texture.face_mismatch if texture is not None else 0.0).ok.sum())
             with np.errstate(invalid="ignore"):
                 same = (np.abs(timed_values - untimed) <= tol).all(axis=1) | (np.isnan(timed_values).all(axis=1) & np.isnan(untimed).all(axis=1))
             agree += int(same.sum())
