@@ -133,6 +133,60 @@ def test_a_read_texture_that_crashes_everywhere_earns_fetch_color_nothing(tmp_pa
     assert "not earned because your readTexture itself crashes" in results["fetch_sweep"].output
 
 
+class _SwapsOnYWhenCalledAlone(FakeLookups):
+    """issue 18's red team (believed_on_two_faces.cpp): readTexture called on
+    its own swaps u and v on +Y and -Y, as fetchColor wrongly reads them
+    (fetchColor's own reads go through the handout's readTexture)."""
+
+    def read_texture(self, face, uv, placement="end"):
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        return super().read_texture(face, uv[:, ::-1] if face in (2, 3) else uv, placement)
+
+
+class _PaysToBeBelieved(FakeLookups):
+    """issue 18's red team (pays_to_be_believed.cpp): readTexture called on
+    its own is black for 0.35 <= u < 0.5 on the readTexture check's faces
+    (some 13% of its calls) and at 1 - v on the sweep's 32 x 32 faces, as
+    fetchColor wrongly reads them."""
+
+    def read_texture(self, face, uv, placement="end"):
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        if self.faces.shape[1:3] == (32, 32):
+            return super().read_texture(face, np.stack([uv[:, 0], 1 - uv[:, 1]], 1), placement)
+        out = super().read_texture(face, uv, placement)
+        out.values[(uv[:, 0] >= 0.35) & (uv[:, 0] < 0.5)] = 0.0
+        return out
+
+
+@pytest.mark.parametrize("attack, control", [
+    (_SwapsOnYWhenCalledAlone(fetch={"+Y": "uv-swapped", "-Y": "uv-swapped"}),
+     FakeLookups(fetch={"+Y": "uv-swapped", "-Y": "uv-swapped"})),
+    (_PaysToBeBelieved(fetch={f: "v-flipped" for f in reference.FACE_NAMES}),
+     FakeLookups(fetch={f: "v-flipped" for f in reference.FACE_NAMES})),
+], ids=["acts-on-faces-the-check-never-read", "pays-a-little-readtexture"])
+def test_a_read_texture_answering_the_judge_otherwise_buys_no_fetch_color_points(tmp_path, attack, control):
+    """What readTexture answers the judge on a face it is judged by there: a
+    face the check never read, or a few black answers paid in the check, no
+    longer get a wrong fetchColor believed (instruments.own_read)."""
+    a = run(attack, tmp_path / "a", "fetch_sweep")
+    c = run(control, tmp_path / "c", "fetch_sweep")
+    assert a["read_texture"].status == FAILED or a["read_texture"].fraction < 1.0
+    assert a["fetch_sweep"].fraction <= c["fetch_sweep"].fraction < 1.0
+    assert "texture-context-dependent" in {d.id for d in a["fetch_sweep"].diagnoses}
+
+
+def test_an_honest_read_texture_differs_alike_on_every_face(tmp_path):
+    """readTexture sees an address, not a face: the check's per-face shares
+    of differing answers agree for honest code (own_read.FACE_SPREAD)."""
+    from grader.checks.instruments.own_read import FACE_SPREAD
+    from grader.checks.read_texture import read_texture
+    for texture in ("correct", "nearest", "half-texel", "uv-swapped"):
+        ctx = CheckContext(lookups=FakeLookups(texture=texture), seed=1234, artifacts=tmp_path / texture, quick=True)
+        shares = np.array(read_texture(ctx, CheckResult(name="read_texture", title="")).face_mismatch)
+        assert len(shares) == 6 and shares.max() - shares.min() <= FACE_SPREAD / 2, (texture, shares)
+        assert (shares > 0.5).all() if texture != "correct" else (shares == 0).all(), (texture, shares)
+
+
 def test_robustness_needs_a_working_lookup(tmp_path):
     """Black never crashes, but earns no robustness points (as for speed)."""
     r = run(FakeLookups(fetch="black"), tmp_path, "stability")["stability"]

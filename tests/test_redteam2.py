@@ -74,9 +74,6 @@ def by_name(result):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="the speed check's timing faces are a public closed form (0.5 + 0.5 x the "
-                   "direction through each texel centre): a 600x-slow lookup computes it instead of reading "
-                   "texels, within float rounding of the bilinear answer, and gets 5 / 5")
 def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
     (speed,) = graded("analytic_when_timed", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
@@ -105,9 +102,6 @@ def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="only the first 5,000 timed answers of each 50,000-lookup pass are compared "
-                   "with anything (speed.JUDGED): black for the rest, counted from the judge's last direct "
-                   "readTexture call, makes an 11x lookup measure about 1.2x, 5 / 5")
 def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
     (speed,) = graded("unchecked_tail_of_timed_pass", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
@@ -150,10 +144,6 @@ def test_a_readtexture_that_knows_its_caller_buys_no_points(tmp_path, mode, atta
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="the live judge is not believed only when the readTexture check's best face "
-                   "size differs from the handout on at most 5% of calls: a readTexture black on 10-15% of the "
-                   "check's calls (every size) is believed when, on the judges' 32x32 and 256x256 faces, it "
-                   "answers at 1 - v, as the v-flipped fetchColor reads")
 def test_paying_a_little_readtexture_to_be_believed_buys_no_points(tmp_path, mode):
     a = graded("pays_to_be_believed", tmp_path / "attack", mode, only=CHECKS_OF_FETCH + ("speed",))
     c = graded("v_flipped_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH + ("speed",))
@@ -164,10 +154,6 @@ def test_paying_a_little_readtexture_to_be_believed_buys_no_points(tmp_path, mod
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="the readTexture check calls readTexture on +X and -Z only, and the live "
-                   "judge's readTexture is believed when it differs from the handout on under half the judge's "
-                   "faces: a readTexture that swaps u and v on direct calls on +Y / -Y (told by the window's "
-                   "texels) covers a fetchColor that swaps them there")
 def test_a_readtexture_acting_on_faces_the_check_never_reads_buys_no_points(tmp_path, mode):
     a = graded("believed_on_two_faces", tmp_path / "attack", mode, only=CHECKS_OF_FETCH)
     c = graded("swapped_on_y_control", tmp_path / "control", mode, only=CHECKS_OF_FETCH)

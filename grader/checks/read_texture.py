@@ -28,6 +28,7 @@ class ReadTextureFinding:
     fit: tm.Fit | None = None   # the student's readTexture as a member of the model family
     fraction: float = 1.0       # share of the check's calls that matched the handout's
     by_size: tuple[float, ...] = ()   # that share per face size (FACE_SIZES)
+    by_face: tuple[float, ...] = ()   # per face (0-5), the share of the check's answers at generic (u, v) that differed, best size
 
     @property
     def mismatch(self) -> float:
@@ -36,6 +37,17 @@ class ReadTextureFinding:
         own (a readTexture honest on some sizes and not on others is told
         by its best size; instruments.own_read)."""
         return 1.0 - max(self.by_size or (self.fraction,))
+
+    @property
+    def face_mismatch(self) -> tuple[float, ...]:
+        """(6,) per face, the share of the check's answers at generic (u, v)
+        (neither on a texel boundary nor a centre nor in a border texel, as
+        most of the judges' are; crashes left out, as the judges leave them
+        out) that differed from the
+        handout's, on the face size where that share is smallest: about
+        what a readTexture that answers the same whoever calls it shows the
+        judges on that face (instruments.own_read)."""
+        return self.by_face or (1.0 - self.fraction,) * 6
 
     @property
     def model(self) -> tm.TextureModel | None:
@@ -51,8 +63,22 @@ class ReadTextureFinding:
 # where every row is the last, so reading x = W faults on a guard page on
 # every row (rows are contiguous: elsewhere x = W reads the next row's x = 0).
 FACE_SIZES = ((16, 16), (13, 7), (9, 1))
-# The first and last face: reading past the last face's end leaves the buffer.
-FACES = (0, 5)
+# Every face: a readTexture read on some faces only could answer otherwise
+# on the rest, where the judges would believe it (issue 18's red team). The
+# last face included: reading past its end leaves the buffer.
+FACES = (0, 1, 2, 3, 4, 5)
+
+
+def generic(uv: np.ndarray, width: int, height: int) -> np.ndarray:
+    """(n,) neither u nor v is 0, 1, a texel boundary or a centre, and no
+    lattice point is outside the face: the random points of sample_points
+    inside the border texels, where (u, v) are like most of the judges' and
+    an edge mistake reads nothing beyond the face (which differs by face:
+    past the first and last it faults)."""
+    steps = uv * (2 * width, 2 * height)
+    p = uv * (width, height)
+    inside = ((p >= 1) & (p < np.array([width, height]) - 1)).all(axis=1)
+    return inside & (np.abs(steps - np.rint(steps)) > 1e-9).all(axis=1)
 
 
 def sample_points(width: int, height: int, seed: int) -> np.ndarray:
@@ -211,6 +237,17 @@ def _single_texel(values: np.ndarray, texels: np.ndarray) -> np.ndarray:
         return (np.abs(values[:, None, :] - flat[None]) <= 1e-6).all(axis=2).any(axis=1)
 
 
+def _best_size_per_face(matched: np.ndarray, total: np.ndarray) -> tuple[float, ...]:
+    """(6,) per face, the smallest share differing over the sizes with
+    generic calls: a readTexture honest on one size and not another tells
+    them apart (issue 18), so the judges expect its best."""
+    sizes = total.sum(axis=1) > 0
+    if not sizes.any():
+        return ()
+    share = 1.0 - matched[sizes] / np.maximum(total[sizes], 1)
+    return tuple(float(x) for x in share.min(axis=0))
+
+
 @check()
 def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
@@ -218,9 +255,12 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     lines, diagnoses = [], []
     worked_at: tuple[int, float, float, np.ndarray] | None = None
     by_size = []
+    face_total = np.zeros((len(FACE_SIZES), 6), np.int64)   # generic (u, v) answered, per size and face
+    face_matched = np.zeros((len(FACE_SIZES), 6), np.int64)
     for w, h in FACE_SIZES:
         size_total, size_matched = total, matched
         uv = sample_points(w, h, ctx.seed)
+        like_judges = generic(uv, w, h)
         for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
             texels = np.ascontiguousarray(faces, np.float32)
             ctx.lookups.set_faces(texels)
@@ -232,6 +272,9 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                     cmp = compare(outcome.values, expected, tol)
                     total += len(uv)
                     matched += int(cmp.ok.sum())
+                    answered_here = like_judges & np.asarray(outcome.evaluated, bool) & np.isfinite(outcome.values).all(axis=1)
+                    face_total[len(by_size), face] += int(answered_here.sum())
+                    face_matched[len(by_size), face] += int((cmp.ok & answered_here).sum())
                     diagnoses += failure_diagnoses(outcome.failures)
                     ran = np.asarray(outcome.evaluated, bool) & np.isfinite(outcome.values).all(axis=1)
                     if kind == "random":
@@ -295,4 +338,5 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
         result.output = _("All %(total)d readTexture calls match the reference (u, v at 0, 1, texel boundaries, "
                           "centres and random points).") % {"total": total}
     return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit, fraction=result.fraction,
-                              by_size=tuple(by_size))
+                              by_size=tuple(by_size),
+                              by_face=_best_size_per_face(face_matched, face_total))

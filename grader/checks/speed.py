@@ -3,11 +3,13 @@
 Nothing inside the worker is believed (a submission shares its address
 space): each timed pass is the CPU time the kernel charged to the worker
 process, read from outside (grader.worker.process.process_cpu_ns), over fresh
-random directions; the timed colours are compared with the same code's
-untimed answers to the same directions (skipping work while timed fails:
-timed-output-wrong), and those untimed answers are judged through the
-student's own readTexture (a cheap path on the timing faces fails:
-timing-faces-wrong). CPU time rather than wall
+random directions on random faces drawn from the course secret (no closed
+form to compute instead of reading texels); a random share of each pass's
+timed colours, spread over the whole pass and drawn after it, is compared
+with the same code's untimed answers to the same directions (skipping work
+while timed, anywhere in the pass, fails: timed-output-wrong), and those
+untimed answers are judged through the student's own readTexture (a cheap
+path on the timing faces fails: timing-faces-wrong). CPU time rather than wall
 time: other processes on a loaded machine do not change it. The protocol's
 own cost (reading directions, writing colours) is measured on a library
 whose lookups do nothing and taken off both sides."""
@@ -26,10 +28,10 @@ BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
 ROUNDS = 5          # interleaved rounds: student, reference, null library; fresh directions each
 MAX_ROUNDS = 15     # more while the ratio is near the limit: each side's fastest round settles with more
 PASS_LOOKUPS = 50_000
-TIMED_FACE = 256        # texels per side of the smooth timing faces
+TIMED_FACE = 256        # texels per side of the random timing faces
 TIMED_SLACK = 0.1       # the timing faces may be judged right this much less often than the sweep
 TIMED_DIFFER = 0.01     # timed answers may differ from the untimed ones on this share (none, for deterministic code)
-JUDGED = 5_000          # directions per pass judged (and compared timed against untimed)
+JUDGED = 5_000          # directions per pass judged (and compared timed against untimed), drawn after the pass
 # Each side's time is its fastest round: on a shared machine noise only ever
 # adds time, so the minimum is the estimate least moved by other processes.
 WITHIN = 8.0        # the rubric's `within` overrides this (its comment says why 8)
@@ -55,19 +57,22 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     import contextlib
 
     import numpy as np
-    from ..cubemap.directions import texel_directions
     from ..worker.lookups import open_lookups
     from ..worker.native import null_library
     from .compare import tolerance
     from .instruments import own_read
+    from .textures import random_faces
     result.output = ""
-    # Smooth faces (colour = direction): one that returns black or stale
-    # colours does not match. The untimed answers to each pass's first
-    # JUDGED directions are judged as the sweep judges, through the student's
-    # own readTexture (instruments.own_read): a lookup that takes a cheaper
-    # path on these faces (it can tell them by their size or colours) no
-    # longer matches. The timed answers are compared with those untimed ones.
-    cube_faces = (0.5 + 0.5 * texel_directions(TIMED_FACE)).astype(np.float32)
+    # Random faces from the course secret: black or stale colours do not
+    # match, and no formula gives the texels without reading them (smooth
+    # public faces had a closed form a slow lookup computed instead). The
+    # untimed answers to JUDGED directions of each pass, chosen after it,
+    # are judged as the sweep judges, through the student's own readTexture
+    # (instruments.own_read): a lookup that takes a cheaper path on these
+    # faces (it can tell them by their size) no longer matches. The timed
+    # answers there are compared with those untimed ones.
+    faces_seed = int(np.random.SeedSequence([ctx.seed, 0x7FACE]).generate_state(1)[0])
+    cube_faces = random_faces(TIMED_FACE, TIMED_FACE, faces_seed)
     tol = float(tolerance(TIMED_FACE, TIMED_FACE, 1.0))
     within = float(ctx.settings.get("speed", {}).get("within", WITHIN))
     ctx.lookups.set_faces(cube_faces)
@@ -94,11 +99,15 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                 result.output = _("fetchColor could not be timed: %(why)s") % {"why": timed.failure.describe()}
                 result.diagnoses = failure_diagnoses([timed.failure])
                 return
-            judged = dirs[:JUDGED]
+            # Which answers are compared is drawn only now, over the whole
+            # pass: nothing the lookup sees while timed tells it which count.
+            picked = np.sort(np.random.default_rng([ctx.seed, 0x5BEED, round, 1]).choice(
+                PASS_LOOKUPS, JUDGED, replace=False))
+            judged = dirs[picked]
             untimed = np.asarray(ctx.lookups.fetch(judged).values, np.float64)
-            timed_values = np.asarray(timed.values[0], np.float64)[:JUDGED]
+            timed_values = np.asarray(timed.values[0], np.float64)[picked]
             right += int(own_read.judge(ctx.lookups, judged, untimed, tol, (TIMED_FACE, TIMED_FACE), texels=cube_faces,
-                                        texture_mismatch=texture.mismatch if texture is not None else 0.0).ok.sum())
+                                        texture_mismatch=texture.face_mismatch if texture is not None else 0.0).ok.sum())
             with np.errstate(invalid="ignore"):
                 same = (np.abs(timed_values - untimed) <= tol).all(axis=1) | (np.isnan(timed_values).all(axis=1) & np.isnan(untimed).all(axis=1))
             agree += int(same.sum())

@@ -106,7 +106,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     size = (FACE_SIZE, FACE_SIZE)
     texels = coordinate_faces(FACE_SIZE, FACE_SIZE)
     ctx.lookups.set_faces(texels)
-    trust = dict(texels=texels, texture_mismatch=texture.mismatch)
+    trust = dict(texels=texels, texture_mismatch=texture.face_mismatch)
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0)
     parts, diagnoses = [], []
 
@@ -153,7 +153,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # readTexture at the reference's (face, u, v) either side of the edge.
     smooth = (0.5 + 0.5 * texel_directions(FACE_SIZE)).astype(np.float32)
     ctx.lookups.set_faces(smooth)
-    trust = dict(texels=smooth, texture_mismatch=texture.mismatch)
+    trust = dict(texels=smooth, texture_mismatch=texture.face_mismatch)
     smooth_tol = tolerance(FACE_SIZE, FACE_SIZE, 1.0)
     a, b, edge = edge_pairs()
     out_a, out_b = ctx.lookups.fetch(a), ctx.lookups.fetch(b)

@@ -53,7 +53,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     all_dirs = np.concatenate(list(sets.values()))
     all_values = np.concatenate([np.asarray(o.values, np.float64) for o in outcomes.values()])
     verdict = own_read.judge(ctx.lookups, all_dirs, all_values, tolerance(w, h, float(max(w, h) + 1)), (w, h),
-                             texels=faces, texture_mismatch=texture.mismatch)
+                             texels=faces, texture_mismatch=texture.face_mismatch)
     if verdict.context_dependent:
         diagnoses.append(Diagnosis("texture-context-dependent",
                                    _("Called on its own on these faces, your readTexture differs from the handout's "

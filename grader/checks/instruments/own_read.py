@@ -30,13 +30,24 @@ FLOAT_STEP = 4.0 * 2.0 ** -24
 MOVES = tuple((du, dv) for du in (-1, 0, 1) for dv in (-1, 0, 1) if (du, dv) != (0, 0))
 # readTexture called on its own can tell the judge's calls from fetchColor's
 # (a flag set in fetchColor) and the judge's faces from the read_texture
-# check's (their size). One the read_texture check found (nearly) the
-# handout's on some face size, that differs from the handout's on most of
-# the judge's faces, is not believed there: fetchColor is judged against the
-# handout's readTexture instead. Honest mistakes differ about as often on
-# every size (nearest neighbour on all of them), or rarely (an edge rule).
-HONEST_SOMEWHERE = 0.05   # the read_texture check's best face size differs on at most this share
-DIFFERS_HERE = 0.5        # ... and the judge's faces on more than this
+# check's (their size or texels). On each face, one that differs from the
+# handout's on most of the judge's calls there, but on far fewer of the
+# read_texture check's calls at like (u, v) on that face, is not believed
+# there: fetchColor's directions on that face are judged against the
+# handout's readTexture instead. A threshold on the check alone can be paid
+# for (black on a few check calls, issue 18's red team); this one costs
+# readTexture's points in proportion to what it buys. Honest mistakes
+# differ about as often in both (nearest neighbour, swapped weights), or
+# rarely in the judge's calls (an edge rule).
+DIFFERS_HERE = 0.5        # the judge's calls on a face differ on more than this share
+CHECK_SHARE = 0.5         # ... and the check's on that face on less than this share of the judge's share
+# readTexture is given an address, not a face: honest code answers alike on
+# every face (random texels, or coordinates that differ only in blue), so in
+# the check each face differs about as often (~180 interior calls a face:
+# +-0.04 by chance). One that differs more on some faces tells them by their
+# texels (issue 18's red team: u and v swapped on +Y and -Y only) and is not
+# believed there at all.
+FACE_SPREAD = 0.2         # a face's check share above the least face's by more than this
 
 
 @dataclass
@@ -101,28 +112,36 @@ def _handout(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarra
 
 
 def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, int],
-          texels: np.ndarray | None = None, texture_mismatch: float | None = None) -> Judgement:
+          texels: np.ndarray | None = None, texture_mismatch=None) -> Judgement:
     """fetchColor's answers `values` (n, 3) for `dirs` (n, 3) against the
     student's readTexture, on the faces currently set (of `size` (W, H)).
-    With `texels` (those faces) and `texture_mismatch` (the share of the
-    read_texture check's calls that differed from the handout), a live
-    readTexture that differs far more often here is not believed
-    (HONEST_SOMEWHERE, DIFFERS_HERE)."""
+    With `texels` (those faces) and `texture_mismatch` ((6,): per face, the
+    share of the read_texture check's calls that differed from the handout,
+    ReadTextureFinding.face_mismatch), a live readTexture that differs far
+    more often here is not believed on that face (DIFFERS_HERE, CHECK_SHARE)."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     values = np.asarray(values, np.float64).reshape(-1, 3)
     faces, uv = tied_face_uv(dirs)                     # (n, k) faces, (n, k, 2): the reference's first
     n, k = faces.shape
     flat_faces, flat_uv = faces.reshape(-1), uv.reshape(-1, 2)
     exact = read_at(lookups, flat_faces, flat_uv, size).reshape(n, k, 3)
+    disbelieved = np.zeros(n, bool)
     if texels is not None and texture_mismatch is not None:
         handout = _handout(texels, flat_faces, flat_uv).reshape(n, k, 3)
         seen = np.isfinite(exact[:, 0]).all(axis=1)
         with np.errstate(invalid="ignore"):
             differs = ~(np.abs(exact[:, 0] - handout[:, 0]) <= tol).all(axis=1)
-        if texture_mismatch <= HONEST_SOMEWHERE and seen.any() and float(differs[seen].mean()) > DIFFERS_HERE:
-            cmp = compare(values, handout, tol)
-            return Judgement(ok=cmp.ok, expected=handout[:, 0], unreadable=np.zeros(n, bool), error=cmp.error,
-                             context_dependent=True)
+        checked = np.broadcast_to(np.asarray(texture_mismatch, np.float64), (6,))
+        # Like with like: the check's share is over (u, v) inside the border
+        # texels (read_texture.generic), so the judge's is too.
+        p = uv[:, 0] * np.asarray(size, np.float64)
+        inside = ((p >= 1) & (p < np.asarray(size, np.float64) - 1)).all(axis=1)
+        for face in range(6):
+            here = seen & inside & (faces[:, 0] == face)
+            share = float(differs[here].mean()) if here.any() else 0.0
+            if (share > DIFFERS_HERE and checked[face] < CHECK_SHARE * share) or \
+                    checked[face] > checked.min() + FACE_SPREAD:
+                disbelieved |= faces[:, 0] == face
     cmp = compare(values, exact, tol)
     ok, error = cmp.ok.copy(), cmp.error.copy()
     # Where the answer differs: readTexture may jump at a texel boundary the
@@ -138,7 +157,13 @@ def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, i
         ok[retry] = again.ok
         error[retry] = np.minimum(error[retry], again.error)
     unreadable = ~np.isfinite(exact).all(axis=2).any(axis=1)
-    return Judgement(ok=ok, expected=exact[:, 0], unreadable=unreadable, error=error)
+    expected = exact[:, 0].copy()
+    if disbelieved.any():
+        rows = np.flatnonzero(disbelieved)
+        against = compare(values[rows], handout[rows], tol)
+        ok[rows], error[rows], expected[rows], unreadable[rows] = against.ok, against.error, handout[rows, 0], False
+    return Judgement(ok=ok, expected=expected, unreadable=unreadable, error=error,
+                     context_dependent=bool(disbelieved.any()))
 
 
 def reference_faces(dirs: np.ndarray) -> np.ndarray:
