@@ -283,7 +283,12 @@ ZOO_SAMPLE = [WRONG / f"{name}.cpp" for name in (
     "nearest-neighbor", "half-texel-offset", "weights-swapped", "u-flipped-pos-x", "uv-swapped-neg-y",
     "wrong-face-x-swapped", "combo-swapped-and-flipped", "not-normalized-length", "nan-huge", "crash-null")]
 ZOO_SAMPLE += [TESTS / "submissions" / "compound" / f"{name}.cpp" for name in (
-    "offset-one-clamped_correct-fetch", "signed-major-wrong-face_nearest", "float-args_wh-swapped")]
+    "offset-one-clamped_correct-fetch", "signed-major-wrong-face_nearest")]
+# The old self-check still loses a whole chunk to a crash, where the grader
+# now goes on past it and sees this file's NaN too: the drift issue 20 ends
+# by running the grader's own checks in the kit (strict: it must then pass).
+ZOO_SAMPLE += [pytest.param(TESTS / "submissions" / "compound" / "float-args_wh-swapped.cpp",
+                            marks=pytest.mark.xfail(strict=True, reason="issue 20: the kit's own crash handling"))]
 
 
 @pytest.mark.slow
