@@ -82,11 +82,11 @@ def tied_face_uv(dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return faces, uv
 
 
-@dataclass
-class Comparison:
-    ok: np.ndarray          # (n,) bool
-    error: np.ndarray       # (n,) distance to the nearest acceptable colour
-    tolerance: np.ndarray   # (n,)
+class Mismatches:
+    """What a verdict per case (`ok`, with each case's `error`) says as a
+    whole: shared by Comparison and the fetchColor judge's Judgement."""
+    ok: np.ndarray
+    error: np.ndarray
 
     @property
     def fraction(self) -> float:
@@ -97,6 +97,13 @@ class Comparison:
         """Indices of mismatches, worst first."""
         bad = np.flatnonzero(~self.ok)
         return bad[np.argsort(-np.nan_to_num(self.error[bad], nan=np.inf), kind="stable")]
+
+
+@dataclass
+class Comparison(Mismatches):
+    ok: np.ndarray          # (n,) bool
+    error: np.ndarray       # (n,) distance to the nearest acceptable colour
+    tolerance: np.ndarray   # (n,)
 
 
 def compare(actual: np.ndarray, acceptable: np.ndarray, tol: np.ndarray | float) -> Comparison:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ... import oracle
-from ..compare import compare, tied_face_uv
+from ..compare import Mismatches, compare, tied_face_uv
 
 # A fetchColor computing (u, v) in float (or in another order) differs from
 # the reference's by a few float ulps of 1: 4 * 2^-24.
@@ -51,23 +51,13 @@ FACE_SPREAD = 0.2         # a face's check share above the least face's by more 
 
 
 @dataclass
-class Judgement:
+class Judgement(Mismatches):
     """fetchColor's answers against the student's own readTexture."""
     ok: np.ndarray            # (n,) the answer is what a correct fetchColor gives over this readTexture
     expected: np.ndarray      # (n, 3) the student's readTexture at the reference's face and (u, v) (NaN: crashed)
     unreadable: np.ndarray    # (n,) the student's readTexture crashed (or gave NaN) on every face the direction touches
     error: np.ndarray         # (n,) distance to the nearest acceptable colour
     context_dependent: bool = False   # judged against the handout's readTexture: the live one was not believed
-
-    @property
-    def fraction(self) -> float:
-        return float(self.ok.mean()) if len(self.ok) else 1.0
-
-    @property
-    def failures(self) -> np.ndarray:
-        """Indices of mismatches, worst first (as compare.Comparison)."""
-        bad = np.flatnonzero(~self.ok)
-        return bad[np.argsort(-np.nan_to_num(self.error[bad], nan=np.inf), kind="stable")]
 
 
 def _regions(uv: np.ndarray, width: int, height: int) -> np.ndarray:
