@@ -15,6 +15,7 @@ import pytest
 
 from grader.grade import GradeOptions, grade
 from grader.results import UNGRADABLE
+from fake_bwrap import write_failing_bwrap
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
 
@@ -52,10 +53,7 @@ def test_a_thread_bomb_graded_beside_a_classmate_leaves_the_classmate_full_marks
     """Issue 18: in privilege-drop mode (a failing bwrap first on PATH, as on
     Gradescope) the bomb exhausted the container's pids and everyone graded
     beside it was ungradable. Both are graded at once, in two processes."""
-    fake = tmp_path / "fakebin"
-    fake.mkdir()
-    (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-    (fake / "bwrap").chmod(0o755)
+    fake = write_failing_bwrap(tmp_path / "fakebin")
     env = {**os.environ, "PATH": f"{fake}:{os.environ['PATH']}"}
     runs = {name: subprocess.Popen([sys.executable, "-m", "grader", "grade", str(path), "--quick", "--allow-stale",
                                     "--out", str(tmp_path / name)], env=env, stdout=subprocess.PIPE,

@@ -17,6 +17,7 @@ from grader.course.audit.grading import Graded
 from grader.course.audit.mutants import Mutant, all_mutants, mutants_of, sample, tokenize
 from grader.course.audit.report import html_page, summarise, terminal_text
 from grader.course.audit.truth import Truth, truth_of
+from fake_bwrap import write_failing_bwrap
 
 PERFECT = PROJECT_ROOT / "examples" / "perfect" / "EnvironmentMap.cpp"
 
@@ -139,10 +140,8 @@ def failing_bwrap(monkeypatch):
     import shutil
     import tempfile
     from grader.worker import sandbox
-    folder = Path(tempfile.mkdtemp(prefix="fake-bin-"))
+    folder = write_failing_bwrap(Path(tempfile.mkdtemp(prefix="fake-bin-")))
     folder.chmod(0o755)
-    (folder / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-    (folder / "bwrap").chmod(0o755)
     monkeypatch.setenv("PATH", f"{folder}:{os.environ['PATH']}")
     sandbox.sandbox_problem.cache_clear()
     sandbox.privilege_drop_problem.cache_clear()

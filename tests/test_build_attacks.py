@@ -23,6 +23,7 @@ import pytest
 
 from grader import PROJECT_ROOT, build, submissions
 from grader.build import _dependencies, _outside_files, build_submission, inspect_object, refused_directives
+from fake_bwrap import write_failing_bwrap
 
 SUBMISSIONS = Path(__file__).parent / "submissions"
 ATTACKS = sorted((SUBMISSIONS / "attacks").glob("*.cpp"))
@@ -464,10 +465,7 @@ def failing_bwrap(tmp_path, monkeypatch):
     """A bwrap first on PATH that always fails, as in a container without
     user namespaces; the sandbox probe is asked again."""
     from grader.worker import sandbox
-    fake = tmp_path / "fakebin"
-    fake.mkdir()
-    (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-    (fake / "bwrap").chmod(0o755)
+    fake = write_failing_bwrap(tmp_path / "fakebin")
     monkeypatch.setenv("PATH", f"{fake}:{os.environ.get('PATH', '/usr/bin:/bin')}")
     sandbox.sandbox_problem.cache_clear()
     yield

@@ -17,6 +17,7 @@ from babel.messages.pofile import read_po
 
 from grader import PROJECT_ROOT, i18n
 from grader.diagnoses import CATALOGUE, KINDS
+from fake_bwrap import write_failing_bwrap
 
 PO = i18n.po_path("ja")
 PLACEHOLDER = re.compile(r"%\((\w+)\)[sd]")
@@ -214,10 +215,7 @@ def privilege_drop(tmp_path, monkeypatch):
     import os
     import stat
     from grader.worker import sandbox
-    folder = tmp_path / "fakebin"
-    folder.mkdir()
-    (folder / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-    (folder / "bwrap").chmod(0o755)
+    folder = write_failing_bwrap(tmp_path / "fakebin")
     tmp_path.chmod(tmp_path.stat().st_mode | stat.S_IXOTH | stat.S_IROTH)
     monkeypatch.setenv("PATH", f"{folder}:{os.environ.get('PATH', '/usr/bin:/bin')}")
     sandbox.sandbox_problem.cache_clear()

@@ -19,6 +19,7 @@ import pytest
 from grader.grade import GradeOptions, grade
 from grader.results import FAILED, GRADED
 from grader.worker import sandbox
+from fake_bwrap import write_failing_bwrap
 
 REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
@@ -48,10 +49,7 @@ def mode(request, tmp_path, monkeypatch):
     if request.param == "privilege-drop":
         if not ROOT:
             pytest.skip("privilege-drop mode needs root")
-        fake = tmp_path / "fakebin"
-        fake.mkdir()
-        (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-        (fake / "bwrap").chmod(0o755)
+        fake = write_failing_bwrap(tmp_path / "fakebin")
         monkeypatch.setenv("PATH", f"{fake}:{os.environ.get('PATH', '/usr/bin:/bin')}")
     sandbox.sandbox_problem.cache_clear()
     yield request.param

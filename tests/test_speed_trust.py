@@ -21,6 +21,7 @@ from grader.checks.speed import WITHIN, speed
 from grader.checks.sweeps import SweepFinding
 from grader.results import FAILED, PASSED, CheckResult
 from grader.worker.lookups import open_lookups
+from fake_bwrap import write_failing_bwrap
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
 
@@ -156,10 +157,7 @@ def privilege_drop(tmp_path, monkeypatch):
     from grader.worker import sandbox
     if sandbox.privilege_drop_problem() is not None:
         pytest.skip(f"no privilege drop: {sandbox.privilege_drop_problem()}")
-    fake = tmp_path / "fakebin"
-    fake.mkdir()
-    (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-    (fake / "bwrap").chmod(0o755)
+    fake = write_failing_bwrap(tmp_path / "fakebin")
     monkeypatch.setenv("PATH", f"{fake}:{os.environ['PATH']}")
     sandbox.sandbox_problem.cache_clear()
     yield

@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from grader.worker import sandbox
+from fake_bwrap import write_failing_bwrap
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]
 
@@ -42,10 +43,7 @@ def grade_two_at_a_time(paths: list[Path], out: Path, env: dict) -> dict[str, di
 def test_correct_submissions_get_full_marks_on_a_loaded_machine(mode, tmp_path):
     env = dict(os.environ)
     if mode == "privilege-drop":
-        fake = tmp_path / "fakebin"
-        fake.mkdir()
-        (fake / "bwrap").write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
-        (fake / "bwrap").chmod(0o755)
+        fake = write_failing_bwrap(tmp_path / "fakebin")
         env["PATH"] = f"{fake}:{env['PATH']}"
     busy = [subprocess.Popen(BUSY) for _ in range(LOAD)]
     try:
