@@ -9,7 +9,7 @@ For each map, renders the scene (camera, spheres, max_depth from the .cfg;
 the map replaced) with our reference renderer (grader.reference.Scene.render,
 the handout's bilinear lookup, all in C, one thread) and with Mitsuba 3's
 scalar_rgb `path` integrator, then prints:
-  - agreement: SSIM and mean FLIP (grader.checks.image_metrics, on the
+  - agreement: SSIM and mean FLIP (grader.checks.instruments.image_metrics, on the
     tone-mapped images) of Mitsuba against ours at the same spp, and of
     both at --converged-spp (noise gone from both); and of the background
     alone (no spheres), which isolates the camera and the environment's
@@ -58,7 +58,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from grader.checks import image_metrics  # noqa: E402
+from grader.checks.instruments import image_metrics  # noqa: E402
 from grader.cubemap.projections import latlong_to_direction  # noqa: E402
 from grader.imaging import write_image  # noqa: E402
 from grader.reference import CubeMap, Scene  # noqa: E402

@@ -58,7 +58,7 @@ sys.path.insert(0, str(ROOT))
 from grader import fixtures, reference  # noqa: E402
 from grader.build import build_submission  # noqa: E402
 from grader.checks import renders  # noqa: E402
-from grader.checks.image_metrics import display, flip, flip_pixels, ssim  # noqa: E402
+from grader.checks.instruments.image_metrics import display, flip, flip_pixels, ssim  # noqa: E402
 from grader.worker.lookups import open_lookups  # noqa: E402
 
 SUBMISSIONS = ROOT / "tests" / "submissions"

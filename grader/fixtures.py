@@ -149,7 +149,7 @@ def generate(progress=print) -> dict:
 def write_sweeps() -> list[Path]:
     """The deterministic sweep directions with the reference's colours on the
     test map, as raw .npy (byte-stable): a regression net for the reference."""
-    from .checks.directions import sweep_sets
+    from .checks.instruments.directions import sweep_sets
     test_map = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
     if not test_map.exists():
         return []

@@ -36,7 +36,7 @@ class Diagnosis:
 @dataclass(frozen=True)
 class TexelHit:
     """Where a lookup landed in a texture that encodes texel positions
-    (checks/textures.py, coordinate_faces), decoded from the colour it
+    (checks/instruments/textures.py, coordinate_faces), decoded from the colour it
     returned, so a report can say "face, texel, (u, v)" instead of printing
     colours that mean nothing to a student."""
     face: str                      # a FACE_NAMES entry; "" when the colour is not one of the texture's

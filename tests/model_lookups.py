@@ -1,5 +1,5 @@
 """A fake submission whose readTexture is a member of the model family
-(grader.checks.texture_model) and whose fetchColor has chosen mistakes,
+(grader.checks.instruments.texture_model) and whose fetchColor has chosen mistakes,
 composed the way a student's code is: fetchColor's (face, u, v) go through
 the fake's own readTexture. No compiler, no worker.
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader import reference
-from grader.checks import texture_model as tm
+from grader.checks.instruments import texture_model as tm
 from grader.worker.runner import Failure, Outcome
 
 FACES = reference.FACE_NAMES

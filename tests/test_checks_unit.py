@@ -203,8 +203,8 @@ def test_fetch_color_is_analysed_when_read_texture_is_almost_right(tmp_path):
 
 
 def test_an_inset_is_named_once_and_orientation_is_told_under_it(tmp_path):
-    from grader.checks.face_recovery import analyse
-    from grader.checks.texture_model import HANDOUT, Fit
+    from grader.checks.instruments.face_recovery import analyse
+    from grader.checks.instruments.texture_model import HANDOUT, Fit
     fake = FakeLookups(fetch="inset")
     r = run(fake, tmp_path, "diagnosis")["diagnosis"]
     assert ids(r) == {("uv-inset", None)}, r.output
@@ -359,7 +359,7 @@ def test_grade_refuses_a_check_name_the_rubric_does_not_have(tmp_path):
 @pytest.mark.sandbox
 def test_the_fake_answers_like_a_real_correct_submission_in_its_worker(correct_build, rng):
     """The fake is a faithful stand-in: same colours as compiled C++ in the worker."""
-    from grader.checks.textures import random_faces
+    from grader.checks.instruments.textures import random_faces
     from grader.worker.lookups import open_lookups
     faces = random_faces(9, 7, 5)
     dirs = rng.normal(size=(2000, 3))

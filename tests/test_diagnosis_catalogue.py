@@ -39,7 +39,7 @@ def _worker_ids():
 
 
 def _face_recovery_ids():
-    from grader.checks import face_recovery
+    from grader.checks.instruments import face_recovery
     return {i for c in face_recovery.CANDIDATES for i in c.ids}
 
 
@@ -54,7 +54,7 @@ DYNAMIC = {
     ("checks/diagnosis.py", "mistake"): _mapping_ids,
     ("checks/context.py", "kind"): _worker_ids,
     ("grade.py", "diagnosis_id"): _build_ids,
-    ("checks/face_recovery.py", "mistake"): _face_recovery_ids,
+    ("checks/instruments/face_recovery.py", "mistake"): _face_recovery_ids,
 }
 
 

@@ -15,7 +15,7 @@ import pytest
 
 from fake_lookups import FACES, FakeLookups
 from grader import fixtures, reference
-from grader.checks.image_metrics import display
+from grader.checks.instruments.image_metrics import display
 from grader.checks.renders import PIXEL_FLIP_MAX, score_render
 
 

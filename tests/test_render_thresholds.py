@@ -15,7 +15,7 @@ import pytest
 
 from grader import fixtures
 from grader.build import build_submission
-from grader.checks.image_metrics import display, flip, ssim
+from grader.checks.instruments.image_metrics import display, flip, ssim
 from grader.checks.renders import FLIP_MAX, SSIM_MIN, render_with_submission
 from grader.worker.lookups import open_lookups
 

@@ -11,7 +11,7 @@ import pytest
 
 from fake_lookups import FACES, FakeLookups
 from grader import reference
-from grader.checks import texture_model as tm
+from grader.checks.instruments import texture_model as tm
 from grader.results import FAILED, PASSED
 from test_checks_unit import ids, run
 
@@ -38,7 +38,7 @@ def test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the
     except those where that readTexture, called alone at the handout's face
     and (u, v), reads past the face: there a correct fetchColor would crash
     too, so crashing never earns points (issue 18)."""
-    from grader.checks.directions import sweep_sets
+    from grader.checks.instruments.directions import sweep_sets
     from grader.checks.sweeps import SWEEP_FACE_SIZE
     results = run(UnclampedLookups(), tmp_path, "fetch_sweep")
     texture, sweep = results["read_texture"], results["fetch_sweep"]
@@ -80,7 +80,7 @@ def test_an_edge_read_into_the_next_face_is_told_from_a_tie_sent_astray():
     """The rule itself: an answer from face k + 1's first row, in the column
     touched face k's u gives, is readTexture reading past k (faces one above
     the other in the buffer); another column, row or face is not."""
-    from grader.checks.face_recovery import FACE_SIZE, _edge_read
+    from grader.checks.instruments.face_recovery import FACE_SIZE, _edge_read
     touched = np.zeros((5, 6), bool)
     touched[:, 0] = touched[:, 2] = True                  # an edge of +X and +Y
     column = np.full((5, 6), np.nan)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from grader import reference
-from grader.checks import texture_model as tm
-from grader.checks.textures import coordinate_faces, random_faces
+from grader.checks.instruments import texture_model as tm
+from grader.checks.instruments.textures import coordinate_faces, random_faces
 
 A = tm.Axis
 
@@ -110,7 +110,7 @@ def test_the_words_name_the_offset():
 
 from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
 
-from grader.checks import face_recovery  # noqa: E402
+from grader.checks.instruments import face_recovery  # noqa: E402
 from model_lookups import ModelLookups  # noqa: E402
 
 FACE_NAMES = reference.FACE_NAMES

@@ -16,7 +16,7 @@ from ..i18n import N_, _, and_list, language
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .directions import axes, fibonacci_sphere
+from .instruments.directions import axes, fibonacci_sphere
 
 TEST_MAP = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
 ARROW_SCENE = PROJECT_ROOT / "scenes" / "mirror_ball_test_map.cfg"

@@ -2,9 +2,9 @@
 own readTexture, and the mistake that explains it.
 
 The faces handed over encode their positions; the read_texture check's
-fitted model of the student's readTexture (grader.checks.texture_model)
+fitted model of the student's readTexture (grader.checks.instruments.texture_model)
 says what each candidate fetchColor behaviour would return, so a wrong
-readTexture is never blamed on fetchColor (grader.checks.face_recovery).
+readTexture is never blamed on fetchColor (grader.checks.instruments.face_recovery).
 """
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ from ..i18n import N_, _
 from ..results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
-from .face_recovery import CANDIDATES, analyse
-from .face_recovery import DIAGNOSIS_IDS as _READ_BACK_IDS
+from .instruments.face_recovery import CANDIDATES, analyse
+from .instruments.face_recovery import DIAGNOSIS_IDS as _READ_BACK_IDS
 from .read_texture import ReadTextureFinding, read_texture
 
 # Every id the per-face analysis can give from a candidate (tests/test_diagnosis_catalogue.py).
@@ -25,7 +25,7 @@ def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     """fetchColor samples the face the direction exits through, with u and v running the right way."""
     fit = texture.fit
     if fit is None:                 # readTexture matched the reference everywhere
-        from .texture_model import HANDOUT, Fit
+        from .instruments.texture_model import HANDOUT, Fit
         fit = Fit(HANDOUT, HANDOUT, 1.0, 0)
     analysis = analyse(ctx.lookups, fit, quick=ctx.quick)
     result.diagnoses = analysis.diagnoses()

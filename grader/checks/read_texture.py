@@ -14,10 +14,10 @@ from .. import oracle, reference
 from ..i18n import N_, _, and_list
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
-from . import texture_model as tm
-from .compare import compare, explain, tolerance
+from .instruments import texture_model as tm
+from .instruments.compare import compare, explain, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .textures import coordinate_faces, random_faces
+from .instruments.textures import coordinate_faces, random_faces
 
 
 @dataclass(frozen=True)

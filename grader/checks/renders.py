@@ -10,7 +10,7 @@ from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .image_metrics import difference_picture, display, flip, flip_pixels, ssim
+from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
 # Measured on the correct solutions (-O0, -O3, -ffast-math, float and double)
 # and on the zoo of wrong ones; docs/thresholds.md has the numbers.

@@ -20,7 +20,7 @@ from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import Needs, check
 from .context import CheckContext, failure_diagnoses
-from .directions import random_directions
+from .instruments.directions import random_directions
 from .read_texture import ReadTextureFinding, read_texture
 from .sweeps import WORKING, SweepFinding, fetch_sweep
 
@@ -59,9 +59,9 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     import numpy as np
     from ..worker.lookups import open_lookups
     from ..worker.native import null_library
-    from .compare import tolerance
+    from .instruments.compare import tolerance
     from .instruments import own_read
-    from .textures import random_faces
+    from .instruments.textures import random_faces
     result.output = ""
     # Random faces from the course secret: black or stale colours do not
     # match, and no formula gives the texels without reading them (smooth

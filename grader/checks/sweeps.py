@@ -9,12 +9,12 @@ from .. import reference
 from ..i18n import _
 from ..results import FAILED, CheckResult, Diagnosis
 from . import check
-from .compare import Comparison, describe_direction, tolerance, worst_cases
+from .instruments.compare import Comparison, describe_direction, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .directions import sweep_sets
+from .instruments.directions import sweep_sets
 from .instruments import own_read
 from .read_texture import ReadTextureFinding, read_texture
-from .textures import coordinate_faces
+from .instruments.textures import coordinate_faces
 
 SWEEP_FACE_SIZE = (32, 32)
 

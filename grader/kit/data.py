@@ -13,7 +13,7 @@ never code: no (u, v) table, no filter.
 Files are raw little-endian arrays: inputs (directions, (u, v)) in float64, so
 ties stay exact; expected colours in float32, whose rounding (6e-8 relative)
 is 100 times below the smallest tolerance they are compared with
-(grader.checks.compare.tolerance: 9.5e-6 for 16-texel faces of magnitude 1).
+(grader.checks.instruments.compare.tolerance: 9.5e-6 for 16-texel faces of magnitude 1).
 """
 from __future__ import annotations
 
@@ -25,12 +25,12 @@ import numpy as np
 
 from .. import PROJECT_ROOT, fixtures, reference
 from ..checks import arrows as arrows_check
-from ..checks import face_recovery as diagnosis_check
+from ..checks.instruments import face_recovery as diagnosis_check
 from ..checks import read_texture as read_texture_check
 from ..checks import stability as stability_check
-from ..checks.compare import tie_alternatives, tolerance
-from ..checks.directions import fibonacci_sphere, random_directions, sweep_sets, tied_axes
-from ..checks.textures import coordinate_faces, random_faces
+from ..checks.instruments.compare import tie_alternatives, tolerance
+from ..checks.instruments.directions import fibonacci_sphere, random_directions, sweep_sets, tied_axes
+from ..checks.instruments.textures import coordinate_faces, random_faces
 from ..cubemap.directions import texel_directions
 
 # The kit's inputs are public: one fixed seed, unrelated to the course secret.

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ... import oracle
-from ..compare import Mismatches, compare, tied_face_uv
+from .compare import Mismatches, compare, tied_face_uv
 
 # A fetchColor computing (u, v) in float (or in another order) differs from
 # the reference's by a few float ulps of 1: 4 * 2^-24.

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..textures import decode_sample_coordinates
+from .textures import decode_sample_coordinates
 from .own_read import read_at
 
 GRID = 4                  # calibration points per texel along each axis

@@ -29,7 +29,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..i18n import _
+from ...i18n import _
 from .compare import tolerance
 from .textures import coordinate_faces, random_faces
 

@@ -4,7 +4,7 @@ through the submission's OWN readTexture.
 The faces handed over encode position (R = x + 1, G = y + 1, B = face + 1).
 What comes back from fetchColor is readTexture's answer at the face and
 (u, v) fetchColor chose. Instead of assuming readTexture is the handout's,
-the fitted model of the student's readTexture (grader.checks.texture_model)
+the fitted model of the student's readTexture (grader.checks.instruments.texture_model)
 predicts, for every candidate fetchColor behaviour (the handout's face and
 (u, v), flipped, swapped, remapped, divided by the length), what the
 submission would return; the candidate that reproduces the answers names the
@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import oracle, reference
-from ..i18n import N_, _, and_list
-from ..results import Diagnosis
+from ... import oracle, reference
+from ...i18n import N_, _, and_list
+from ...results import Diagnosis
 
 # Every id a candidate can give (tests/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",
@@ -33,8 +33,8 @@ from .compare import tolerance
 from .directions import fibonacci_sphere, tied_axes
 from .texture_model import Fit, TextureModel, evaluate_in_buffer
 from .textures import coordinate_faces, decode_sample_coordinates
-from .instruments.readback import AffineMap, calibrate, fit_affine
-from .instruments import readback
+from .readback import AffineMap, calibrate, fit_affine
+from . import readback
 
 FACE_SIZE = 32
 SHARE = 0.9          # a candidate must explain 90% of a face's directions

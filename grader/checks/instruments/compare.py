@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import oracle, reference
-from ..i18n import _
+from ... import oracle, reference
+from ...i18n import _
 from .directions import tied_axes
 
 FLOAT_EPS = 2.0 ** -24   # float32 unit roundoff
@@ -149,7 +149,7 @@ def worst_cases(cmp: Comparison, describe_input, actual: np.ndarray, expected: n
     them). With face_size (W, H), the colours came from a texture that
     encodes texel positions (textures.coordinate_faces): each case also says
     where the reference and the submission sampled."""
-    from ..results import Mismatch, TexelHit
+    from ...results import Mismatch, TexelHit
     from .textures import decode_sample_coordinates
 
     def hit(rgb, w, h):

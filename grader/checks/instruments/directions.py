@@ -12,7 +12,7 @@ import itertools
 
 import numpy as np
 
-from ..i18n import N_
+from ...i18n import N_
 
 GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
 

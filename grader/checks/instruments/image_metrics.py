@@ -9,7 +9,7 @@ import numpy as np
 
 
 def display(linear: np.ndarray) -> np.ndarray:
-    from ..imaging import tone_map
+    from ...imaging import tone_map
     return np.clip(tone_map(np.nan_to_num(linear, nan=0.0, posinf=0.0, neginf=0.0)), 0.0, 1.0).astype(np.float32)
 
 
