@@ -126,6 +126,10 @@ SUBMISSIONS = ("u-flipped-pos-x", "nearest-neighbor", "crash-null", "syntax-erro
 def prose(markdown: str, submission: str) -> list[str]:
     """The report's sentences without code, markup, the submission's name and
     the grader's own warnings (instructor notes, English: docs/glossary_ja.md)."""
+    # The instructor's section (collapsed, last) holds the grader's warnings.
+    for lang in i18n.LANGUAGES:
+        marker = f"<summary>{i18n.translations(lang).gettext('For your instructor')}</summary>"
+        markdown = markdown.split(marker, 1)[0]
     text = re.sub(r"```.*?```", " ", markdown, flags=re.S)
     text = re.sub(r"`[^`]*`|<[^>]+>", " ", text)
     text = NOT_WORDS.sub(" ", text.replace(submission, " "))

@@ -108,11 +108,11 @@ def results_from(result) -> dict:
     """PrairieLearn's results.json for one GradeResult (student view)."""
     from ...reports.gradescope_json import check_markdown, png_data_url, ran, student_summary
     from ...reports.text import clean
-    from ...reports.view import check_state, is_visible
+    from ...reports.view import check_label, check_state, is_visible
     shown = [c for c in result.checks if is_visible(c)]
     built = result.status != BUILD_ERROR
     tests = [{
-        "name": clean(check.title) or check.name,
+        "name": clean(check_label(check)) or check.name,
         "description": check.name,
         "points": _number(check.score),
         "max_points": _number(check.max_score),
