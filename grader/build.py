@@ -71,6 +71,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import PROJECT_ROOT, source_policy
+from .i18n import _
 from .build_messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED, describe
 from .submissions import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
                           SubmissionError, select_source as _select_source)
@@ -979,9 +980,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         outside = _outside_files(_dependencies(listed.decode("utf-8", "surrogateescape")), scratch)
         if outside:
             shown = ", ".join(neutral(o) for o in outside[:3])
-            return _refusal("refused-include", f"{SOURCE_NAME} makes the compiler read {shown}: a submission "
-                                               "may include only the C++ standard library and the template's "
-                                               "headers (EnvironmentMap.h, Vector3.h, Color.h).")
+            return _refusal("refused-include", _("%(source)s makes the compiler read %(shown)s: a submission "
+                                                 "may include only the C++ standard library and the template's "
+                                                 "headers (EnvironmentMap.h, Vector3.h, Color.h).") % {"source": SOURCE_NAME, "shown": shown})
     if done.returncode != 0:
         return failed(done)
     # 2. The source policy, on the compiler's own tokens (no asm, #line,
@@ -991,13 +992,13 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     # from the compiler), but in the source it is a stray '#', an error.
     preprocessed = _take(scratch, STUDENT_PREPROCESSED, MAX_ASSEMBLY_BYTES + 1) or b""
     if len(preprocessed) > MAX_ASSEMBLY_BYTES:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} preprocesses to more than "
-                                            f"{MAX_ASSEMBLY_BYTES >> 20} MiB: far more than a lookup needs.")
+        return _refusal("forbidden-object", _("%(source)s preprocesses to more than "
+                                              "%(mib)d MiB: far more than a lookup needs.") % {"source": SOURCE_NAME, "mib": MAX_ASSEMBLY_BYTES >> 20})
     refused = source_policy.refusals(preprocessed.decode("utf-8", "surrogateescape"), SOURCE_NAME)
     if refused:
         line, what = refused[0]
-        more = f" (and {len(refused) - 1} more)" if len(refused) > 1 else ""
-        return _refusal("refused-source", f"{SOURCE_NAME} line {line}: {what}{more}.", line)
+        more = _(" (and %(count)d more)") % {"count": len(refused) - 1} if len(refused) > 1 else ""
+        return _refusal("refused-source", _("%(source)s line %(line)s: %(what)s%(more)s.") % {"source": SOURCE_NAME, "line": line, "what": what, "more": more}, line)
     (scratch / STUDENT_PREPROCESSED).unlink(missing_ok=True)
     done = step([CXX, *cxxflags, *extra_flags, *include, "-S", SOURCE_NAME, "-o", STUDENT_ASSEMBLY])
     if done.timed_out or done.returncode != 0:
@@ -1006,14 +1007,14 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     # searched as raw text, strings included, so no quoting can hide one).
     assembly = _take(scratch, STUDENT_ASSEMBLY, MAX_ASSEMBLY_BYTES + 1) or b""
     if len(assembly) > MAX_ASSEMBLY_BYTES:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} compiles to more than "
-                                            f"{MAX_ASSEMBLY_BYTES >> 20} MiB of assembly: far more than "
-                                            "a lookup needs (a huge table?).")
+        return _refusal("forbidden-object", _("%(source)s compiles to more than "
+                                              "%(mib)d MiB of assembly: far more than "
+                                              "a lookup needs (a huge table?).") % {"source": SOURCE_NAME, "mib": MAX_ASSEMBLY_BYTES >> 20})
     directive = _ASSEMBLER_FORBIDDEN.search(assembly.decode("utf-8", "surrogateescape"))
     if directive:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} contains the assembler directive "
-                                            f"{directive.group(0)}, which reads a file or builds "
-                                            "hidden code: not allowed in a submission.")
+        return _refusal("forbidden-object", _("%(source)s contains the assembler directive "
+                                              "%(directive)s, which reads a file or builds "
+                                              "hidden code: not allowed in a submission.") % {"source": SOURCE_NAME, "directive": directive.group(0)})
     done = step([CXX, *cxxflags, "-c", STUDENT_ASSEMBLY, "-o", STUDENT_OBJECT])
     if done.timed_out or done.returncode != 0:
         return failed(done)
@@ -1026,8 +1027,8 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     # 5. Link with our objects only, as we made them.
     for name in COMMON_FILES:
         if _take(scratch, name) != (common_dir / name).read_bytes():
-            return _refusal("forbidden-object", f"The build of {SOURCE_NAME} changed the grader's own "
-                                                f"files ({name}).")
+            return _refusal("forbidden-object", _("The build of %(source)s changed the grader's own "
+                                                  "files (%(name)s).") % {"source": SOURCE_NAME, "name": name})
     done = step([CXX, *cxxflags, "-shared", "-o", LIBRARY_NAME, STUDENT_OBJECT, "shim.o", "loader.o",
                  "libreference.a", *LINK_FLAGS, "-Wl,--version-script=exports.map", "-lm"])
     if done.timed_out or done.returncode != 0:
@@ -1036,9 +1037,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     if not library:
         return failed(done)
     if len(library) > MAX_LIBRARY_BYTES:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} links into a library of more than "
-                                            f"{MAX_LIBRARY_BYTES >> 20} MiB: far more than a lookup needs "
-                                            "(a huge array with an initial value, or in a data section?).")
+        return _refusal("forbidden-object", _("%(source)s links into a library of more than "
+                                              "%(mib)d MiB: far more than a lookup needs "
+                                              "(a huge array with an initial value, or in a data section?).") % {"source": SOURCE_NAME, "mib": MAX_LIBRARY_BYTES >> 20})
     problem = inspect_library(library, allowed, sanitize="-fsanitize=address,undefined" in cxxflags)
     if problem:
         return _refusal(*problem)
