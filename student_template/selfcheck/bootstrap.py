@@ -84,8 +84,8 @@ def base_python(env):
 
 
 def is_ready(env):
-    """The environment exists, was finished, and was made from this requirements
-    file by this Python."""
+    """The environment exists, was finished, was made from this requirements
+    file, and still runs on the Python it was made with."""
     try:
         stamp = json.loads((env / STAMP_NAME).read_text(encoding="utf-8"))
     except (OSError, ValueError):
