@@ -341,7 +341,8 @@ def test_a_failed_install_says_why_and_leaves_nothing(kit, mode, says):
     assert done.returncode == SETUP_FAILED
     assert says in done.stdout and "selfcheck-env-install.log" in done.stdout, done.stdout
     assert "selfcheck ran" not in done.stdout and kit.leftovers() == []
-    assert kit.run().returncode == 0 and "after install 2" in kit.run().stdout    # and then works when it can
+    then = kit.run()                                   # and then works, once it can install
+    assert then.returncode == 0 and "after install 2" in then.stdout
 
 
 def test_a_python_older_than_the_packages_need_says_what_to_install(kit, tmp_path):
