@@ -29,7 +29,7 @@ from grader.kit import environment
 from test_lock import locked
 
 BOOTSTRAP = PROJECT_ROOT / "student_template" / "selfcheck" / "bootstrap.py"
-HEAVY = ("scipy", "skimage", "matplotlib", "babel")
+HEAVY = ("scipy", "skimage", "matplotlib", "babel", "PIL")
 SETUP_FAILED = 3
 BUDGET_BYTES = 100e6
 
@@ -51,12 +51,12 @@ def test_the_kit_requirements_are_the_locks_pins_and_hashes_of_what_the_kit_impo
     assert path == tmp_path / "requirements-kit.txt"
     pins, lock = pins_of(path), locked()
     # The kit's packages, and what they depend on (cffi needs pycparser, rich pygments and markdown-it-py, ...).
-    assert set(pins) == {"numpy", "cffi", "pycparser", "openimageio", "flip-evaluator", "pillow",
-                         "markdown-it-py", "mdurl", "rich", "pygments"}
+    assert set(pins) == {"numpy", "cffi", "pycparser", "openimageio", "flip-evaluator", "markdown-it-py", "mdurl",
+                         "rich", "pygments"}
     for name, (version, hashes) in pins.items():
         assert (version, sorted(hashes)) == (lock[name][0], sorted(lock[name][1])), name
         assert hashes
-    assert not set(pins) & {"scipy", "scikit-image", "matplotlib", "babel"}
+    assert not set(pins) & {"scipy", "scikit-image", "matplotlib", "babel", "pillow"}
     assert "# requires-python: >=3.11" in path.read_text()
     assert "pycparser==3.12 ; implementation_name != 'PyPy'" in path.read_text()     # markers kept
 
@@ -120,6 +120,9 @@ for name, lookups, selected in (("u-flipped", FakeLookups(fetch={{"+X": "u-flipp
     statuses[name] = {{r.name: (r.status, r.error_log) for r in ran}}
     if name == "u-flipped":
         result.checks = ran
+        arrows = next(r for r in ran if r.name == "arrows")
+        statuses["arrows picture"] = {{"drawn": (str(Path(arrows.artifacts["arrows"]).is_file()),
+                                                arrows.output)}} if "arrows" in arrows.artifacts else {{}}
     else:
         statuses[name]["ids"] = [d.id for r in ran for d in r.diagnoses]
 score.apply(result, score.load_rubric())
@@ -130,7 +133,7 @@ print(json.dumps({{"statuses": statuses, "heavy": heavy, "diagnoses": [d.id for 
 """
 
 
-def test_the_kit_side_grader_runs_without_scipy_scikit_image_matplotlib_or_babel(tmp_path, reference_library):
+def test_the_kit_side_grader_runs_without_scipy_scikit_image_matplotlib_babel_or_pillow(tmp_path, reference_library):
     """In a Python that sees only the kit's packages (no site-packages but
     links to those requirements-kit.txt names): import the grade, checks
     and reports, run every check but speed on a fake submission (readback's
@@ -144,6 +147,8 @@ def test_the_kit_side_grader_runs_without_scipy_scikit_image_matplotlib_or_babel
     found = json.loads(done.stdout.strip().splitlines()[-1])
     assert found["heavy"] == []
     inset_ids = found["statuses"]["inset"].pop("ids")
+    drawn, arrows_output = found["statuses"].pop("arrows picture")["drawn"]     # drawn without Pillow
+    assert drawn == "True" and "could not be drawn" not in arrows_output
     for name, statuses in found["statuses"].items():
         errors = {check: log for check, (status, log) in statuses.items() if status == "error" or log}
         assert not errors, (name, errors)
@@ -336,7 +341,8 @@ def test_a_failed_install_says_why_and_leaves_nothing(kit, mode, says):
     assert done.returncode == SETUP_FAILED
     assert says in done.stdout and "selfcheck-env-install.log" in done.stdout, done.stdout
     assert "selfcheck ran" not in done.stdout and kit.leftovers() == []
-    assert kit.run().returncode == 0 and "after install 2" in kit.run().stdout    # and then works when it can
+    then = kit.run()                                   # and then works, once it can install
+    assert then.returncode == 0 and "after install 2" in then.stdout
 
 
 def test_a_python_older_than_the_packages_need_says_what_to_install(kit, tmp_path):
@@ -408,8 +414,8 @@ def test_the_real_first_use_installs_the_locked_packages_within_budget(tmp_path)
     (kit.root / "selfcheck" / "grader" / "kit" / "selfcheck.py").write_text(textwrap.dedent("""
         import json, sys
         from importlib import metadata
-        import numpy, cffi, OpenImageIO, flip_evaluator, PIL.Image, rich.console, markdown_it
-        names = ["numpy", "cffi", "openimageio", "flip-evaluator", "pillow", "rich", "markdown-it-py"]
+        import numpy, cffi, OpenImageIO, flip_evaluator, rich.console, markdown_it
+        names = ["numpy", "cffi", "openimageio", "flip-evaluator", "rich", "markdown-it-py"]
         print(json.dumps({n: metadata.version(n) for n in names}))
     """))
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}

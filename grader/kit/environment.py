@@ -11,9 +11,12 @@ list of versions to drift. Dependencies are read from the lock's own
 comes along with the next lock.
 
 Left out on purpose (the kit's environment is at most 100 MB): scipy,
-scikit-image, matplotlib and Babel, which the grader uses elsewhere; the
-checks the kit runs use numpy instead (readback, image_metrics), and the
-Japanese catalogue goes into the kit compiled (grader.i18n.compile_catalogues).
+scikit-image, matplotlib, Babel and Pillow, which the grader uses elsewhere;
+the checks the kit runs use numpy instead (readback, image_metrics) and
+OpenImageIO for the arrows picture, and the Japanese catalogue goes into the
+kit compiled (grader.i18n.compile_catalogues). Pillow only turns PNGs into
+Gradescope's HTML (reports.gradescope_json.png_data_url), which the kit never
+writes.
 """
 from __future__ import annotations
 
@@ -30,12 +33,11 @@ REQUIREMENTS_NAME = "requirements-kit.txt"
 # requirements.txt); their dependencies follow from the lock.
 KIT_PACKAGES = (
     "numpy",            # everything
-    "cffi",             # grader.reference's types (the kit loads no lookup library)
-    "OpenImageIO",      # grader.imaging: the driver's .hdr renders in, PNG artifacts out
+    "cffi",             # grader.reference, which grader.oracle and the checks import
+    "OpenImageIO",      # grader.imaging: images in and out; the arrows picture's resizing and text
     "flip-evaluator",   # the render check's FLIP
-    "pillow",           # the arrows picture (checks.arrows), PNGs in results.json
     "markdown-it-py",   # report.html's tables and summary
-    "rich",             # the terminal summary (grader.reports.terminal)
+    "rich",             # the terminal summary (grader.reports.terminal); with pygments, 6.5 MB
 )
 
 

@@ -84,8 +84,8 @@ def base_python(env):
 
 
 def is_ready(env):
-    """The environment exists, was finished, and was made from this requirements
-    file by this Python."""
+    """The environment exists, was finished, was made from this requirements
+    file, and still runs on the Python it was made with."""
     try:
         stamp = json.loads((env / STAMP_NAME).read_text(encoding="utf-8"))
     except (OSError, ValueError):
@@ -194,7 +194,8 @@ def pip_command(python):
 
 def explain_pip_failure(status, output):
     """The reason in a student's words, from what pip printed."""
-    tail = "\n".join("    " + line for line in output.strip().splitlines()[-8:])
+    tail = "\n".join("    " + (line if len(line) <= 200 else line[:197] + "...")
+                     for line in output.strip().splitlines()[-6:])
     if re.search(r"NewConnectionError|Failed to establish|Temporary failure in name resolution|"
                  r"Network is unreachable|getaddrinfo failed|ConnectTimeout|ReadTimeout|ProxyError|SSLError", output):
         why = ("could not reach the package index to download them: connect to the internet and run "
@@ -203,7 +204,7 @@ def explain_pip_failure(status, output):
         why = ("there is no ready-made package for this computer (Python {}, {}): use Python 3.11 to 3.13 on "
                "Linux (x86-64 or ARM), macOS or Windows.".format(".".join(map(str, sys.version_info[:3])),
                                                                  sys.platform))
-    elif re.search(r"THESE PACKAGES DO NOT MATCH THE HASHES|hash", output, re.I):
+    elif re.search(r"DO NOT MATCH THE HASHES|Hashes are required", output):
         why = ("a downloaded file is not the one the grader uses (its hash differs): a proxy or mirror changed "
                "it; try another network, or ask your instructor.")
     elif re.search(r"No space left on device", output):

@@ -18,6 +18,7 @@ SSIM_SIGMA = 1.5          # Gaussian window's standard deviation, pixels
 SSIM_TRUNCATE = 3.5       # window radius in sigmas: int(3.5 * 1.5 + 0.5) = 5, an 11 x 11 window
 SSIM_K1, SSIM_K2 = 0.01, 0.03
 SSIM_DATA_RANGE = 1.0     # display values
+WINDOW_RADIUS = int(SSIM_TRUNCATE * SSIM_SIGMA + 0.5)
 
 
 def ssim(reference_display: np.ndarray, test_display: np.ndarray) -> float:
@@ -37,45 +38,43 @@ def ssim(reference_display: np.ndarray, test_display: np.ndarray) -> float:
         raise ValueError(f"ssim: expected two (H, W, C) images of one shape, got {a.shape} and {b.shape}")
     dtype = np.float32 if a.dtype in (np.float16, np.float32) else np.float64
     a, b = a.astype(dtype, copy=False), b.astype(dtype, copy=False)
-    per_channel = np.array([_ssim_channel(a[..., c], b[..., c]) for c in range(a.shape[2])], dtype)
+    if min(a.shape[:2]) < 2 * WINDOW_RADIUS + 1:
+        raise ValueError(f"ssim: an image of {a.shape[1]} x {a.shape[0]} is smaller than the 11 x 11 window")
+    x, y = np.moveaxis(a, 2, 0), np.moveaxis(b, 2, 0)          # (C, H, W): each channel on its own
+    ux, uy, uxx, uyy, uxy = _blur(np.stack([x, y, x * x, y * y, x * y]))
+    vx, vy, vxy = uxx - ux * ux, uyy - uy * uy, uxy - ux * uy
+    c1, c2 = (SSIM_K1 * SSIM_DATA_RANGE) ** 2, (SSIM_K2 * SSIM_DATA_RANGE) ** 2
+    s = ((2 * ux * uy + c1) * (2 * vxy + c2)) / ((ux * ux + uy * uy + c1) * (vx + vy + c2))
+    r = WINDOW_RADIUS      # the band the window overhangs is left out of the mean
+    per_channel = np.array([s[c, r:-r, r:-r].mean(dtype=np.float64) for c in range(len(s))], dtype)
     return float(per_channel.mean())
 
 
 def _gaussian_window() -> np.ndarray:
     """The 1-D Gaussian taps (centre first, then distance 1, 2, ...), summing to 1."""
-    radius = int(SSIM_TRUNCATE * SSIM_SIGMA + 0.5)
-    x = np.arange(-radius, radius + 1)
+    x = np.arange(-WINDOW_RADIUS, WINDOW_RADIUS + 1)
     taps = np.exp(-0.5 / (SSIM_SIGMA * SSIM_SIGMA) * x ** 2)
-    return (taps / taps.sum())[radius:]
+    return (taps / taps.sum())[WINDOW_RADIUS:]
 
 
-def _blur(image: np.ndarray) -> np.ndarray:
-    """The Gaussian window over a 2-D image, one axis then the other, borders
-    mirrored (a b c | c b a); sums in float64, each pass stored in the image's type."""
+def _blur(images: np.ndarray) -> np.ndarray:
+    """The Gaussian window over images (..., H, W), down then across, borders
+    mirrored (a b c | c b a); sums in float64, each pass stored in the images' type."""
     taps = _gaussian_window()
-    radius = len(taps) - 1
-    for axis in (0, 1):
-        line = np.moveaxis(np.pad(image.astype(np.float64), [(radius, radius) if k == axis else (0, 0) for k in (0, 1)],
-                                  mode="symmetric"), axis, 0)
-        n = line.shape[0] - 2 * radius
-        total = line[radius:radius + n] * taps[0]
-        for j in range(radius, 0, -1):          # farthest first, pairs of mirror taps
-            total += (line[radius - j:radius - j + n] + line[radius + j:radius + j + n]) * taps[j]
-        image = np.moveaxis(total, 0, axis).astype(image.dtype)
-    return image
-
-
-def _ssim_channel(x: np.ndarray, y: np.ndarray) -> float:
-    if min(x.shape) < 2 * int(SSIM_TRUNCATE * SSIM_SIGMA + 0.5) + 1:
-        raise ValueError(f"ssim: an image of {x.shape[1]} x {x.shape[0]} is smaller than the 11 x 11 window")
-    ux, uy = _blur(x), _blur(y)
-    vx = _blur(x * x) - ux * ux
-    vy = _blur(y * y) - uy * uy
-    vxy = _blur(x * y) - ux * uy
-    c1, c2 = (SSIM_K1 * SSIM_DATA_RANGE) ** 2, (SSIM_K2 * SSIM_DATA_RANGE) ** 2
-    s = ((2 * ux * uy + c1) * (2 * vxy + c2)) / ((ux * ux + uy * uy + c1) * (vx + vy + c2))
-    pad = int(SSIM_TRUNCATE * SSIM_SIGMA + 0.5)
-    return float(s[pad:-pad, pad:-pad].mean(dtype=np.float64))
+    r = WINDOW_RADIUS
+    for axis in (-2, -1):
+        widths = [(0, 0)] * images.ndim
+        widths[axis] = (r, r)
+        line = np.moveaxis(np.pad(images.astype(np.float64), widths, mode="symmetric"), axis, 0)
+        n = line.shape[0] - 2 * r
+        total = line[r:r + n] * taps[0]
+        pair = np.empty_like(total)
+        for j in range(r, 0, -1):          # farthest first, pairs of mirror taps, as scipy.ndimage sums
+            np.add(line[r - j:r - j + n], line[r + j:r + j + n], out=pair)
+            pair *= taps[j]
+            total += pair
+        images = np.moveaxis(total, 0, axis).astype(images.dtype)
+    return images
 
 
 def flip(reference_display: np.ndarray, test_display: np.ndarray):
