@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from grader import PROJECT_ROOT, i18n
-from test_i18n import english_sentences
+from test_i18n import english_sentences, privilege_drop  # noqa: F401 (a fixture)
 
 SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
 KANA = re.compile(r"[\u3040-\u30ff]")
@@ -87,6 +87,7 @@ def test_a_refused_or_failed_build_reads_in_japanese(case, tmp_path):
     assert word in detail
 
 
+@pytest.mark.slow
 def test_a_cached_refusal_reads_in_the_language_of_each_run(tmp_path):
     """A refusal's message is stored with the build: graded first in English,
     the same source reads in Japanese the next time, and back."""
@@ -107,6 +108,17 @@ def test_a_cached_refusal_reads_in_the_language_of_each_run(tmp_path):
     assert "reference solution" in first.log and not KANA.search(first.log)
     assert "参照実装" in second.log and english_sentences(second.log, source.name) == []
     assert third.cached and third.log == first.log
+
+
+@pytest.mark.slow
+def test_an_object_refusal_reads_in_japanese_in_privilege_drop_mode(privilege_drop, japanese, tmp_path):
+    """The refusal is worded on the grader's side, whichever way the
+    compiler was confined (a fresh cache: the build really runs)."""
+    from grader.build import build_submission
+    source = SUBMISSIONS / "attacks" / "unknown_symbol.cpp"
+    result = build_submission(source, cache_dir=tmp_path / "cache")
+    assert result.isolation == "privilege-drop" and result.diagnosis_id == "forbidden-object"
+    assert "標準ライブラリ" in result.log and english_sentences(result.log, source.name) == []
 
 
 def test_the_compilers_own_messages_follow_the_japanese_sentence(japanese):
