@@ -94,8 +94,10 @@ def _font_settings() -> dict:
     """Japanese labels need a font with Japanese glyphs (DejaVu has none):
     the one the arrow pictures use (grader/checks/arrows.py), DejaVu after
     it for any glyph it lacks."""
+    if language() != "ja":
+        return {}
     from ..checks.arrows import cjk_font
-    font = cjk_font() if language() == "ja" else None
+    font = cjk_font()
     if font is None:
         return {}
     from matplotlib import font_manager
