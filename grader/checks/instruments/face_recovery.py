@@ -171,17 +171,23 @@ def find_patterns(faces: list) -> list[Pattern]:
                 frozenset(named), ("u-flipped", "v-flipped")))
             turns = {f: o for f, o in turns.items() if f not in named}
             break
+    # Every turn shared by two faces or more, in one diagnosis (one cause: how the faces were taken).
+    sentences, rotated, hides = [], set(), set()
     for orientation, (degrees, u, v) in ROTATIONS.items():
-        rotated = sorted(f for f, o in turns.items() if o == orientation)
-        if len(rotated) < MIN_ROTATED:
+        group = sorted(f for f, o in turns.items() if o == orientation)
+        if len(group) < MIN_ROTATED:
             continue
-        names = [face_name(f) for f in rotated]
-        out.append(Pattern("uv-rotated", _(
+        names = [face_name(f) for f in group]
+        sentences.append(_(
             "On %(faces)s, (u, v) are turned %(degrees)d degrees about the face's centre: your u is %(u)s and "
             "your v is %(v)s, with u and v from the (u, v) table in README.md. (Per face: %(per_face)s.)") % {
                 "faces": and_list(names), "degrees": degrees, "u": u, "v": v,
-                "per_face": "; ".join(f"{n}: {_orientation_words(orientation)}" for n in names)},
-            frozenset(rotated), tuple(i for i, on in zip(("uv-swapped", "u-flipped", "v-flipped"), orientation) if on)))
+                "per_face": "; ".join(f"{n}: {_orientation_words(orientation)}" for n in names)})
+        rotated |= set(group)
+        hides |= {i for i, on in zip(("uv-swapped", "u-flipped", "v-flipped"), orientation) if on}
+    if sentences:
+        # A turned face's orientation ids are all its turn's: hiding the union hides nothing else.
+        out.append(Pattern("uv-rotated", " ".join(sentences), frozenset(rotated), tuple(sorted(hides))))
     return out
 
 
