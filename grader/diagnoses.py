@@ -312,7 +312,7 @@ _ENTRIES = [
     DiagnosisInfo(
         "face-order", "mapping",
         N_("Your face numbers are in another order than the buffer's"),
-        N_("Several faces read another face, each at the right (u, v): your code "
+        N_("Several faces read another face, one for one: your code "
         "numbers the faces in another order (for example +X, +Y, +Z, -X, -Y, -Z) "
         "than faceAddress, which takes +X, -X, +Y, -Y, +Z, -Z. The details "
         "give your order."),

@@ -223,6 +223,44 @@ def test_no_correct_submission_gets_a_pattern(path, tmp_path):
     assert {c.name: c.status for c in result.checks}["diagnosis"] == PASSED
 
 
+@pytest.fixture
+def privilege_drop(tmp_path, monkeypatch):
+    """A bwrap that always fails (Gradescope, PrairieLearn): as root the
+    grader runs the submission in privilege-drop mode."""
+    import os
+    import stat
+    from fake_bwrap import write_failing_bwrap
+    from grader.worker import sandbox
+    folder = write_failing_bwrap(tmp_path / "fakebin")
+    tmp_path.chmod(tmp_path.stat().st_mode | stat.S_IXOTH | stat.S_IROTH)
+    monkeypatch.setenv("PATH", f"{folder}:{os.environ.get('PATH', '/usr/bin:/bin')}")
+    sandbox.sandbox_problem.cache_clear()
+    yield
+    sandbox.sandbox_problem.cache_clear()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, title", [
+    ("face-order-negative-first_lambdas_nearest", "あなたの面の番号は、バッファーの面の順と違う順になっています"),
+    ("rotated-270-three-faces_u-flip_if-chain", "いくつかの面で、(u, v) が 90 度・180 度・270 度回転しています"),
+])
+def test_a_pattern_reads_the_same_in_privilege_drop_mode_and_in_japanese(privilege_drop, tmp_path, name, title):
+    from grader import i18n
+    from grader.grade import GradeOptions, grade
+    before = i18n.language()
+    try:
+        result = grade(ZOO / f"{name}.cpp", tmp_path / "out", GradeOptions(quick=True, lang="ja"))
+    finally:
+        i18n.set_language(before)
+    assert result.isolation == "privilege-drop"
+    missing, false = verdict(name, {(d.id, d.face) for d in result.diagnoses})
+    assert not missing and not false, f"missing {missing}, false {false}"
+    report = (tmp_path / "out" / "report.md").read_text()
+    assert title in report and "面ごと" in report
+    from test_i18n import english_sentences
+    assert english_sentences(report, name) == []
+
+
 def exact_share(out: Path) -> tuple[int, int, list[str]]:
     """(exact, total, lines) for a folder of reports written by
     `python -m grader grade --quick tests/submissions/patterns/*.cpp --out OUT`."""

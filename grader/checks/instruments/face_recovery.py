@@ -147,7 +147,7 @@ def face_order(faces: list) -> Pattern | None:
     per_face = "; ".join(_("%(face)s reads %(sampled)s") % {"face": face_name(f), "sampled": face_name(sampled[f])}
                          for f in moved)
     detail = _("Your face numbers mean %(theirs)s, but faceAddress(k) takes the handout's order %(handout)s, so "
-               "directions toward %(moved)s read another face at the right (u, v). Number the faces as the "
+               "directions toward %(moved)s read another face. Number the faces as the "
                "handout does (FACE_POS_X .. FACE_NEG_Z), or map your number to it before calling "
                "faceAddress. (Per face: %(per_face)s.)") % {
         "theirs": ", ".join(theirs), "handout": ", ".join(reference.FACE_NAMES),
