@@ -99,15 +99,16 @@ CANDIDATES = sorted((Candidate(*flags) for flags in itertools.product(
 TURNED_180 = (False, True, True)
 
 # Two sets of faces turned 180 degrees with a known cause; told when those
-# faces are turned and no other face is.
+# faces are turned and no other face is (and, where the words say the other
+# faces are right, when their orientation is).
 NAMED_TURNS = {
     # m = the signed major component: on -X, -Y, -Z both s/m and t/m change sign.
-    "signed-major": ((1, 3, 5),
+    "signed-major": ((1, 3, 5), False,
                      N_("u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
                         "signed major component, which is negative on those faces. Divide by m = |major "
                         "component| and keep the table's signs.")),
     # OpenGL's table (sc, tc per face) against ASSIGNMENT.md's: +X, -X and -Z turned 180 degrees.
-    "opengl-table": ((0, 1, 5),
+    "opengl-table": ((0, 1, 5), True,
                      N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
                         "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
                         "table. Use the (u, v) table in README.md for every face.")),
@@ -161,10 +162,12 @@ def find_patterns(faces: list) -> list[Pattern]:
     faces and on no other), and a turn of (u, v) shared by two faces or more.
     The faces' other mistakes stay per face."""
     out = [p for p in (face_order(faces),) if p is not None]
-    turns = {v.face: v.orientation() for v in faces if v.orientation() in ROTATIONS}
-    for pid, (named, words) in NAMED_TURNS.items():
+    orientations = {v.face: v.orientation() for v in faces}
+    turns = {f: o for f, o in orientations.items() if o in ROTATIONS}
+    for pid, (named, others_right, words) in NAMED_TURNS.items():
         turned = {f for f, o in turns.items() if o == TURNED_180}
-        if turned == set(named):
+        rest = [orientations.get(f) for f in range(6) if f not in named]
+        if turned == set(named) and (not others_right or all(o == (False, False, False) for o in rest)):
             out.append(Pattern(pid, _("%(words)s (per face: %(per_face)s.)") % {
                 "words": _(words), "per_face": "; ".join(f"{face_name(f)}: {_orientation_words(TURNED_180)}"
                                                          for f in named)},
