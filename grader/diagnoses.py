@@ -310,6 +310,27 @@ _ENTRIES = [
         N_("Take u and v for every face from the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
+        "face-order", "mapping",
+        N_("Your face numbers are in another order than the buffer's"),
+        N_("Several faces read another face, one for one: your code "
+        "numbers the faces in another order (for example +X, +Y, +Z, -X, -Y, -Z) "
+        "than faceAddress, which takes +X, -X, +Y, -Y, +Z, -Z. The details "
+        "give your order."),
+        N_("Pass faceAddress the handout's numbers (FACE_POS_X .. FACE_NEG_Z), or "
+        "convert yours in one place. Keep your (u, v) formulas."),
+    ),
+    DiagnosisInfo(
+        "uv-rotated", "mapping",
+        N_("On several faces, (u, v) are turned 90, 180 or 270 degrees"),
+        N_("On the faces named, the picture is turned about the face's centre: u "
+        "and v are swapped and one of them runs the wrong way (90 or 270 "
+        "degrees), or both run the wrong way (180 degrees). One turn on several "
+        "faces has one cause, for example faces taken from a turned picture of "
+        "the cross."),
+        N_("Take u and v for each face from the (u, v) table in README.md, both "
+        "the component and its sign. The details say what your u and v are."),
+    ),
+    DiagnosisInfo(
         "uv-swapped", "mapping",
         N_("On this face, u and v are swapped"),
         N_("Your fetchColor used the component that should give v for u and the "

@@ -28,7 +28,7 @@ from ...results import Diagnosis
 
 # Every id a candidate can give (tests/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",
-                 "uv-inset", "uv-offset", "uv-mismatch")
+                 "face-order", "uv-rotated", "uv-inset", "uv-offset", "uv-mismatch")
 from .compare import tolerance
 from .directions import fibonacci_sphere, tied_axes
 from .texture_model import Fit, TextureModel, evaluate_in_buffer
@@ -91,34 +91,107 @@ CANDIDATES = sorted((Candidate(*flags) for flags in itertools.product(
 
 # ---- patterns over several faces ---------------------------------------------
 
-# One cause that explains the per-face mistakes of several faces at once:
-# per face, (swap, flip u, flip v); faces not listed must be right. Told as
+# One cause that explains the mistakes of several faces at once is told as
 # one diagnosis with its cause and fix (the per-face ids in its detail), so
 # the advice does not lead to a compensating fix face by face (issue 19).
-PATTERNS = {
+# A face's orientation is (swap, flip u, flip v) of the (u, v) it reads
+# against the table's.
+TURNED_180 = (False, True, True)
+
+# Two sets of faces turned 180 degrees with a known cause; told when those
+# faces are turned and no other face is (and, where the words say the other
+# faces are right, when their orientation is).
+NAMED_TURNS = {
     # m = the signed major component: on -X, -Y, -Z both s/m and t/m change sign.
-    "signed-major": ({1: (False, True, True), 3: (False, True, True), 5: (False, True, True)},
+    "signed-major": ((1, 3, 5), False,
                      N_("u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
                         "signed major component, which is negative on those faces. Divide by m = |major "
                         "component| and keep the table's signs.")),
     # OpenGL's table (sc, tc per face) against ASSIGNMENT.md's: +X, -X and -Z turned 180 degrees.
-    "opengl-table": ({0: (False, True, True), 1: (False, True, True), 5: (False, True, True)},
+    "opengl-table": ((0, 1, 5), True,
                      N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
                         "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
                         "table. Use the (u, v) table in README.md for every face.")),
 }
 
+# Turns of (u, v) about the face's centre: orientation -> (degrees, your u, your v)
+# in the table's u and v. The other orientations are mirror images, told per face.
+ROTATIONS = {
+    TURNED_180: (180, "1 - u", "1 - v"),
+    (True, True, False): (90, "1 - v", "u"),
+    (True, False, True): (270, "v", "1 - u"),
+}
+MIN_ROTATED = 2       # one face turned is told per face: a cause shared by faces needs two
+MIN_REORDERED = 3     # one swapped pair of faces is two wrong-faces, not a face order
 
-def find_pattern(faces: list) -> tuple[str, str, set[int]] | None:
-    """(id, words, faces it explains) when every face is analysed, on its own
-    face, and the faces' mistakes are exactly one PATTERNS entry."""
-    flags = {v.face: v.flags() for v in faces}
-    if len(flags) != 6 or any(f is None for f in flags.values()):
+
+@dataclass(frozen=True)
+class Pattern:
+    id: str
+    detail: str
+    faces: frozenset          # the faces it explains
+    hides: tuple              # the per-face ids it tells once ("wrong-face" or the orientation ids)
+
+
+def _orientation_words(orientation) -> str:
+    return ", ".join(name for name, on in zip(("uv-swapped", "u-flipped", "v-flipped"), orientation) if on)
+
+
+def face_order(faces: list) -> Pattern | None:
+    """Every face read from another face of the buffer, one to one: the
+    code numbers the faces in another order than faceAddress takes."""
+    sampled = {v.face: v.sampled for v in faces if v.analysed and v.sampled is not None}
+    moved = sorted(f for f, g in sampled.items() if g != f)
+    if len(sampled) != 6 or sorted(sampled.values()) != list(range(6)) or len(moved) < MIN_REORDERED:
         return None
-    for pattern, (wrong, words) in PATTERNS.items():
-        if all(flags[f] == wrong.get(f, (False, False, False)) for f in range(6)):
-            return pattern, words, set(wrong)
-    return None
+    theirs = [face_name(f) for g in range(6) for f in range(6) if sampled[f] == g]
+    per_face = "; ".join(_("%(face)s reads %(sampled)s") % {"face": face_name(f), "sampled": face_name(sampled[f])}
+                         for f in moved)
+    detail = _("Your face numbers mean %(theirs)s, but faceAddress(k) takes the handout's order %(handout)s, so "
+               "directions toward %(moved)s read another face. Number the faces as the "
+               "handout does (FACE_POS_X .. FACE_NEG_Z), or map your number to it before calling "
+               "faceAddress. (Per face: %(per_face)s.)") % {
+        "theirs": ", ".join(theirs), "handout": ", ".join(reference.FACE_NAMES),
+        "moved": and_list([face_name(f) for f in moved]), "per_face": per_face}
+    return Pattern("face-order", detail, frozenset(moved), ("wrong-face",))
+
+
+def find_patterns(faces: list) -> list[Pattern]:
+    """The patterns that explain several faces at once: a face order, the
+    signed major component or OpenGL's table (180 degrees on their three
+    faces and on no other), and a turn of (u, v) shared by two faces or more.
+    The faces' other mistakes stay per face."""
+    out = [p for p in (face_order(faces),) if p is not None]
+    orientations = {v.face: v.orientation() for v in faces}
+    turns = {f: o for f, o in orientations.items() if o in ROTATIONS}
+    for pid, (named, others_right, words) in NAMED_TURNS.items():
+        turned = {f for f, o in turns.items() if o == TURNED_180}
+        rest = [orientations.get(f) for f in range(6) if f not in named]
+        if turned == set(named) and (not others_right or all(o == (False, False, False) for o in rest)):
+            out.append(Pattern(pid, _("%(words)s (per face: %(per_face)s.)") % {
+                "words": _(words), "per_face": "; ".join(f"{face_name(f)}: {_orientation_words(TURNED_180)}"
+                                                         for f in named)},
+                frozenset(named), ("u-flipped", "v-flipped")))
+            turns = {f: o for f, o in turns.items() if f not in named}
+            break
+    # Every turn shared by two faces or more, in one diagnosis (one cause: how the faces were taken).
+    sentences, rotated, hides = [], set(), set()
+    for orientation, (degrees, u, v) in ROTATIONS.items():
+        group = sorted(f for f, o in turns.items() if o == orientation)
+        if len(group) < MIN_ROTATED:
+            continue
+        names = [face_name(f) for f in group]
+        sentences.append(_(
+            "On %(faces)s, (u, v) are turned %(degrees)d degrees about the face's centre: your u is %(u)s and "
+            "your v is %(v)s, with u and v from the (u, v) table in README.md. (Per face: %(per_face)s.)") % {
+                "faces": and_list(names), "degrees": degrees, "u": u, "v": v,
+                "per_face": "; ".join(f"{n}: {_orientation_words(orientation)}" for n in names)})
+        rotated |= set(group)
+        hides |= {i for i, on in zip(("uv-swapped", "u-flipped", "v-flipped"), orientation) if on}
+    if sentences:
+        # A turned face's orientation ids are all its turn's: hiding the union hides nothing else.
+        out.append(Pattern("uv-rotated", " ".join(sentences), frozenset(rotated), tuple(sorted(hides))))
+    return out
 
 
 # ---- results ---------------------------------------------------------------
@@ -146,15 +219,16 @@ class FaceVerdict:
         return (self.analysed and self.sampled == self.face and self.candidate is not None
                 and not self.candidate.ids and not self.candidate.by_length)
 
-    def flags(self) -> tuple[bool, bool, bool] | None:
-        """(swap, flip u, flip v) when the face's only mistakes are its orientation."""
-        if not self.analysed or self.sampled != self.face:
+    def orientation(self) -> tuple[bool, bool, bool] | None:
+        """(swap, flip u, flip v) of the (u, v) read on the sampled face
+        against the table's, when the face's map is known (read back, or a
+        candidate explains it), whatever else is wrong there."""
+        if not self.analysed or self.sampled is None:
             return None
         if self.affine is not None:
-            a = self.affine
-            return (a.swap, a.flip_u, a.flip_v) if a.kind is None else None
+            return self.affine.swap, self.affine.flip_u, self.affine.flip_v
         c = self.candidate
-        if c is None or self.share < SHARE or c.remap != "handout" or c.by_length:
+        if c is None or self.share < SHARE:
             return None
         return c.swap, c.flip_u, c.flip_v
 
@@ -182,13 +256,9 @@ class FetchAnalysis:
             out.append(Diagnosis("not-divided-by-m", _("The answer changes with the direction's length, or (u, v) do "
                                                      "not reach the face's edges: divide the face-plane coordinates by the major "
                                                      "component's magnitude m.")))
-        pattern = find_pattern(self.faces)
-        if pattern is not None:
-            pid, words, explained = pattern
-            per_face = "; ".join(f"{face_name(v.face)}: " + ", ".join(
-                name for name, on in zip(("uv-swapped", "u-flipped", "v-flipped"), v.flags()) if on)
-                for v in self.faces if v.face in explained)
-            out.append(Diagnosis(pid, _("%(words)s (per face: %(per_face)s.)") % {"words": _(words), "per_face": per_face}))
+        patterns = find_patterns(self.faces)
+        out += [Diagnosis(p.id, p.detail) for p in patterns]
+        hidden = {(f, i) for p in patterns for f in p.faces for i in p.hides}   # told once, by the pattern
         # One (u, v) mistake shared by every face read back (an inset, an offset): told once.
         read_back = [v for v in self.faces if v.analysed and v.affine is not None]
         kinds = {v.affine.kind for v in read_back}
@@ -206,8 +276,6 @@ class FetchAnalysis:
                                                     "w": example.size[0], "h": example.size[1]}))
         for v in self.faces:
             name = face_name(v.face)
-            if pattern is not None and v.face in pattern[2]:
-                continue                 # told once, by the pattern
             if v.crash is not None:
                 out.append(Diagnosis("face-not-analysed", _("Directions toward %(face)s could not be analysed "
                                                             "(crash at %(crash)s).") % {"face": name, "crash": v.crash},
@@ -219,12 +287,13 @@ class FetchAnalysis:
                 out.append(Diagnosis("wrong-face", _("Directions toward %(face)s return a colour that is not in "
                                                      "the texture (black?).") % {"face": name}, face=name))
                 continue
-            if v.sampled != v.face:
+            if v.sampled != v.face and (v.face, "wrong-face") not in hidden:
                 out.append(Diagnosis("wrong-face", _("Directions toward %(face)s sample the %(sampled)s face.")
                                      % {"face": name, "sampled": face_name(v.sampled)}, face=name))
             if v.affine is not None:
                 for mistake in v.affine.orientation_ids:
-                    out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
+                    if (v.face, mistake) not in hidden:
+                        out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
                 kind = v.affine.kind
                 if kind is not None and kind != shared:
                     out.append(Diagnosis(kind, _("On the %(face)s face, fetchColor reads at %(words)s "
@@ -233,7 +302,8 @@ class FetchAnalysis:
                 continue
             if v.share >= SHARE and v.candidate is not None:
                 for mistake in v.candidate.ids:
-                    out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
+                    if (v.face, mistake) not in hidden:
+                        out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
             else:
                 out.append(Diagnosis("uv-mismatch", _("On the %(face)s face, (u, v) follow no pattern we recognise "
                                                       "(%(share)s of directions explained by the best guess).")
