@@ -235,6 +235,48 @@ _ENTRIES = [
         "on every path."),
     ),
     # ---- mapping (fetchColor) --------------------------------------------
+    # Patterns first: one cause over several faces reads before the per-face
+    # symptoms it explains (reports list mistakes in this order).
+    DiagnosisInfo(
+        "signed-major", "mapping",
+        N_("You divide by the signed major component"),
+        N_("On -X, -Y and -Z, and only there, u and v both run the wrong way: "
+        "those are the faces where the major component is negative, so "
+        "dividing by it (instead of by its magnitude m) flips both signs."),
+        N_("Divide by m = |major component| (fabs) and keep the signs of the "
+        "(u, v) table in README.md; do not flip the table's signs to make up "
+        "for it."),
+    ),
+    DiagnosisInfo(
+        "opengl-table", "mapping",
+        N_("You use OpenGL's cube-map table, not this assignment's"),
+        N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
+        "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
+        "of sc and tc per face, whose conventions differ from this "
+        "assignment's."),
+        N_("Take u and v for every face from the (u, v) table in README.md."),
+    ),
+    DiagnosisInfo(
+        "face-order", "mapping",
+        N_("Your face numbers are in another order than the buffer's"),
+        N_("Several faces read another face, one for one: your code "
+        "numbers the faces in another order (for example +X, +Y, +Z, -X, -Y, -Z) "
+        "than faceAddress, which takes +X, -X, +Y, -Y, +Z, -Z. The details "
+        "give your order."),
+        N_("Pass faceAddress the handout's numbers (FACE_POS_X .. FACE_NEG_Z), or "
+        "convert yours in one place. Keep your (u, v) formulas."),
+    ),
+    DiagnosisInfo(
+        "uv-rotated", "mapping",
+        N_("On several faces, (u, v) are turned 90, 180 or 270 degrees"),
+        N_("On the faces named, the picture is turned about the face's centre: u "
+        "and v are swapped and one of them runs the wrong way (90 or 270 "
+        "degrees), or both run the wrong way (180 degrees). One turn on several "
+        "faces has one cause, for example faces taken from a turned picture of "
+        "the cross."),
+        N_("Take u and v for each face from the (u, v) table in README.md, both "
+        "the component and its sign. The details say what your u and v are."),
+    ),
     DiagnosisInfo(
         "wrong-face", "mapping",
         N_("fetchColor read from the wrong face"),
@@ -289,46 +331,6 @@ _ENTRIES = [
         N_("Pass (1 + s/m)/2 and (1 + t/m)/2 to readTexture as they are: no "
         "half-texel correction is needed, readTexture's p = (uW, vH) already "
         "says where the texels are."),
-    ),
-    DiagnosisInfo(
-        "signed-major", "mapping",
-        N_("You divide by the signed major component"),
-        N_("On -X, -Y and -Z, and only there, u and v both run the wrong way: "
-        "those are the faces where the major component is negative, so "
-        "dividing by it (instead of by its magnitude m) flips both signs."),
-        N_("Divide by m = |major component| (fabs) and keep the signs of the "
-        "(u, v) table in README.md; do not flip the table's signs to make up "
-        "for it."),
-    ),
-    DiagnosisInfo(
-        "opengl-table", "mapping",
-        N_("You use OpenGL's cube-map table, not this assignment's"),
-        N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
-        "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
-        "of sc and tc per face, whose conventions differ from this "
-        "assignment's."),
-        N_("Take u and v for every face from the (u, v) table in README.md."),
-    ),
-    DiagnosisInfo(
-        "face-order", "mapping",
-        N_("Your face numbers are in another order than the buffer's"),
-        N_("Several faces read another face, one for one: your code "
-        "numbers the faces in another order (for example +X, +Y, +Z, -X, -Y, -Z) "
-        "than faceAddress, which takes +X, -X, +Y, -Y, +Z, -Z. The details "
-        "give your order."),
-        N_("Pass faceAddress the handout's numbers (FACE_POS_X .. FACE_NEG_Z), or "
-        "convert yours in one place. Keep your (u, v) formulas."),
-    ),
-    DiagnosisInfo(
-        "uv-rotated", "mapping",
-        N_("On several faces, (u, v) are turned 90, 180 or 270 degrees"),
-        N_("On the faces named, the picture is turned about the face's centre: u "
-        "and v are swapped and one of them runs the wrong way (90 or 270 "
-        "degrees), or both run the wrong way (180 degrees). One turn on several "
-        "faces has one cause, for example faces taken from a turned picture of "
-        "the cross."),
-        N_("Take u and v for each face from the (u, v) table in README.md, both "
-        "the component and its sign. The details say what your u and v are."),
     ),
     DiagnosisInfo(
         "uv-swapped", "mapping",
