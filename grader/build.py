@@ -38,7 +38,8 @@ limits and a wall-clock deadline.
 
 Builds are cached by content hash under build/submissions/<key>/: the key
 covers the student's source, every file of ours that goes into the library,
-the flags and the compiler versions. The cache stores the compiler's own
+the flags, the compiler versions and the language (a refusal's message is
+stored in it). The cache stores the compiler's own
 output with paths made neutral; what the student reads (which file, in
 which order, friendly sentences) is worked out on every call
 (grader/build_messages.py), so the same source in a .zip and as a loose
@@ -71,6 +72,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import PROJECT_ROOT, source_policy
+from .i18n import _, language, ngettext
 from .build_messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED, describe
 from .submissions import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
                           SubmissionError, select_source as _select_source)
@@ -229,25 +231,25 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
         shown = f"#{name} {rest}".strip()[:120]
         if name in ("include", "include_next", "import"):
             if not _plain_header(rest):
-                found.append((line, f"{shown} (a header must be named plainly, as in #include <cmath> "
-                                    "or #include \"EnvironmentMap.h\": no path from /, no '..', no macro)"))
+                found.append((line, _("%(shown)s (a header must be named plainly, as in #include <cmath> "
+                                      "or #include \"EnvironmentMap.h\": no path from /, no '..', no macro)") % {"shown": shown}))
         elif name == "embed":
-            found.append((line, f"{shown} (#embed reads a file: not allowed)"))
+            found.append((line, _("%(shown)s (#embed reads a file: not allowed)") % {"shown": shown}))
         elif name == "pragma" and _PRAGMA_FILES.search(rest):
-            found.append((line, f"{shown} (this pragma reads a file: not allowed)"))
+            found.append((line, _("%(shown)s (this pragma reads a file: not allowed)") % {"shown": shown}))
         elif name == "" and rest and not rest.startswith("!"):
             pass  # a null directive or a stray '#': the compiler says what is wrong
     for match in _HAS_INCLUDE.finditer(cleaned):
         if match.group(2) is None or not _plain_header(match.group(3).strip()):
-            found.append((line_of(match.start()), f"{match.group(0)[:80]} (only a plain header name "
-                                                  "may be tested)"))
+            found.append((line_of(match.start()), _("%(shown)s (only a plain header name "
+                                                    "may be tested)") % {"shown": match.group(0)[:80]}))
     for match in re.finditer(r"_Pragma\b[^\n]*", cleaned):
         if _PRAGMA_FILES.search(match.group(0)):
-            found.append((line_of(match.start()), f"{match.group(0)[:80]} (this pragma reads a file: "
-                                                  "not allowed)"))
+            found.append((line_of(match.start()), _("%(shown)s (this pragma reads a file: "
+                                                    "not allowed)") % {"shown": match.group(0)[:80]}))
     for match in re.finditer(r"incbin", cleaned, re.I):  # in strings too: asm(".incbin ...")
-        found.append((line_of(match.start()), "assembler .incbin (it reads a file into the program: "
-                                              "not allowed)"))
+        found.append((line_of(match.start()), _("assembler .incbin (it reads a file into the program: "
+                                                "not allowed)")))
     return found
 
 
@@ -273,12 +275,12 @@ def _constructs_in(text: str) -> list[tuple[int, str]]:
         name, rest = match.group(1), match.group(2).strip()
         shown = f"#{name} {rest}".strip()[:120]
         if name not in _DIRECTIVES:
-            found.append((line_of(match.start()), f"{shown} (the directive #{name or rest.split()[0]} is not "
-                                                  "allowed in a submission)"))
+            found.append((line_of(match.start()), _("%(shown)s (the directive #%(name)s is not "
+                                                    "allowed in a submission)") % {"shown": shown, "name": name or rest.split()[0]}))
         elif name == "pragma" and not source_policy.pragma_allowed(rest):
-            found.append((line_of(match.start()), f"{shown} (this pragma is not allowed in a submission)"))
+            found.append((line_of(match.start()), _("%(shown)s (this pragma is not allowed in a submission)") % {"shown": shown}))
     for match in re.finditer(r"\b_Pragma\b", cleaned):
-        found.append((line_of(match.start()), "_Pragma (not allowed in a submission)"))
+        found.append((line_of(match.start()), _("_Pragma (not allowed in a submission)")))
     return found
 
 
@@ -690,12 +692,12 @@ def inspect_library(data: bytes, allowed: set[str], sanitize: bool) -> tuple[str
     try:
         needed, undefined = _library_imports(data)
     except _BadObject as exc:
-        return "forbidden-object", f"The library built from {SOURCE_NAME} could not be checked: {exc}."
+        return "forbidden-object", _("The library built from %(source)s could not be checked: %(why)s.") % {"source": SOURCE_NAME, "why": exc}
     odd = [n for n in needed if n not in RUNTIME_NEEDED and not (sanitize and n.startswith(SANITIZER_NEEDED))]
     unknown = [n for n in undefined if n not in allowed]
     if odd or unknown:
-        return "forbidden-object", (f"The library built from {SOURCE_NAME} needs {_listed(odd + unknown)}, "
-                                    "which is neither the C/C++ runtime nor the grader's own code.")
+        return "forbidden-object", (_("The library built from %(source)s needs %(names)s, "
+                                      "which is neither the C/C++ runtime nor the grader's own code.") % {"source": SOURCE_NAME, "names": _listed(odd + unknown)})
     return None
 
 
@@ -721,7 +723,7 @@ def _listed(names, limit: int = 5) -> str:
     shortened for a message."""
     names = list(names)
     shown = [repr(n[:80] + "...") if len(n) > 80 else (n if n.isprintable() else repr(n)) for n in names[:limit]]
-    return ", ".join(shown) + (f" and {len(names) - limit} more" if len(names) > limit else "")
+    return ", ".join(shown) + (_(" and %(count)d more") % {"count": len(names) - limit} if len(names) > limit else "")
 
 
 def _demangle(names: list[str]) -> list[str]:
@@ -748,46 +750,50 @@ def inspect_object(data: bytes, allowed: set[str], loader_names: frozenset[str] 
     try:
         sections, symbols, flags = _object_symbols(data)
     except _BadObject as exc:
-        return "forbidden-object", f"The compiled {name} could not be checked: {exc}."
+        return "forbidden-object", _("The compiled %(source)s could not be checked: %(why)s.") % {"source": name, "why": exc}
     # SHF_WRITE | SHF_EXECINSTR: code that can be rewritten while it runs; no compiler makes it.
     writable_code = sorted({n for n, f in zip(sections, flags) if f & 0x1 and f & 0x4})
     if writable_code:
         return "forbidden-object", (
-            f"{name} makes sections that are both writable and executable "
-            f"({_listed(writable_code, 3)}): remove the asm or attributes that "
-            "create them.")
+            _("%(source)s makes sections that are both writable and executable "
+              "(%(sections)s): remove the asm or attributes that "
+              "create them.") % {"source": name, "sections": _listed(writable_code, 3)})
     lto = [s for s in sections if "lto" in s.lower()]
     if lto:
         return "forbidden-object", (
-            f"{name} carries link-time-optimisation sections ({_listed(sorted(set(lto)), 3)}): "
-            "code the grader cannot see in your source. The grader builds without LTO; "
-            "remove the asm or attributes that create these sections.")
+            _("%(source)s carries link-time-optimisation sections (%(sections)s): "
+              "code the grader cannot see in your source. The grader builds without LTO; "
+              "remove the asm or attributes that create these sections.") % {"source": name, "sections": _listed(sorted(set(lto)), 3)})
     odd = sorted({s for s in sections if not _ORDINARY_SECTION.match(s)})
     if odd:
         return "forbidden-object", (
-            f"{name} puts code or data in sections a C++ compiler does not make "
-            f"({_listed(odd)}). Remove the section attributes or asm "
-            "that create them.")
+            _("%(source)s puts code or data in sections a C++ compiler does not make "
+              "(%(sections)s). Remove the section attributes or asm "
+              "that create them.") % {"source": name, "sections": _listed(odd)})
     undefined = sorted({s for s, _, defined in symbols if not defined})
     reference = [s for s in undefined if s.startswith("em_")]
     if reference:
         return "calls-reference", (
-            f"{name} calls {_listed(reference)}: "
-            f"{'these are functions' if len(reference) > 1 else 'this is a function'} of the grader's "
-            "reference solution, which is not part of your program. fetchColor and readTexture must "
-            "compute their answers with your own code.")
+            ngettext("%(source)s calls %(names)s: this is a function of the grader's "
+                     "reference solution, which is not part of your program. fetchColor and readTexture must "
+                     "compute their answers with your own code.",
+                     "%(source)s calls %(names)s: these are functions of the grader's "
+                     "reference solution, which is not part of your program. fetchColor and readTexture must "
+                     "compute their answers with your own code.", len(reference)) % {"source": name, "names": _listed(reference)})
     replaced = sorted({s for s, bind, defined in symbols if defined and bind == 1 and s in loader_names})
     if replaced:
         return "forbidden-object", (
-            f"{name} defines {_listed(replaced)}, which the grader's own loader code defines: "
-            "yours would replace it. Rename your function or make it static.")
+            _("%(source)s defines %(names)s, which the grader's own loader code defines: "
+              "yours would replace it. Rename your function or make it static.") % {"source": name, "names": _listed(replaced)})
     unknown = [s for s in undefined if s not in allowed]
     if unknown:
         shown = _demangle(unknown[:5])
         return "forbidden-object", (
-            f"{name} uses {_listed(shown + unknown[5:])}, which "
-            f"{'are' if len(unknown) > 1 else 'is'} neither in the C/C++ standard library nor in "
-            "EnvironmentMap.h: define it in your file, or use only the standard library.")
+            ngettext("%(source)s uses %(names)s, which is neither in the C/C++ standard library nor in "
+                     "EnvironmentMap.h: define it in your file, or use only the standard library.",
+                     "%(source)s uses %(names)s, which are neither in the C/C++ standard library nor in "
+                     "EnvironmentMap.h: define it in your file, or use only the standard library.",
+                     len(unknown)) % {"source": name, "names": _listed(shown + unknown[5:])})
     return None
 
 
@@ -979,9 +985,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         outside = _outside_files(_dependencies(listed.decode("utf-8", "surrogateescape")), scratch)
         if outside:
             shown = ", ".join(neutral(o) for o in outside[:3])
-            return _refusal("refused-include", f"{SOURCE_NAME} makes the compiler read {shown}: a submission "
-                                               "may include only the C++ standard library and the template's "
-                                               "headers (EnvironmentMap.h, Vector3.h, Color.h).")
+            return _refusal("refused-include", _("%(source)s makes the compiler read %(shown)s: a submission "
+                                                 "may include only the C++ standard library and the template's "
+                                                 "headers (EnvironmentMap.h, Vector3.h, Color.h).") % {"source": SOURCE_NAME, "shown": shown})
     if done.returncode != 0:
         return failed(done)
     # 2. The source policy, on the compiler's own tokens (no asm, #line,
@@ -991,13 +997,13 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     # from the compiler), but in the source it is a stray '#', an error.
     preprocessed = _take(scratch, STUDENT_PREPROCESSED, MAX_ASSEMBLY_BYTES + 1) or b""
     if len(preprocessed) > MAX_ASSEMBLY_BYTES:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} preprocesses to more than "
-                                            f"{MAX_ASSEMBLY_BYTES >> 20} MiB: far more than a lookup needs.")
+        return _refusal("forbidden-object", _("%(source)s preprocesses to more than "
+                                              "%(mib)d MiB: far more than a lookup needs.") % {"source": SOURCE_NAME, "mib": MAX_ASSEMBLY_BYTES >> 20})
     refused = source_policy.refusals(preprocessed.decode("utf-8", "surrogateescape"), SOURCE_NAME)
     if refused:
         line, what = refused[0]
-        more = f" (and {len(refused) - 1} more)" if len(refused) > 1 else ""
-        return _refusal("refused-source", f"{SOURCE_NAME} line {line}: {what}{more}.", line)
+        more = _(" (and %(count)d more)") % {"count": len(refused) - 1} if len(refused) > 1 else ""
+        return _refusal("refused-source", _("%(source)s line %(line)s: %(what)s%(more)s.") % {"source": SOURCE_NAME, "line": line, "what": what, "more": more}, line)
     (scratch / STUDENT_PREPROCESSED).unlink(missing_ok=True)
     done = step([CXX, *cxxflags, *extra_flags, *include, "-S", SOURCE_NAME, "-o", STUDENT_ASSEMBLY])
     if done.timed_out or done.returncode != 0:
@@ -1006,14 +1012,14 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     # searched as raw text, strings included, so no quoting can hide one).
     assembly = _take(scratch, STUDENT_ASSEMBLY, MAX_ASSEMBLY_BYTES + 1) or b""
     if len(assembly) > MAX_ASSEMBLY_BYTES:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} compiles to more than "
-                                            f"{MAX_ASSEMBLY_BYTES >> 20} MiB of assembly: far more than "
-                                            "a lookup needs (a huge table?).")
+        return _refusal("forbidden-object", _("%(source)s compiles to more than "
+                                              "%(mib)d MiB of assembly: far more than "
+                                              "a lookup needs (a huge table?).") % {"source": SOURCE_NAME, "mib": MAX_ASSEMBLY_BYTES >> 20})
     directive = _ASSEMBLER_FORBIDDEN.search(assembly.decode("utf-8", "surrogateescape"))
     if directive:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} contains the assembler directive "
-                                            f"{directive.group(0)}, which reads a file or builds "
-                                            "hidden code: not allowed in a submission.")
+        return _refusal("forbidden-object", _("%(source)s contains the assembler directive "
+                                              "%(directive)s, which reads a file or builds "
+                                              "hidden code: not allowed in a submission.") % {"source": SOURCE_NAME, "directive": directive.group(0)})
     done = step([CXX, *cxxflags, "-c", STUDENT_ASSEMBLY, "-o", STUDENT_OBJECT])
     if done.timed_out or done.returncode != 0:
         return failed(done)
@@ -1026,8 +1032,8 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     # 5. Link with our objects only, as we made them.
     for name in COMMON_FILES:
         if _take(scratch, name) != (common_dir / name).read_bytes():
-            return _refusal("forbidden-object", f"The build of {SOURCE_NAME} changed the grader's own "
-                                                f"files ({name}).")
+            return _refusal("forbidden-object", _("The build of %(source)s changed the grader's own "
+                                                  "files (%(name)s).") % {"source": SOURCE_NAME, "name": name})
     done = step([CXX, *cxxflags, "-shared", "-o", LIBRARY_NAME, STUDENT_OBJECT, "shim.o", "loader.o",
                  "libreference.a", *LINK_FLAGS, "-Wl,--version-script=exports.map", "-lm"])
     if done.timed_out or done.returncode != 0:
@@ -1036,9 +1042,9 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
     if not library:
         return failed(done)
     if len(library) > MAX_LIBRARY_BYTES:
-        return _refusal("forbidden-object", f"{SOURCE_NAME} links into a library of more than "
-                                            f"{MAX_LIBRARY_BYTES >> 20} MiB: far more than a lookup needs "
-                                            "(a huge array with an initial value, or in a data section?).")
+        return _refusal("forbidden-object", _("%(source)s links into a library of more than "
+                                              "%(mib)d MiB: far more than a lookup needs "
+                                              "(a huge array with an initial value, or in a data section?).") % {"source": SOURCE_NAME, "mib": MAX_LIBRARY_BYTES >> 20})
     problem = inspect_library(library, allowed, sanitize="-fsanitize=address,undefined" in cxxflags)
     if problem:
         return _refusal(*problem)
@@ -1067,29 +1073,29 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
                          notes=list(chosen.notes), source_name=chosen.name)
     refused = refused_directives(chosen.text)
     if refused:
-        lines = "; ".join(f"line {line}: {what}" for line, what in refused[:3])
-        message = (f"{chosen.name} may include only the C++ standard library and the template's headers "
-                   f"(EnvironmentMap.h, Vector3.h, Color.h), by name. Refused: {lines}")
+        lines = "; ".join(_("line %(line)d: %(what)s") % {"line": line, "what": what} for line, what in refused[:3])
+        message = _("%(source)s may include only the C++ standard library and the template's headers "
+                    "(EnvironmentMap.h, Vector3.h, Color.h), by name. Refused: %(lines)s") % {"source": chosen.name, "lines": lines}
         result.log = message
         result.errors = [{"file": chosen.name, "line": refused[0][0], "message": message}]
         result.diagnosis_id = "refused-include"
         return result
     refused = refused_constructs(chosen.text)
     if refused:
-        lines = "; ".join(f"line {line}: {what}" for line, what in refused[:3])
-        message = (f"{chosen.name} uses what a submission may not (no inline assembly, #line, _Pragma or "
-                   f"pragmas beyond {', '.join(' '.join(p) for p in source_policy.PRAGMAS[:3])}, ...). "
-                   f"Refused: {lines}")
+        lines = "; ".join(_("line %(line)d: %(what)s") % {"line": line, "what": what} for line, what in refused[:3])
+        message = _("%(source)s uses what a submission may not (no inline assembly, #line, _Pragma or "
+                    "pragmas beyond %(pragmas)s, ...). Refused: %(lines)s") % {"source": chosen.name, "pragmas": ", ".join(" ".join(p) for p in source_policy.PRAGMAS[:3]), "lines": lines}
         result.log = message
         result.errors = [{"file": chosen.name, "line": refused[0][0], "message": message}]
         result.diagnosis_id = "refused-source"
         return result
 
     common = _common_objects(cache_dir, sanitize)
-    cxxflags, _ = _flags(sanitize)
+    cxxflags = _flags(sanitize)[0]   # (`_` is the translation function here)
     here = Path(__file__).parent
+    # The language too: a refusal's message is cached in the student's language.
     key = _fingerprint([Path(__file__), here / "submissions.py", here / "source_policy.py"], sha, common.name, *cxxflags,
-                       *extra_flags)
+                       *extra_flags, language())
     final = cache_dir / key[:32]
     record_path = final / "build.json"
     if record_path.is_file():

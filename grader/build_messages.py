@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import re
 
+from .i18n import N_, _
+
 SOURCE_NAME = "EnvironmentMap.cpp"
 # The members of EnvironmentMap a submission defines; the rest are ours.
 STUDENT_MEMBERS = ("fetchColor", "readTexture")
@@ -16,8 +18,10 @@ MAX_LOG_LINES = 60
 # One compiler run's messages kept; past this it is stopped (a macro repeating
 # a #pragma warning printed a gigabyte into the grader's memory and cache).
 MAX_COMPILER_OUTPUT_BYTES = 4 << 20
-OUTPUT_STOPPED = (f"(the grader stopped the compiler: it printed more than "
-                  f"{MAX_COMPILER_OUTPUT_BYTES >> 20} MiB of messages)")
+# The marker build.py puts into the (cached) compiler output, in English;
+# shown in the student's language (describe).
+OUTPUT_STOPPED_TEXT = N_("(the grader stopped the compiler: it printed more than %(mib)d MiB of messages)")
+OUTPUT_STOPPED = OUTPUT_STOPPED_TEXT % {"mib": MAX_COMPILER_OUTPUT_BYTES >> 20}
 MAX_LOG_CHARS = 6000
 
 
@@ -44,33 +48,39 @@ def _friendly(output: str) -> list[str]:
 
     for name in _LINK_DEFINITION.findall(output) + _COMPILE_REDEFINITION.findall(output):
         if name not in STUDENT_MEMBERS:
-            say(f"{SOURCE_NAME} must not define {name}: it is provided "
-                f"({'inline in EnvironmentMap.h' if name == 'faceAddress' else 'EnvironmentMapLoader.cpp'}). "
-                "Delete your definition.")
+            where = _("inline in EnvironmentMap.h") if name == "faceAddress" else "EnvironmentMapLoader.cpp"
+            say(_("%(source)s must not define %(name)s: it is provided (%(where)s). Delete your definition.")
+                % {"source": SOURCE_NAME, "name": name, "where": where})
     for name in _TYPE_REDEFINITION.findall(output):
-        say(f"{SOURCE_NAME} must not define {name} again: include \"{name}.h\" instead.")
+        say(_("%(source)s must not define %(name)s again: include \"%(name)s.h\" instead.")
+            % {"source": SOURCE_NAME, "name": name})
     for name in _NO_DECLARATION.findall(output):
         if name in STUDENT_MEMBERS:
-            say(f"{name} must keep the signature EnvironmentMap.h declares; the header cannot change.")
+            say(_("%(name)s must keep the signature EnvironmentMap.h declares; the header cannot change.")
+                % {"name": name})
         else:
-            say(f"EnvironmentMap::{name} is not declared in EnvironmentMap.h, which you cannot change: "
-                "write helpers as free functions in your file (e.g. in an anonymous namespace).")
+            say(_("EnvironmentMap::%(name)s is not declared in EnvironmentMap.h, which you cannot change: "
+                  "write helpers as free functions in your file (e.g. in an anonymous namespace).")
+                % {"name": name})
     if OUTPUT_STOPPED in output:
-        say(f"The compiler printed more than {MAX_COMPILER_OUTPUT_BYTES >> 20} MiB of messages and was "
-            "stopped: far more than any program needs (a macro that repeats a warning?).")
+        say(_("The compiler printed more than %(mib)d MiB of messages and was "
+              "stopped: far more than any program needs (a macro that repeats a warning?).")
+            % {"mib": MAX_COMPILER_OUTPUT_BYTES >> 20})
     if "virtual memory exhausted" in output or "out of memory allocating" in output:
-        say(f"The compiler ran out of memory (the limit is {MEMORY_LIMIT_BYTES >> 30} GiB).")
+        say(_("The compiler ran out of memory (the limit is %(gib)d GiB).") % {"gib": MEMORY_LIMIT_BYTES >> 30})
     for header in _MISSING_HEADER.findall(output):
-        say(f"{SOURCE_NAME} includes \"{header}\", which the grader does not have: a submission is "
-            f"{SOURCE_NAME} alone, built with the template's headers (EnvironmentMap.h, Vector3.h, "
-            "Color.h) and the C++ standard library.")
+        # The student's file first: describe() renames the first EnvironmentMap.cpp.
+        say(_("%(source)s includes \"%(header)s\", which the grader does not have: a submission is "
+              "%(source)s alone, built with the template's headers (EnvironmentMap.h, Vector3.h, "
+              "Color.h) and the C++ standard library.") % {"source": SOURCE_NAME, "header": header})
     for symbol in dict.fromkeys(_LINK_UNDEFINED.findall(output)):
         member = re.match(r"EnvironmentMap::(\w+)\(", symbol)
         if member and member.group(1) in STUDENT_MEMBERS:
-            say(f"{SOURCE_NAME} must define {member.group(1)} "
-                f"(the function {symbol}); it is missing.")
+            say(_("%(source)s must define %(name)s (the function %(symbol)s); it is missing.")
+                % {"source": SOURCE_NAME, "name": member.group(1), "symbol": symbol})
         else:
-            say(f"{symbol} is declared but never defined: define it in {SOURCE_NAME}.")
+            say(_("%(symbol)s is declared but never defined: define it in %(source)s.")
+                % {"symbol": symbol, "source": SOURCE_NAME})
     return found
 
 
@@ -101,10 +111,10 @@ def _blocks(output: str) -> list[tuple[str, list[str]]]:
 
 def _trim(lines: list[str]) -> str:
     if len(lines) > MAX_LOG_LINES:
-        lines = lines[:MAX_LOG_LINES] + [f"... ({len(lines) - MAX_LOG_LINES} more lines)"]
+        lines = lines[:MAX_LOG_LINES] + [_("... (%(count)d more lines)") % {"count": len(lines) - MAX_LOG_LINES}]
     text = "\n".join(lines)
     if len(text) > MAX_LOG_CHARS:
-        text = text[:MAX_LOG_CHARS] + "\n... (trimmed)"
+        text = text[:MAX_LOG_CHARS] + "\n" + _("... (trimmed)")
     return text
 
 
@@ -123,15 +133,15 @@ def describe(result, output: str, timeout_s: float) -> None:
             (result.warnings if match.group("kind") == "warning" else result.errors).append(entry)
     sentences = [s.replace(SOURCE_NAME, name, 1) for s in _friendly(output)]
     if result.timed_out:
-        sentences.insert(0, f"The build took longer than {timeout_s:g} s and was stopped.")
+        sentences.insert(0, _("The build took longer than %(seconds)s s and was stopped.") % {"seconds": f"{timeout_s:g}"})
     if not result.ok:
         if not sentences and not result.errors:
-            sentences = ["The build failed; the compiler's messages follow."]
+            sentences = [_("The build failed; the compiler's messages follow.")]
         result.errors[:0] = [{"file": name, "line": None, "message": s} for s in sentences]
         if not sentences:
             first = result.errors[0]
             sentences = [f"{first['file']}:{first['line']}: error: {first['message']}"]
-    blocks = _blocks(output)
+    blocks = _blocks(output.replace(OUTPUT_STOPPED, _(OUTPUT_STOPPED_TEXT) % {"mib": MAX_COMPILER_OUTPUT_BYTES >> 20}))
     ordered = [l for kind, lines in blocks if kind == "error" for l in lines] + \
               [l for kind, lines in blocks if kind == "warning" for l in lines]
     result.log = _trim(sentences + ([""] if sentences and ordered else []) + ordered)

@@ -225,7 +225,7 @@ _ENTRIES = [
         "is not a number (NaN) or is infinite. One such pixel spoils a whole "
         "render. When the grader found the cause, it is named beside this "
         "(`float-precision`: components converted to float; `length-overflow`: "
-        "a squared length; `not-normalized`: a division by the length)."),
+        "a squared length; `not-divided-by-m`: a division by the length instead of m)."),
         N_("Fix the cause named beside this one first. Otherwise: divide only by "
         "m, the absolute value of the largest component, which "
         "is never zero for a non-zero direction; dividing by another "
@@ -268,9 +268,7 @@ _ENTRIES = [
         "buffer), not the top. On the face named, v should be the value in "
         "the (u, v) table (README.md, 'Conventions') (for example `(1 - z/m)/2` on -Y, and "
         "`(1 - y/m)/2` on +Z, the back face that sits upside down in the cross)."),
-        N_("Check the sign in front of the component that gives v on this face, "
-        "and that you did not turn rows around (row 0 of the buffer is the "
-        "bottom of the face)."),
+        N_("Check the sign in front of the component that gives v on this face."),
     ),
     DiagnosisInfo(
         "uv-inset", "mapping",
@@ -314,23 +312,23 @@ _ENTRIES = [
     DiagnosisInfo(
         "uv-swapped", "mapping",
         N_("On this face, u and v are swapped"),
-        N_("Your code used the component that should give v for u and the other "
-        "way round, so the face appears turned on its diagonal. Reading texel "
-        "(x, y) at `addr[3*(x*H + y)]` instead of `addr[3*(y*W + x)]` looks the "
-        "same on a square face."),
+        N_("Your fetchColor used the component that should give v for u and the "
+        "other way round on this face, so the face appears turned on its "
+        "diagonal. (A readTexture that swaps them swaps them on every face: "
+        "that is `texture-uv-swapped`.)"),
         N_("Take u and v from the components the (u, v) table (README.md, 'Conventions') names "
-        "for this face, and index texels as `addr[3*(y*W + x)]` with x from u "
-        "and y from v."),
+        "for this face."),
     ),
     DiagnosisInfo(
-        "not-normalized", "mapping",
-        N_("(u, v) was not computed by dividing by the largest component"),
+        "not-divided-by-m", "mapping",
+        N_("fetchColor does not divide by m, the largest |component|"),
         N_("The point where the ray meets the face is found by dividing the "
         "direction by m, the absolute value of its largest component (the "
         "handout's pyramid with the cube centre at its apex). Your (u, v) "
-        "change with the direction's length, or follow another curve, for "
-        "example because the components were used as they are, divided by "
-        "the length of the direction, or turned into angles."),
+        "change with the direction's length, or follow another curve: the "
+        "components were used as they are, divided by the direction's length "
+        "instead of m, or turned into angles. Normalising the direction does "
+        "not replace this division."),
         N_("Compute `m = |largest component|` and use `(1 + a/m)/2` with the signs "
         "from the table. Directions are not unit length and need not be "
         "normalised first; if you normalise, you must still divide by m."),
@@ -612,10 +610,10 @@ _ENTRIES = [
         "render-mismatch", "render",
         N_("Your render differs from the reference"),
         N_("A scene rendered with your lookup was compared with the same scene "
-        "rendered with the reference lookup, using SSIM (structure) and FLIP "
-        "(how different they look to a person). The difference is larger than "
+        "rendered with the reference lookup, for its structure and for how "
+        "different the two look to a person. The difference is larger than "
         "correct solutions ever show, even compiled with other settings."),
-        N_("Look at the difference and FLIP pictures in the HTML report: bright "
+        N_("Look at the difference pictures in the HTML report: bright "
         "areas are where your render is wrong. The mapping and readTexture "
         "diagnoses listed with this one usually name the cause."),
     ),
@@ -680,12 +678,19 @@ _ENTRIES = [
     ),
 ]
 
+# Old ids still understood (the student kit's self-check emits them until it
+# is rebuilt): each reads as its new entry. "not-normalized" told students who
+# did normalise that they had not; what is missing is the division by m.
+ALIASES = {"not-normalized": "not-divided-by-m"}
+
 CATALOGUE: dict[str, DiagnosisInfo] = {e.id: e for e in _ENTRIES}
+CATALOGUE.update({old: CATALOGUE[new] for old, new in ALIASES.items()})
 
 # What other mistakes cause: reported only when no cause was found, so a
 # student reads "u runs the wrong way on +X", not that plus four symptoms.
 CONSEQUENCES = frozenset({"render-mismatch", "discontinuous-seam", "arrow-wrong", "arrow-missing"})
 _ORDER = {e.id: i for i, e in enumerate(_ENTRIES)}
+_ORDER.update({old: _ORDER[new] for old, new in ALIASES.items()})
 
 
 class UnknownDiagnosis(KeyError):

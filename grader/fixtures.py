@@ -8,8 +8,8 @@ fixtures with a message naming what changed (`--allow-stale` overrides).
 Everything here is deterministic: two runs write identical bytes.
 
 The manifest also records the environment that made the fixtures: the
-versions of the libraries the render comparison depends on (numpy,
-scikit-image, flip-evaluator, OpenImageIO) and of the compilers that built
+versions of the libraries the render comparison depends on (numpy, which
+also computes SSIM, flip-evaluator, OpenImageIO) and of the compilers that built
 the reference. The render thresholds (SSIM, FLIP) were measured with them:
 grading elsewhere adds a warning to the report (environment_warnings), and
 `grade --strict` refuses (EnvironmentMismatch). requirements.lock pins them.
@@ -44,7 +44,7 @@ MAIN_SCENE = PROJECT_ROOT / "envmap_test.cfg"
 
 # What the manifest's "environment" records: Python distributions (by their
 # package names) and compilers (by command).
-LIBRARIES = ("numpy", "scikit-image", "flip-evaluator", "OpenImageIO")
+LIBRARIES = ("numpy", "flip-evaluator", "OpenImageIO")
 COMPILERS = ("cc", "g++")
 
 

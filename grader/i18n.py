@@ -3,11 +3,14 @@
 Student-facing words are written in English in the code, marked with `_()`
 (translated where they are used) or `N_()` (marked only: tables built at
 import, translated where they are shown). The Japanese words are in
-grader/locale/ja/LC_MESSAGES/grader.po, kept in the repository; it is read
-with Babel and compiled in memory on first use, so a fresh clone, the
-Gradescope and PrairieLearn bundles and the student kit need no build step
-and no committed .mo. Fuzzy and empty entries are not used (they fall back
-to English), and tests/test_i18n.py fails while any remain.
+grader/locale/ja/LC_MESSAGES/grader.po, kept in the repository; the grader
+reads it with Babel and compiles it in memory on first use, so a fresh
+clone and the Gradescope and PrairieLearn bundles need no build step and no
+committed .mo. The student kit's copy of the grader has no Babel: the kit's
+build writes compiled .mo files into that copy (compile_catalogues), and a
+grader.mo beside (or instead of) the .po is read with the standard library's
+gettext. Fuzzy and empty entries are not used (they fall back to English),
+and tests/test_i18n.py fails while any remain.
 docs/glossary_ja.md says how to update the catalogue and which words to use.
 
 The language is process-wide, set by grader.grade.grade() for each
@@ -66,8 +69,12 @@ def language() -> str:
     return _current
 
 
-def po_path(lang: str) -> Path:
-    return LOCALE_DIR / lang / "LC_MESSAGES" / f"{DOMAIN}.po"
+def po_path(lang: str, locale_dir: Path = LOCALE_DIR) -> Path:
+    return locale_dir / lang / "LC_MESSAGES" / f"{DOMAIN}.po"
+
+
+def mo_path(lang: str, locale_dir: Path = LOCALE_DIR) -> Path:
+    return po_path(lang, locale_dir).with_suffix(".mo")
 
 
 def compiled(lang: str) -> bytes:
@@ -81,19 +88,40 @@ def compiled(lang: str) -> bytes:
     return buf.getvalue()
 
 
+def compile_catalogues(dest_locale_dir: Path) -> list[Path]:
+    """Write every translated language's grader.mo under dest_locale_dir
+    (<lang>/LC_MESSAGES/grader.mo), compiled with Babel from this grader's
+    .po: what a copy of the grader without Babel (the student kit's) reads.
+    Never into the grader's own locale/: a .mo there would be read instead of
+    the .po and could go stale."""
+    dest_locale_dir = Path(dest_locale_dir)
+    if dest_locale_dir.resolve() == LOCALE_DIR:
+        raise ValueError(f"{dest_locale_dir} is the grader's own catalogue folder: compile into a copy "
+                         "(the grader reads its .po directly)")
+    written = []
+    for lang in LANGUAGES:
+        if lang == DEFAULT:
+            continue
+        path = mo_path(lang, dest_locale_dir)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(compiled(lang))
+        written.append(path)
+    return written
+
+
 @lru_cache(maxsize=None)
 def translations(lang: str) -> gettext.NullTranslations:
-    """The catalogue of `lang` (English: the ids). Compiled from the .po where
-    Babel is installed (the grader); without Babel (a student kit, whose
-    Python has only its standard library) from a grader.mo beside the .po,
-    which the kit's build writes with compiled()."""
+    """The catalogue of `lang` (English: the ids): a compiled grader.mo where
+    one is present (the student kit's copy, written by compile_catalogues;
+    read with the standard library), else the .po compiled with Babel (the
+    grader, whose locale/ holds no .mo)."""
     if check_language(lang) == DEFAULT:
         return gettext.NullTranslations()
-    try:
-        data = compiled(lang)
-    except ImportError:
-        data = po_path(lang).with_suffix(".mo").read_bytes()
-    return gettext.GNUTranslations(io.BytesIO(data))
+    mo = mo_path(lang)
+    if mo.is_file():
+        with mo.open("rb") as f:
+            return gettext.GNUTranslations(f)
+    return gettext.GNUTranslations(io.BytesIO(compiled(lang)))
 
 
 def _(message: str) -> str:

@@ -33,6 +33,8 @@ from __future__ import annotations
 
 import re
 
+from .i18n import _
+
 ASM_KEYWORDS = frozenset({"asm", "__asm", "__asm__"})
 # Attribute names (without the __x__ spelling) whose argument reaches the
 # assembler or the linker as text, or which change how code is generated.
@@ -106,19 +108,19 @@ def refusals(preprocessed: str, main: str) -> list[tuple[int, str]]:
                         if stack:
                             stack.pop()
                         else:
-                            refuse(f'a line marker returning to "{name[:80]}" that was never entered')
+                            refuse(_('a line marker returning to "%(name)s" that was never entered') % {"name": name[:80]})
                     elif not stack and name not in (current, main, "<built-in>", "<command-line>"):
-                        refuse(f'#line naming another file ("{name[:80]}"): not allowed')
+                        refuse(_('#line naming another file ("%(name)s"): not allowed') % {"name": name[:80]})
                     current, line = name, number - 1
                 elif not stack:
                     body = text[1:].strip()
                     if body.startswith("pragma"):
                         pragma = body[len("pragma"):].strip()
                         if not pragma_allowed(pragma):
-                            refuse(f"#pragma {pragma[:80]} (not allowed in a submission; allowed: "
-                                   f"{', '.join(' '.join(p) for p in PRAGMAS[:4])}, ...)")
+                            refuse(_("#pragma %(pragma)s (not allowed in a submission; allowed: %(allowed)s, ...)")
+                                   % {"pragma": pragma[:80], "allowed": ", ".join(" ".join(p) for p in PRAGMAS[:4])})
                     elif body.split(None, 1)[:1] in (["ident"], ["sccs"]):
-                        refuse(f"#{body[:80]} (puts text into the assembly: not allowed)")
+                        refuse(_("#%(body)s (puts text into the assembly: not allowed)") % {"body": body[:80]})
                 at_line_start = False
                 continue
         if stack:
@@ -145,12 +147,12 @@ def refusals(preprocessed: str, main: str) -> list[tuple[int, str]]:
             token = _DIGRAPHS[token]
         if kind == "ident":
             if token in ASM_KEYWORDS:
-                refuse(f"{token}: inline assembly is not allowed in a submission")
+                refuse(_("%(token)s: inline assembly is not allowed in a submission") % {"token": token})
             elif token in ("__attribute__", "__attribute"):
                 attribute = ("gnu", 0)
             elif attribute and _attribute_name(token) in ASSEMBLY_ATTRIBUTES:
-                refuse(f"the attribute {token} (it writes into the assembly or changes code generation: "
-                       "not allowed)")
+                refuse(_("the attribute %(token)s (it writes into the assembly or changes code generation: "
+                         "not allowed)") % {"token": token})
         elif token == "[" and previous == "[" and attribute is None:
             attribute = ("std", 0)
         elif attribute and attribute[0] == "gnu" and token in "()":

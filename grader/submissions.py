@@ -34,6 +34,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
+from .i18n import N_, _
+
 SOURCE_NAME = "EnvironmentMap.cpp"
 # A submission holds one small source file: far larger is refused unread.
 MAX_SOURCE_BYTES = 1 << 20
@@ -44,7 +46,8 @@ MAX_UNPACK_SECONDS = 10.0            # wall time spent finding the source
 MAX_DEPTH = 32                       # folder levels looked into
 # Folders that hold no submission: version control, macOS archive debris.
 SKIPPED_DIRS = ("__MACOSX",)
-EXPECTED = f"{SOURCE_NAME} itself, a folder holding it, or a .zip, .tar or .tar.gz of either"
+EXPECTED_TEXT = N_("%(source)s itself, a folder holding it, or a .zip, .tar or .tar.gz of either")
+EXPECTED = EXPECTED_TEXT % {"source": SOURCE_NAME}   # in English
 # The files of an upload that are read at all: sources and headers.
 _READ_SUFFIXES = (".cpp", ".h", ".hpp", ".cc", ".cxx")
 
@@ -77,12 +80,13 @@ _MAGIC = [
     (b"PK\x03\x04", 0, "zip"), (b"PK\x05\x06", 0, "zip"), (b"PK\x07\x08", 0, "zip"),
     (b"\x1f\x8b", 0, "gzip"), (b"BZh", 0, "bzip2"), (b"\xfd7zXZ\x00", 0, "xz"),
     (b"ustar", 257, "tar"),
-    (b"Rar!\x1a\x07", 0, "RAR archive"), (b"7z\xbc\xaf\x27\x1c", 0, "7-Zip archive"),
-    (b"\x28\xb5\x2f\xfd", 0, "Zstandard-compressed file"), (b"MSCF", 0, "Windows cabinet archive"),
-    (b"%PDF", 0, "PDF document"), (b"\x7fELF", 0, "compiled program or object file (ELF)"),
-    (b"\x89PNG", 0, "PNG image"), (b"\xff\xd8\xff", 0, "JPEG image"),
-    (b"\xd0\xcf\x11\xe0", 0, "Microsoft Office document"), (b"\xcf\xfa\xed\xfe", 0, "Mach-O program"),
-    (b"MZ", 0, "Windows program"), (b"#?RADIANCE", 0, "Radiance .hdr image"),
+    # Descriptions (marked: messages show them in the student's language, _a()).
+    (b"Rar!\x1a\x07", 0, N_("RAR archive")), (b"7z\xbc\xaf\x27\x1c", 0, N_("7-Zip archive")),
+    (b"\x28\xb5\x2f\xfd", 0, N_("Zstandard-compressed file")), (b"MSCF", 0, N_("Windows cabinet archive")),
+    (b"%PDF", 0, N_("PDF document")), (b"\x7fELF", 0, N_("compiled program or object file (ELF)")),
+    (b"\x89PNG", 0, N_("PNG image")), (b"\xff\xd8\xff", 0, N_("JPEG image")),
+    (b"\xd0\xcf\x11\xe0", 0, N_("Microsoft Office document")), (b"\xcf\xfa\xed\xfe", 0, N_("Mach-O program")),
+    (b"MZ", 0, N_("Windows program")), (b"#?RADIANCE", 0, N_("Radiance .hdr image")),
     (b"\xef\xbb\xbf", 0, "text"),  # UTF-8 byte order mark: text
 ]
 _ARCHIVES = ("zip", "gzip", "bzip2", "xz", "tar")
@@ -98,8 +102,8 @@ def sniff(head: bytes) -> str:
         if head[offset:offset + len(magic)] == magic:
             return name
     if head[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        return "UTF-16 text"
-    return "text" if is_text(head) else "binary data"
+        return N_("UTF-16 text")
+    return "text" if is_text(head) else N_("binary data")
 
 
 def is_text(data: bytes) -> bool:
@@ -119,14 +123,21 @@ def _text_problem(data: bytes, name: str) -> str | None:
     if kind == "empty":
         return None  # reported as empty-submission by the caller
     if kind == "UTF-16 text":
-        return (f"{name} is saved as UTF-16 text, which the compiler cannot read: "
-                "save it as UTF-8 (your editor's \"Save with encoding\") and submit it again.")
-    return (f"{name} is not a C++ source file: it holds {_a(kind)} ({len(data)} bytes). "
-            f"Expected: {EXPECTED}.")
+        return (_("%(name)s is saved as UTF-16 text, which the compiler cannot read: "
+                  "save it as UTF-8 (your editor's \"Save with encoding\") and submit it again.") % {"name": name})
+    return (_("%(name)s is not a C++ source file: it holds %(what)s (%(size)d bytes). "
+              "Expected: %(expected)s.") % {"name": name, "what": _a(kind), "size": len(data), "expected": _expected()})
 
 
 def _a(kind: str) -> str:
-    return ("an " if kind[:1].lower() in "aeiou" else "a ") + kind
+    """A file kind (sniff) with its article, in the student's language."""
+    if kind[:1].lower() in "aeiou":
+        return _("an %(kind)s") % {"kind": _(kind)}
+    return _("a %(kind)s") % {"kind": _(kind)}
+
+
+def _expected() -> str:
+    return _(EXPECTED_TEXT) % {"source": SOURCE_NAME}
 
 
 # ---- bounded reading ----------------------------------------------------------------
@@ -144,17 +155,19 @@ class _Budget:
         if self.bytes_left < 0:
             raise SubmissionError(
                 "unreadable-archive",
-                f"your archive could not be read: {self.what} holds more than "
-                f"{MAX_UNPACKED_BYTES >> 20} MiB once unpacked. Submit {SOURCE_NAME} alone "
-                "(or a small archive of your source files).")
+                _("your archive could not be read: %(what)s holds more than "
+                  "%(mib)d MiB once unpacked. Submit %(source)s alone "
+                  "(or a small archive of your source files).")
+                % {"what": self.what, "mib": MAX_UNPACKED_BYTES >> 20, "source": SOURCE_NAME})
         self.check_time()
 
     def check_time(self) -> None:
         if time.monotonic() > self.deadline:
             raise SubmissionError(
                 "unreadable-archive",
-                f"your archive could not be read: unpacking {self.what} took longer than "
-                f"{MAX_UNPACK_SECONDS:g} s. Submit {SOURCE_NAME} alone.")
+                _("your archive could not be read: unpacking %(what)s took longer than "
+                  "%(seconds)s s. Submit %(source)s alone.")
+                % {"what": self.what, "seconds": f"{MAX_UNPACK_SECONDS:g}", "source": SOURCE_NAME})
 
 
 class _CappedStream:
@@ -193,22 +206,22 @@ def _read_member(stream, name: str, budget: _Budget) -> bytes:
         data = stream.read(MAX_SOURCE_BYTES + 1)
     budget.spend(len(data))
     if len(data) > MAX_SOURCE_BYTES:
-        raise SubmissionError("no-source", f"{name} is larger than {MAX_SOURCE_BYTES >> 20} MiB: "
-                                           "not a source file.")
+        raise SubmissionError("no-source", _("%(name)s is larger than %(mib)d MiB: "
+                                             "not a source file.") % {"name": name, "mib": MAX_SOURCE_BYTES >> 20})
     return data
 
 
 def _unreadable(where: str, exc: BaseException) -> SubmissionError:
     reason = str(exc).strip() or type(exc).__name__
     if isinstance(exc, RuntimeError) and "encrypted" in reason:
-        reason = "it is encrypted (password-protected); submit it without a password"
+        reason = _("it is encrypted (password-protected); submit it without a password")
     elif isinstance(exc, NotImplementedError) or "compression method" in reason:
-        reason = ("it uses a compression method this grader does not read "
-                  "(e.g. Deflate64); use the ordinary zip of your system")
+        reason = _("it uses a compression method this grader does not read "
+                   "(e.g. Deflate64); use the ordinary zip of your system")
     elif isinstance(exc, (EOFError, zlib.error)) or "truncated" in reason.lower() or "end of" in reason:
-        reason = f"it is damaged or incomplete ({reason})"
-    return SubmissionError("unreadable-archive", f"your archive could not be read: {where}: {reason}. "
-                                                 "Make the archive again and resubmit it.")
+        reason = _("it is damaged or incomplete (%(reason)s)") % {"reason": reason}
+    return SubmissionError("unreadable-archive", _("your archive could not be read: %(where)s: %(reason)s. "
+                                                   "Make the archive again and resubmit it.") % {"where": where, "reason": reason})
 
 
 def _safe_member(name: str) -> str | None:
@@ -253,13 +266,13 @@ def _zip_entry_count(path: Path) -> int | None:
 def _zip_files(path: Path, budget: _Budget) -> tuple[dict[str, Reader], list[str]]:
     declared = _zip_entry_count(path)
     if declared is not None and declared > MAX_MEMBERS:
-        raise SubmissionError("unreadable-archive", f"your archive could not be read: {path.name} "
-                                                    f"holds more than {MAX_MEMBERS} files.")
+        raise SubmissionError("unreadable-archive", _("your archive could not be read: %(name)s "
+                                                      "holds more than %(count)d files.") % {"name": path.name, "count": MAX_MEMBERS})
     archive = zipfile.ZipFile(path)
     members = archive.infolist()
     if len(members) > MAX_MEMBERS:
-        raise SubmissionError("unreadable-archive", f"your archive could not be read: {path.name} "
-                                                    f"holds more than {MAX_MEMBERS} files.")
+        raise SubmissionError("unreadable-archive", _("your archive could not be read: %(name)s "
+                                                      "holds more than %(count)d files.") % {"name": path.name, "count": MAX_MEMBERS})
     files: dict[str, Reader] = {}
     listed: list[str] = []
     cache: dict[str, bytes] = {}
@@ -276,8 +289,8 @@ def _zip_files(path: Path, budget: _Budget) -> tuple[dict[str, Reader], list[str
         def read(info=info, name=name) -> bytes:
             if name not in cache:
                 if info.file_size > MAX_SOURCE_BYTES:
-                    raise SubmissionError("no-source", f"{name} is larger than {MAX_SOURCE_BYTES >> 20} "
-                                                       "MiB: not a source file.")
+                    raise SubmissionError("no-source", _("%(name)s is larger than %(mib)d MiB: "
+                                                         "not a source file.") % {"name": name, "mib": MAX_SOURCE_BYTES >> 20})
                 try:
                     cache[name] = _read_member(archive.open(info), name, budget)
                 except SubmissionError:
@@ -301,14 +314,15 @@ def _tar_files(path: Path, kind: str, budget: _Budget) -> tuple[dict[str, Reader
     except tarfile.ReadError:
         stream.close()
         if kind in ("gzip", "bzip2", "xz"):
-            raise SubmissionError("unknown-format", f"{path.name} is a {kind}-compressed file but "
-                                  f"not a compressed tar archive. Expected: {EXPECTED}.") from None
+            raise SubmissionError("unknown-format", _("%(name)s is a %(kind)s-compressed file but "
+                                  "not a compressed tar archive. Expected: %(expected)s.")
+                                  % {"name": path.name, "kind": kind, "expected": _expected()}) from None
         raise
     with stream, archive:
         for count, info in enumerate(archive, 1):
             if count > MAX_MEMBERS:
-                raise SubmissionError("unreadable-archive", f"your archive could not be read: "
-                                                            f"{path.name} holds more than {MAX_MEMBERS} files.")
+                raise SubmissionError("unreadable-archive", _("your archive could not be read: %(name)s "
+                                                              "holds more than %(count)d files.") % {"name": path.name, "count": MAX_MEMBERS})
             budget.check_time()
             name = _safe_member(info.name)
             if not info.isreg() or info.issparse() or name is None:
@@ -323,8 +337,8 @@ def _archive_files(path: Path, kind: str, budget: _Budget) -> tuple[dict[str, Re
     """{relative path: reader} of the sources and headers in an archive, and
     every regular file's name (for messages)."""
     if path.stat().st_size > MAX_UPLOAD_BYTES:
-        raise SubmissionError("unreadable-archive", f"your archive could not be read: {path.name} is "
-                                                    f"larger than {MAX_UPLOAD_BYTES >> 20} MiB.")
+        raise SubmissionError("unreadable-archive", _("your archive could not be read: %(name)s is "
+                                                      "larger than %(mib)d MiB.") % {"name": path.name, "mib": MAX_UPLOAD_BYTES >> 20})
     try:
         if kind == "zip":
             return _zip_files(path, budget)
@@ -362,8 +376,8 @@ def _folder_files(path: Path, budget: _Budget) -> tuple[dict[str, Reader], list[
         for filename in sorted(filenames):
             count += 1
             if count > MAX_MEMBERS:
-                raise SubmissionError("unreadable-archive", f"the folder {path.name} holds more than "
-                                                            f"{MAX_MEMBERS} files.")
+                raise SubmissionError("unreadable-archive", _("the folder %(name)s holds more than "
+                                                              "%(count)d files.") % {"name": path.name, "count": MAX_MEMBERS})
             full = Path(dirpath) / filename
             if full.is_symlink() or not full.is_file():
                 continue
@@ -375,7 +389,7 @@ def _folder_files(path: Path, budget: _Budget) -> tuple[dict[str, Reader], list[
             def read(full=full, name=name) -> bytes:
                 stream = _open_regular(full)
                 if stream is None:
-                    raise SubmissionError("no-source", f"{name} cannot be read.")
+                    raise SubmissionError("no-source", _("%(name)s cannot be read.") % {"name": name})
                 return _read_member(stream, name, budget)
             files[name] = read
     return files, listed
@@ -389,15 +403,15 @@ def _depth_then_name(name: str) -> tuple[int, str]:
 
 def _holds(listed: list[str]) -> str:
     shown = sorted(listed, key=_depth_then_name)[:10]
-    more = f" and {len(listed) - len(shown)} more" if len(listed) > len(shown) else ""
+    more = _(" and %(count)d more") % {"count": len(listed) - len(shown)} if len(listed) > len(shown) else ""
     return ", ".join(shown) + more
 
 
 def _choose(files: dict[str, Reader], listed: list[str], where: str) -> tuple[str, list[str]]:
     """The member to grade and the notes that explain the choice."""
     if not listed:
-        raise SubmissionError("empty-submission", f"{where} is empty: there is nothing to grade. "
-                                                  f"Expected: {EXPECTED}.")
+        raise SubmissionError("empty-submission", _("%(where)s is empty: there is nothing to grade. "
+                                                    "Expected: %(expected)s.") % {"where": where, "expected": _expected()})
     exact = sorted((n for n in files if n.rsplit("/", 1)[-1] == SOURCE_NAME), key=_depth_then_name)
     if exact:
         notes = []
@@ -425,8 +439,9 @@ def _choose(files: dict[str, Reader], listed: list[str], where: str) -> tuple[st
     if len(defining) == 1:
         return defining[0], [f"no file is named {SOURCE_NAME}; used {defining[0]}, "
                              "the only .cpp file that defines EnvironmentMap::fetchColor."]
-    raise SubmissionError("no-source", f"No {SOURCE_NAME} in {where} (it holds: {_holds(listed)}). "
-                                       f"Expected: {EXPECTED}.")
+    raise SubmissionError("no-source", _("No %(source)s in %(where)s (it holds: %(files)s). "
+                                         "Expected: %(expected)s.")
+                          % {"source": SOURCE_NAME, "where": where, "files": _holds(listed), "expected": _expected()})
 
 
 def _header_notes(files: dict[str, Reader], chosen: str, template: Path) -> list[str]:
@@ -455,7 +470,7 @@ def _checked(chosen: ChosenSource) -> ChosenSource:
     if problem:
         raise SubmissionError("unknown-format", problem)
     if not chosen.text.strip():
-        raise SubmissionError("empty-submission", f"{chosen.name} is empty: there is nothing to grade.")
+        raise SubmissionError("empty-submission", _("%(name)s is empty: there is nothing to grade.") % {"name": chosen.name})
     return chosen
 
 
@@ -464,24 +479,26 @@ def select_source(path: Path, template: Path) -> ChosenSource:
     `template` is the folder of our headers (to note changed copies)."""
     path = Path(path)
     if path.is_symlink():
-        raise SubmissionError("no-source", f"{path.name} is a symbolic link: submit the file itself.")
+        raise SubmissionError("no-source", _("%(name)s is a symbolic link: submit the file itself.") % {"name": path.name})
     if path.is_dir():
-        budget = _Budget(f"the folder {path.name}")
+        where = _("the folder %(name)s") % {"name": path.name}
+        budget = _Budget(where)
         files, listed = _folder_files(path, budget)
-        name, notes = _choose(files, listed, f"the folder {path.name}")
+        name, notes = _choose(files, listed, where)
         return _checked(ChosenSource(files[name](), name, path / name,
                                      notes + _header_notes(files, name, template)))
     stream = _open_regular(path)
     if stream is None:
         if not path.exists():
-            raise SubmissionError("no-source", f"{path.name} does not exist.")
-        raise SubmissionError("unknown-format", f"{path.name} is not a regular file. Expected: {EXPECTED}.")
+            raise SubmissionError("no-source", _("%(name)s does not exist.") % {"name": path.name})
+        raise SubmissionError("unknown-format", _("%(name)s is not a regular file. Expected: %(expected)s.")
+                              % {"name": path.name, "expected": _expected()})
     with stream:
         head = stream.read(512)
     kind = sniff(head)
     if kind == "empty":
-        raise SubmissionError("empty-submission", f"{path.name} is empty (0 bytes): there is nothing "
-                                                  f"to grade. Expected: {EXPECTED}.")
+        raise SubmissionError("empty-submission", _("%(name)s is empty (0 bytes): there is nothing "
+                                                    "to grade. Expected: %(expected)s.") % {"name": path.name, "expected": _expected()})
     if kind in _ARCHIVES:
         budget = _Budget(path.name)
         files, listed = _archive_files(path, kind, budget)
@@ -489,12 +506,12 @@ def select_source(path: Path, template: Path) -> ChosenSource:
         return _checked(ChosenSource(files[name](), name, None,
                                      notes + _header_notes(files, name, template)))
     if kind != "text" or _NAMED_ARCHIVE.search(path.name):
-        what = _a(kind) if kind != "text" else "text, not an archive"
-        raise SubmissionError("unknown-format", f"{path.name} is {what}: the grader cannot read it. "
-                                                f"Expected: {EXPECTED}.")
+        what = _a(kind) if kind != "text" else _("text, not an archive")
+        raise SubmissionError("unknown-format", _("%(name)s is %(what)s: the grader cannot read it. "
+                                                  "Expected: %(expected)s.") % {"name": path.name, "what": what, "expected": _expected()})
     stream = _open_regular(path)
     if stream is None:
-        raise SubmissionError("no-source", f"{path.name} cannot be read.")
+        raise SubmissionError("no-source", _("%(name)s cannot be read.") % {"name": path.name})
     text = _read_member(stream, path.name, _Budget(path.name))
     notes = [] if path.name == SOURCE_NAME else [f"graded {path.name} as {SOURCE_NAME}."]
     return _checked(ChosenSource(text, path.name if path.suffix == ".cpp" else SOURCE_NAME, path, notes))

@@ -39,6 +39,7 @@ MODULE_MARKERS = {
     "test_grade_all": ("slow", "sandbox"),
     "test_commands": ("slow", "sandbox"),
     "test_gradescope": ("slow", "sandbox"),
+    "test_report_words": ("slow", "sandbox"),
     "test_hostile": ("slow", "sandbox"),
     "test_worker": ("sandbox",),
     "test_build_sandbox": ("sandbox",),

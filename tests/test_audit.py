@@ -157,7 +157,11 @@ def test_truth_in_bubblewrap_and_privilege_drop_mode(tmp_path, reference_library
     change, klass = STATED[3]          # a read past the face: the guard pages must see it in both modes
     path = _variant(tmp_path, *change)
     truth = truth_of(path)
-    assert (truth.klass, truth.isolation) == (klass, "bubblewrap")
+    from grader.worker import sandbox
+    # Where bubblewrap cannot run (Gradescope's image, a CI container), the
+    # first half is already privilege-drop mode; the second half still holds.
+    here = "bubblewrap" if sandbox.sandbox_problem() is None else "privilege-drop"
+    assert (truth.klass, truth.isolation) == (klass, here)
     request.getfixturevalue("failing_bwrap")
     path.write_text(path.read_text() + "// rebuilt without bubblewrap\n")
     truth = truth_of(path)

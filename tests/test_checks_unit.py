@@ -88,7 +88,7 @@ def test_a_correct_fetch_color_passes_every_mapping_check(tmp_path):
     ({"+Z": "v-flipped"}, {("v-flipped", "+Z")}),
     ({"-Y": "uv-swapped"}, {("uv-swapped", "-Y")}),
     ({"+X": "wrong-face:-X", "-X": "wrong-face:+X"}, {("wrong-face", "+X"), ("wrong-face", "-X")}),
-    ("not-normalized", {("not-normalized", None)}),
+    ("not-normalized", {("not-divided-by-m", None)}),
     ("black", {("not-implemented", None)}),
 ])
 def test_fetch_color_mistakes_are_named_per_face(tmp_path, mistakes, expected):

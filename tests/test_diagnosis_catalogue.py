@@ -92,7 +92,7 @@ def test_every_emitted_id_is_in_the_catalogue():
 
 
 def test_every_catalogue_entry_can_reach_a_student():
-    unused = sorted(set(diagnoses.CATALOGUE) - set(emitted_ids()))
+    unused = sorted(set(diagnoses.CATALOGUE) - set(diagnoses.ALIASES) - set(emitted_ids()))
     assert unused == [], "nothing emits these ids: emit them where the mistake is found, or delete them"
 
 

@@ -30,8 +30,8 @@ ZOO = {
     "combo-swapped-and-flipped": ({("wrong-face", "+Y"), ("wrong-face", "-Y"), ("v-flipped", "+X")},
                                   {MAPPING, "arrows"}, {FILTER}, GRADED),
     # Dividing by the length (or by nothing) also breaks tiny/huge directions.
-    "not-normalized-length": ({("not-normalized", None), ("nan-output", None)}, {MAPPING, "stability"}, {FILTER}, GRADED),
-    "not-normalized-unit": ({("not-normalized", None), ("nan-output", None)}, {MAPPING}, {FILTER}, GRADED),
+    "not-normalized-length": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING, "stability"}, {FILTER}, GRADED),
+    "not-normalized-unit": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING}, {FILTER}, GRADED),
     # readTexture mistakes: fetchColor is judged on its own and keeps its points.
     "nearest-neighbor": ({("nearest-neighbor", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "half-texel-offset": ({("half-texel-offset", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),

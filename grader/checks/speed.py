@@ -192,7 +192,7 @@ def accuracy_point(ctx: CheckContext, ns: float) -> dict:
     rgb = ctx.lookups.fetch(dirs).values
     smooth = accuracy.smooth_mask(env, dirs, STUDY_FACE_SIZE)
     errors = accuracy.per_direction_error(rgb, env.radiance(dirs))
-    return {"label": f"your fetchColor (face {STUDY_FACE_SIZE})", "ns_random": ns,
+    return {"label": _("your fetchColor (face %(size)d)") % {"size": STUDY_FACE_SIZE}, "ns_random": ns,
             "uniform_smooth_rms": accuracy.error_stats(errors[smooth])["rms"]}
 
 
@@ -205,5 +205,5 @@ def draw_chart(ctx: CheckContext, point: dict):
     # The chart without the star is the same for every submission: drawn
     # once into build/, the star painted on a copy (~10 ms instead of ~0.4 s).
     chart.draw_with_point(rows, point, path, PROJECT_ROOT / "build" / "study_chart", panels=chart.PANELS[:1],
-                          title="Speed against accuracy", dpi=90)
+                          title=_("Speed against accuracy"), dpi=90)
     return path

@@ -41,8 +41,8 @@ from pathlib import Path
 from ..i18n import N_, _
 from ..results import BUILD_ERROR, ERROR, PASSED, SKIPPED, CheckResult, GradeResult
 from . import markdown
-from .text import clean, inert_markdown, truncate_middle
-from .view import (ISOLATION_TEXT, ReportView, build_view, check_output, group_diagnoses,
+from .text import clean, inert_markdown, md_escape, truncate_middle
+from .view import (ISOLATION_TEXT, ReportView, build_view, check_label, check_output, group_diagnoses,
                    is_informational, is_visible)
 
 SCHEMA_PATH = Path(__file__).with_name("schema") / "results.schema.json"
@@ -81,9 +81,12 @@ def check_markdown(check: CheckResult) -> str:
 
 
 def _test(check: CheckResult, built: bool = True) -> dict:
-    output = check_markdown(check)
+    # The name is the check's short label (the list of tests stays short);
+    # its output opens with the check's whole sentence.
+    output = "\n\n".join(p for p in (f"_{md_escape(check.title)}_" if check.title else "",
+                                      check_markdown(check)) if p)
     entry = {
-        "name": clean(check.title) or check.name,
+        "name": clean(check_label(check)) or check.name,
         "score": _number(check.score),
         "max_score": _number(check.max_score),
         "status": GS_PASSED if ran(check, built) and (check.status == PASSED or is_informational(check))
@@ -106,10 +109,10 @@ def student_view(result: GradeResult) -> ReportView:
 
 
 def student_summary(result: GradeResult) -> str:
-    """The top-level summary (markdown.summary) of the student view, without
-    the line that names the isolation mode (an instructor's note)."""
+    """The top-level summary (markdown.summary) of the student view (the
+    isolation mode is an instructor's note, never in it)."""
     view = student_view(result)
-    text = markdown.summary(view).replace(markdown.isolation_line(view), "").strip()
+    text = markdown.summary(view).strip()
     return (text or _("See each check below for details.")) + "\n"
 
 

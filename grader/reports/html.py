@@ -19,11 +19,11 @@ from markdown_it import MarkdownIt
 
 from ..i18n import N_, Translated, _, language, ngettext
 from ..results import BUILD_ERROR, UNGRADABLE, CheckResult
-from .markdown import all_correct, check_points
+from .markdown import FINDINGS_SHOWN, all_correct, check_points, mistake_counts, mistake_heading
 from .text import clean, figure, inert_markdown, points, seconds, truncate_middle
-from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
+from .view import (GLOSSARY, STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
                    STATE_PASSED, STATE_SKIPPED, DiagnosisGroup, ReportView,
-                   check_output, check_state, mismatch_groups)
+                   check_label, check_output, check_state, mismatch_groups)
 
 # Artifacts the page places in their own sections; others go with their check.
 RENDER_ARTIFACT = re.compile(r"^render_(reference|submission|difference|flip)(?:[_:./-](.+))?$")
@@ -31,7 +31,7 @@ RENDER_ROLES = {   # (caption, note), read out through _()
     "reference": (N_("Reference"), N_("the scene with the reference lookup")),
     "submission": (N_("Your code"), N_("the same scene with your lookup")),
     "difference": (N_("Difference"), N_("brighter where your render differs more")),
-    "flip": (N_("FLIP error map"), N_("brighter where a viewer sees a difference")),
+    "flip": (N_("Where it looks different"), N_("brighter where a viewer sees a difference")),
 }
 ARROWS_ARTIFACT = "arrows"
 CHART_ARTIFACT = "speed_accuracy_chart"
@@ -43,9 +43,10 @@ METRIC_LABELS = {   # (label, meaning), read out through _()
     "ns_per_lookup": (N_("time per lookup"), N_("nanoseconds")),
     "speed_ratio": (N_("time relative to the reference"), N_("1 means as fast")),
 }
-# Metrics the page shows in their own sections (the renders' figures, the
-# speed card): the details leave them out rather than repeat them.
-PLACED_METRIC = re.compile(r"^(?:(?:ssim|flip_mean)(?:[_:].*)?|ns_per_lookup|speed_ratio)$")
+# Metrics the speed card shows (once the lookup works): the details leave
+# them out then rather than repeat them. The renders' figures (SSIM, FLIP)
+# are only in the details, with the glossary.
+PLACED_METRIC = re.compile(r"^(?:ns_per_lookup|speed_ratio)$")
 
 STATE_CLASS = {
     STATE_PASSED: "passed", STATE_PARTIAL: "partial", STATE_FAILED: "failed",
@@ -160,8 +161,6 @@ def _notices(view: ReportView) -> str:
     if view.status_explanation:
         out.append(f'<div class="callout failed"><strong>{e(_("%(status)s.") % {"status": view.status_text.capitalize()})}</strong> '
                    f"{e(view.status_explanation)}</div>")
-    for w in view.warnings:
-        out.append(f'<div class="callout partial"><strong>{e(_("Warning."))}</strong> {e(w)}</div>')
     return "\n".join(out)
 
 
@@ -181,7 +180,7 @@ def _score_table(view: ReportView) -> str:
                f'<span class="bar {STATE_CLASS[state]}"><span style="width:{pct:.1f}%"></span></span>')
         rows.append(
             f"<tr><td>{_pill(state)}</td><td class=\"num\">{e(c.number)}</td>"
-            f"<td>{e(c.title)}</td>"
+            f"<td>{e(check_label(c))}</td>"
             f'<td class="pts">{bar}{e(check_points(c))}</td></tr>')
     for h in view.hidden:
         more = ngettext("%(count)d more check, %(when)s; not counted here",
@@ -203,20 +202,29 @@ def _score_table(view: ReportView) -> str:
 </section>"""
 
 
-def _diagnosis_card(group: DiagnosisGroup) -> str:
+def _diagnosis_card(group: DiagnosisGroup, count: str = "") -> str:
+    """One mistake: its title, one short paragraph (the count, what to do),
+    and, collapsed, what was found and why it matters (markdown.diagnosis_section)."""
     info = group.info
     findings = []
     for d in group.findings:
         where = f'<span class="chip">{e(d.face)}</span> ' if d.face else ""
         hint = f' <em class="hint">{e(d.hint)}</em>' if d.hint else ""
         findings.append(f"<li>{where}{e(d.detail)}{hint}</li>")
+    findings_html = f'<ul class="findings">{"".join(findings)}</ul>'
+    shown = info.kind in FINDINGS_SHOWN
     kind = "partial" if info.kind in ("speed",) else "failed"
+    lead = f"{e(count)} " if count else ""
     return f"""
 <article class="diagnosis {kind}">
-  <h3>{e(info.title)} <code class="id">{e(info.id)}</code></h3>
-  <ul class="findings">{"".join(findings)}</ul>
+  <h3>{e(mistake_heading(group))}</h3>
+  {findings_html if shown else ""}
+  <p class="todo">{lead}<strong>{e(_("What to do:"))}</strong> {catalogue_html(info.what_to_do)}</p>
+  <details class="more"><summary>{e(_("More about this mistake"))}</summary>
+  {"" if shown else findings_html}
   <p>{catalogue_html(info.explanation)}</p>
-  <p class="todo"><strong>{e(_("What to do."))}</strong> {catalogue_html(info.what_to_do)}</p>
+  <p class="note">{e(_("Its id: %(id)s") % {"id": ""})}<code class="id">{e(info.id)}</code></p>
+  </details>
 </article>"""
 
 
@@ -226,8 +234,13 @@ def _diagnoses(view: ReportView) -> str:
             return (f'<section><div class="callout passed"><strong>{e(_("All correct."))}</strong> '
                     f"{e(all_correct(view))}</div></section>")
         return ""
-    cards = "".join(_diagnosis_card(g) for g in view.diagnoses)
-    return f'<section><h2>{e(_("What to fix"))}</h2>{cards}</section>'
+    counts = mistake_counts(view)
+    cards = []
+    for i, group in enumerate(view.diagnoses):
+        if -1 - i in counts:
+            cards.append(f"<p>{e(counts[-1 - i])}</p>")
+        cards.append(_diagnosis_card(group, counts.get(i, "")))
+    return f'<section><h2>{e(_("What to fix first"))}</h2>{"".join(cards)}</section>'
 
 
 def _render_groups(view: ReportView) -> dict[str, tuple[CheckResult, dict[str, Path]]]:
@@ -268,9 +281,7 @@ def _renders(view: ReportView) -> str:
         title = f"<h3>{e(suffix.replace('_', ' '))}</h3>" if suffix else ""
         figs = "".join(_figure(paths.get(role), _(caption), _(note), "pixels")
                        for role, (caption, note) in RENDER_ROLES.items() if role in paths)
-        figures = _figures_line([("ssim", _metric(check, "ssim", suffix)),
-                                 ("flip_mean", _metric(check, "flip_mean", suffix))])
-        blocks.append(f'<div class="render-set">{title}<div class="renders">{figs}</div>{figures}</div>')
+        blocks.append(f'<div class="render-set">{title}<div class="renders">{figs}</div></div>')
     return f"<section><h2>{e(_('Renders'))}</h2>{''.join(blocks)}</section>"
 
 
@@ -286,19 +297,15 @@ def _arrows_and_speed(view: ReportView) -> str:
     chart = view.artifact(CHART_ARTIFACT)
     ns, ratio = view.metric("ns_per_lookup"), view.metric("speed_ratio")
     if chart is not None or ns is not None or ratio is not None:
-        if chart is None:
-            body = ""
-        elif lookup_works(view):
-            body = (_figure(chart, _("Speed against accuracy"), _("your lookup is the marked point"))
+        # Where a wrong lookup sits on the chart says nothing about speed:
+        # the card waits until the lookup works (the speed check's details
+        # give its figures meanwhile).
+        if lookup_works(view):
+            body = ("" if chart is None else
+                    _figure(chart, _("Speed against accuracy"), _("your lookup is the marked point"))
                     + f'<p class="reading">{e(chart_reading(view))}</p>')
-        else:
-            # Where a wrong lookup sits on the chart says nothing about speed.
-            body = ('<p class="reading">' + escape(_("The chart of speed against accuracy is shown once your "
-                                                 "lookup gives the reference's colours: fix what is listed above first."),
-                                                 quote=False)
-                    + "</p>")
-        cards.append(f'<div class="card"><h2>{e(_("Speed"))}</h2>{body}'
-                     f'{_figures_line([("ns_per_lookup", ns), ("speed_ratio", ratio)])}</div>')
+            cards.append(f'<div class="card"><h2>{e(_("Speed"))}</h2>{body}'
+                         f'{_figures_line([("ns_per_lookup", ns), ("speed_ratio", ratio)])}</div>')
     return f'<section class="pair">{"".join(cards)}</section>' if cards else ""
 
 
@@ -333,7 +340,8 @@ def _details(view: ReportView) -> str:
         output = check_output(c)
         body = markdown_html(output) if output else ""
         body += _worst_cases(c)
-        shown = {k: v for k, v in sorted(c.metrics.items()) if not PLACED_METRIC.match(k)}
+        placed = lookup_works(view)
+        shown = {k: v for k, v in sorted(c.metrics.items()) if not (placed and PLACED_METRIC.match(k))}
         if shown:
             rows = "".join(f"<tr><td>{e(_(METRIC_LABELS.get(k, (k.replace('_', ' '),))[0]))}</td>"
                            f"<td>{e(figure(v))}</td></tr>" for k, v in shown.items())
@@ -344,12 +352,16 @@ def _details(view: ReportView) -> str:
                 _figure(Path(p), n.replace("_", " ")) for n, p in extra) + "</div>"
         if not body:
             continue
-        open_attr = " open" if state not in (STATE_PASSED, STATE_SKIPPED) else ""
         items.append(
-            f"<details{open_attr}><summary>{_pill(state)} <span class=\"num\">{e(c.number)}</span> "
+            f"<details><summary>{_pill(state)} <span class=\"num\">{e(c.number)}</span> "
             f"<span class=\"title\">{e(c.title)}</span> <span class=\"pts\">{e(check_points(c))}</span>"
             f'</summary><div class="output">{body}</div></details>')
-    return f"<section><h2>{e(_('Details of each check'))}</h2>{''.join(items)}</section>" if items else ""
+    if not items:
+        return ""
+    glossary = "".join(f"<li>{e(line)}</li>" for line in GLOSSARY.values())
+    return (f'<section><details class="all"><summary>{e(_("Details of each check"))}</summary>'
+            f'<div class="output">{"".join(items)}<p><strong>{e(_("Words the details use:"))}</strong></p>'
+            f'<ul class="glossary">{glossary}</ul></div></details></section>')
 
 
 def _worst_cases(check: CheckResult) -> str:
@@ -369,32 +381,34 @@ def _worst_cases(check: CheckResult) -> str:
 
 
 def _build_log(view: ReportView) -> str:
-    if not view.build_log.strip():
+    """The compiler's messages when the build failed (the student's to read)."""
+    if not view.build_log.strip() or view.status != BUILD_ERROR:
         return ""
-    failed = view.status == BUILD_ERROR
-    title = e(_("Compiler messages") if failed else _("Compiler messages (warnings)"))
-    return (f'<section><details{" open" if failed else ""} class="log"><summary>{title}</summary>'
+    return (f'<section><details open class="log"><summary>{e(_("Compiler messages"))}</summary>'
             f"<pre>{e(truncate_middle(view.build_log))}</pre></details></section>")
 
 
-def _footer(view: ReportView) -> str:
-    parts = [e(_("graded in %(time)s") % {"time": seconds(view.execution_time_s)}),
-             e(_("your code ran under: %(isolation)s") % {"isolation": view.isolation_text})]
-    if view.source_sha256:
-        parts.append(f"source sha256 <code>{e(view.source_sha256[:16])}…</code>")
+def _instructor(view: ReportView) -> str:
+    """Harness facts, collapsed: isolation, warnings, timing, the source's
+    hash, compiler warnings."""
+    facts = [*view.instructor_facts, _("graded in %(time)s") % {"time": seconds(view.execution_time_s)}]
     if not view.complete and view.hidden:
-        parts.append(e(_("hidden checks are not shown")))
-    return f'<footer>{" · ".join(parts)}</footer>'
+        facts.append(_("hidden checks are not shown"))
+    items = "".join(f"<li>{e(f)}</li>" for f in facts)
+    if view.source_sha256:
+        items += f"<li>source sha256 <code>{e(view.source_sha256[:16])}…</code></li>"
+    log = (f'<p>{e(_("Compiler messages (warnings):"))}</p><pre>{e(truncate_middle(view.build_log))}</pre>'
+           if view.build_log.strip() and view.status != BUILD_ERROR else "")
+    return (f'<footer><details class="instructor"><summary>{e(_("For your instructor"))}</summary>'
+            f'<ul>{items}</ul>{log}</details></footer>')
 
 
 def render(view: ReportView) -> str:
     body = "\n".join(s for s in (
         _header(view), _notices(view),
-        _build_log(view) if view.status == BUILD_ERROR else "",
-        _score_table(view), _diagnoses(view), _renders(view), _arrows_and_speed(view),
-        _details(view),
-        _build_log(view) if view.status != BUILD_ERROR else "",
-        _footer(view)) if s)
+        _build_log(view),
+        _diagnoses(view), _score_table(view), _renders(view), _arrows_and_speed(view),
+        _details(view), _instructor(view)) if s)
     return f"""<!DOCTYPE html>
 <html lang="{language()}">
 <head>
@@ -526,7 +540,12 @@ details[open] > summary { border-bottom: 1px solid var(--border); }
 .output th, .output td, .metrics td { border: 1px solid var(--border); padding: 4px 10px; text-align: left; }
 .metrics { width: auto; margin-top: .8em; font-variant-numeric: tabular-nums; }
 .log pre { margin: 0; border: none; border-radius: 0 0 12px 12px; max-height: 520px; overflow: auto; }
-footer { color: var(--muted); font-size: .85rem; text-align: center; margin-top: 36px; }
+footer { color: var(--muted); font-size: .85rem; margin-top: 36px; }
+footer details { background: none; }
+.more { background: none; border: none; margin: .4em 0 0; }
+.more > summary { padding: 4px 0; color: var(--muted); }
+.more[open] > summary { border-bottom: none; }
+details.all > .output > details { margin: 10px 0; }
 .wide { overflow-x: auto; }
 .output table, .cases { display: block; overflow-x: auto; max-width: 100%; }
 /* Numbers in tables never break mid-figure: a table too wide scrolls instead. */

@@ -68,11 +68,47 @@ ISOLATION_TEXT = Translated({
 })
 
 
+# Each check in the score table, in a few words; its docstring's sentence
+# (CheckResult.title) heads its details.
+CHECK_LABEL = Translated({
+    "read_texture": N_("readTexture: bilinear interpolation"),
+    "fetch_sweep": N_("fetchColor: face and (u, v) for every direction"),
+    "diagnosis": N_("fetchColor: what it does on each face"),
+    "arrows": N_("Test map: the arrows point along +x, +y, +z"),
+    "stability": N_("fetchColor: zero, NaN, tiny, huge and tied directions"),
+    "renders": N_("Full renders look like the reference"),
+    "speed": N_("Speed"),
+})
+
+# The one count a report gives for a mistake, by its kind: how many of the
+# cases of the check that judges that function it gets wrong, worded as the
+# check's own first line words it ("21041 of 126662 directions give...").
+COUNTED_BY = {"mapping": "fetch_sweep", "filtering": "read_texture"}
+COUNT_TEXT = Translated({
+    "fetch_sweep": N_("%(wrong)d of %(total)d directions give the wrong colour."),
+    "read_texture": N_("%(wrong)d of %(total)d readTexture calls give the wrong colour."),
+})
+
+# Words the checks' details use, one line each (shown with the details).
+GLOSSARY = Translated({
+    "fibonacci": N_("Fibonacci sphere: directions spread evenly over the whole sphere."),
+    "ulp": N_("ulp: the smallest step a number can take; moved by one ulp means as close as it gets."),
+    "ssim": N_("SSIM: how alike two pictures are in structure; 1 means identical."),
+    "flip": N_("FLIP: how different two pictures look to a person; 0 means identical."),
+    "protocol": N_("protocol: the time the grader's own messages to your code take, taken out of your time."),
+    "pareto": N_("speed against accuracy: each line is one lookup method; further left is faster, lower is more accurate."),
+})
+
 # What a check without output says, by its status.
 DEFAULT_OUTPUT = Translated({
     ERROR: N_("This check could not run because of a problem in the grader, not in your code."),
     SKIPPED: N_("This check did not run because a check it depends on failed."),
 })
+
+
+def check_label(check: CheckResult) -> str:
+    """The check's name in the score table."""
+    return CHECK_LABEL[check.name] if check.name in CHECK_LABEL else check.title
 
 
 def check_output(check: CheckResult) -> str:
@@ -210,6 +246,24 @@ class ReportView:
             return _("Your submission was refused before it could be built or run, so the checks "
                      "could not run: the diagnosis below says why and what to do.")
         return STATUS_EXPLANATION.get(self.status, "")
+
+    def mistake_count(self, kind: str) -> str:
+        """The count of wrong cases that a mistake of this kind costs, as the
+        sentence the summary shows (the judging check's own numbers), or ""."""
+        name = COUNTED_BY.get(kind)
+        check = next((c for c in self.checks if c.name == name), None)
+        if check is None or "cases" not in check.metrics or "matched" not in check.metrics:
+            return ""
+        total, matched = int(check.metrics["cases"]), int(check.metrics["matched"])
+        if matched >= total:
+            return ""
+        return COUNT_TEXT[name] % {"wrong": total - matched, "total": total}
+
+    @property
+    def instructor_facts(self) -> list[str]:
+        """What only an instructor needs: how the code was isolated, the
+        grader's warnings. Reports put these in their instructor section."""
+        return [_("Your code ran under: %(isolation)s.") % {"isolation": self.isolation_text}, *self.warnings]
 
     def counts(self) -> dict[str, int]:
         out: dict[str, int] = {}

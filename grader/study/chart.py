@@ -14,14 +14,21 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from ..i18n import N_, _, language
+
 # (error column, panel title): the smooth part, where methods differ by their
 # order of accuracy, and the band along cube edges, where the per-face clamp
 # and nearest break down.
 PANELS = (
-    ("uniform_smooth_rms", "uniform directions, away from hard edges"),
-    ("edge_smooth_rms", "within one texel of a cube edge, away from hard edges"),
+    ("uniform_smooth_rms", N_("uniform directions, away from hard edges")),
+    ("edge_smooth_rms", N_("within one texel of a cube edge, away from hard edges")),
 )
+# The error columns' axis labels (other columns: their name).
+ERROR_LABELS = {"uniform_smooth_rms": N_("uniform smooth rms error (log)"),
+                "edge_smooth_rms": N_("edge smooth rms error (log)")}
 TIME_COLUMN = "ns_random"
+# The time columns' lookup orders, as the x axis names them.
+TIME_ORDERS = {"ns_random": N_("random"), "ns_coherent": N_("coherent")}
 STYLES = {
     "nearest": ("tab:gray", "s"), "bilinear": ("tab:red", "o"), "seamless": ("tab:blue", "o"),
     "numpy-bilinear": ("tab:orange", "^"), "oiio-latlong": ("tab:green", "v"),
@@ -75,12 +82,33 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
     tick labels instead of mathtext, labels on major ticks only."""
     import matplotlib
     # The object-oriented API without pyplot: no global figure state, and a
-    # fraction of pyplot's import time; imported here, so draw_with_point's
-    # cached path needs no matplotlib at all.
-    from matplotlib.figure import Figure
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+    # fraction of pyplot's import time; imported here (and in _draw), so
+    # draw_with_point's cached path needs no matplotlib at all.
     extra_points = extra_points or []
     matplotlib.rcParams["svg.hashsalt"] = "grader-study"     # stable SVG ids between runs
+    with matplotlib.rc_context(_font_settings()):
+        return _draw(rows, extra_points, path, panels, time_column, title, dpi, layout)
+
+
+def _font_settings() -> dict:
+    """Japanese labels need a font with Japanese glyphs (DejaVu has none):
+    the one the arrow pictures use (grader/checks/arrows.py), DejaVu after
+    it for any glyph it lacks."""
+    if language() != "ja":
+        return {}
+    from ..checks.arrows import cjk_font
+    font = cjk_font()
+    if font is None:
+        return {}
+    from matplotlib import font_manager
+    font_manager.fontManager.addfont(font)
+    name = font_manager.FontProperties(fname=font).get_name()
+    return {"font.family": "sans-serif", "font.sans-serif": [name, "DejaVu Sans"]}
+
+
+def _draw(rows, extra_points, path, panels, time_column, title, dpi, layout) -> Path:
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
     width, height = 6.2 * len(panels), 5.2
     fig = Figure(figsize=(width, height))
     axes = fig.subplots(1, len(panels), squeeze=False)
@@ -93,7 +121,7 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
                 continue
             color, marker = STYLES.get(method, ("black", "x"))
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=marker, color=color,
-                    label=series[0].get("label", method), lw=1.2, ms=5)
+                    label=_(series[0].get("label", method)), lw=1.2, ms=5)
             for t, e, size in pts:
                 ax.annotate(str(size), (t, e), textcoords="offset points", xytext=(4, 2),
                             fontsize=6, color=color)
@@ -104,7 +132,7 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
             ts = [p[0] for p in front]
             es = [p[1] for p in front]
             ax.step(ts, es, where="post", color="black", lw=2.5, alpha=0.25, zorder=0,
-                    label="Pareto front")
+                    label=_("Pareto front"))
             ax.scatter(ts, es, s=90, facecolors="none", edgecolors="black", lw=1, zorder=3)
         for point in extra_points:
             shown = _finite(point.get(time_column)) and _finite(point.get(column))
@@ -120,9 +148,11 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
             axis.set_major_formatter(FuncFormatter(_plain_log_label))
             axis.set_minor_formatter(NullFormatter())
         ax.tick_params(labelsize=8)
-        ax.set_xlabel(f"time per lookup, ns ({time_column.removeprefix('ns_')} order, log)", fontsize=9)
-        ax.set_ylabel(f"{column.replace('_', ' ')} error (log)", fontsize=9)
-        ax.set_title(panel_title, fontsize=10)
+        ax.set_xlabel(_("time per lookup, ns (%(order)s order, log)") % {"order": _(TIME_ORDERS.get(time_column, time_column.removeprefix("ns_")))},
+                      fontsize=9)
+        ax.set_ylabel(_(ERROR_LABELS[column]) if column in ERROR_LABELS else f"{column.replace('_', ' ')} error (log)",
+                      fontsize=9)
+        ax.set_title(_(panel_title), fontsize=10)
         ax.grid(True, which="major", alpha=0.3)
         ax.grid(True, which="minor", alpha=0.1)
     handles, labels = axes[0][0].get_legend_handles_labels()
@@ -132,7 +162,7 @@ def draw(rows: list[dict], extra_points: list[dict] | None = None, path: str | P
     # Two legend columns per panel, so a one-panel chart keeps its legend inside the figure.
     columns = 2 * len(panels)
     fig.legend(unique.values(), unique.keys(), loc="lower center", ncol=columns, fontsize=8, frameon=False)
-    fig.suptitle(title or "Cube-map lookups: error against time (numbers: face size)", fontsize=11)
+    fig.suptitle(title or _("Cube-map lookups: error against time (numbers: face size)"), fontsize=11)
     # Fixed margins, in inches turned into fractions: room for the tick
     # labels and axis labels, the title on top, the legend's rows below.
     legend_rows = -(-len(unique) // columns)
@@ -182,7 +212,7 @@ def draw_with_point(rows: list[dict], point: dict, path: str | Path, cache_dir: 
     from importlib.metadata import version
     path = Path(path)
     label = point.get("label", "submission")
-    key = hashlib.sha256(json.dumps([rows, [list(p) for p in panels], time_column, title, dpi, label,
+    key = hashlib.sha256(json.dumps([rows, [list(p) for p in panels], time_column, title, dpi, label, language(),
                                      version("matplotlib"), Path(__file__).read_bytes().hex()],
                                     sort_keys=True, default=str).encode()).hexdigest()[:24]
     cache = Path(cache_dir)

@@ -75,31 +75,31 @@ def _bytes(n: int) -> str:
 
 
 def _forbidden_message(text: str) -> str:
-    name, _, argument = text.partition(" ")
+    name, _sep, argument = text.partition(" ")
+    words = {"name": name, "argument": argument}
     if name in _PROCESS_CALLS:
-        return f"tried to start a new process ({name}: fork, system, popen and exec all start one)"
+        return _("tried to start a new process (%(name)s: fork, system, popen and exec all start one)") % words
     if name in ("execve", "execveat"):
-        return f"tried to run a program ({name} {argument})".rstrip()
+        return (_("tried to run a program (%(name)s %(argument)s)") % words).replace(" )", ")")
     if name in ("open", "openat", "creat"):
-        return f"tried to open '{argument}' for writing"
+        return _("tried to open '%(argument)s' for writing") % words
     if name in _FILE_CALLS:
-        return f"tried to change the file system ({name} '{argument}')" if argument else \
-            f"tried to change the file system ({name})"
+        return _("tried to change the file system (%(name)s '%(argument)s')") % words if argument else \
+            _("tried to change the file system (%(name)s)") % words
     if name in _NETWORK_CALLS:
-        what = "the network" if name in ("socket", "socketpair", "connect", "bind", "listen") else \
-            "shared memory or message queues"
-        return f"tried to use {what} ({name})"
+        return (_("tried to use the network (%(name)s)") if name in ("socket", "socketpair", "connect", "bind", "listen")
+                else _("tried to use shared memory or message queues (%(name)s)")) % words
     if name in _SIGNAL_CALLS:
-        return f"tried to send a signal to another process ({name})"
+        return _("tried to send a signal to another process (%(name)s)") % words
     if name in ("fcntl", "ioctl"):
         # The commands that choose which process gets a descriptor's signal.
-        return f"tried to have the kernel send signals to a process of its choosing ({name} {argument})"
+        return _("tried to have the kernel send signals to a process of its choosing (%(name)s %(argument)s)") % words
     if name in _SYSTEM_CALLS:
-        return f"tried to change the machine's settings ({name})"
+        return _("tried to change the machine's settings (%(name)s)") % words
     if name in _MEMORY_CALLS:
-        return (f"tried to change memory the grader owns ({name}): the texture's guard pages and the "
-                "grader's code keep their mappings, and no memory may become executable")
-    return f"made a system call that submissions may not make ({name})"
+        return _("tried to change memory the grader owns (%(name)s): the texture's guard pages and the "
+                 "grader's code keep their mappings, and no memory may become executable") % words
+    return _("made a system call that submissions may not make (%(name)s)") % words
 
 
 def from_crash(report: CrashReport, output: str, limits_cpu_s: int | None = None) -> SubmissionFailure:

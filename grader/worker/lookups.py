@@ -8,6 +8,7 @@ import numpy as np
 
 import time
 
+from ..i18n import _
 from .failures import TIMEOUT
 from .process import Limits
 from .runner import Failure, Outcome, SubmissionRunner, TimedPasses
@@ -58,10 +59,10 @@ class BudgetedRunner(SubmissionRunner):
 
     def _used_up(self, function: str) -> Failure:
         return Failure(kind=TIMEOUT, function=function, index=None, input=f"{function} (the rest of the grading)",
-                       message=f"the lookups used up the {self.total_budget_s:g} s that all checks have together, "
-                               "so this call was not run",
-                       hint="every call took about as long as its time limit allows: make each lookup fast "
-                            "(no sleeping, allocation or searching per call)")
+                       message=_("the lookups used up the %(budget)s s that all checks have together, "
+                                 "so this call was not run") % {"budget": f"{self.total_budget_s:g}"},
+                       hint=_("every call took about as long as its time limit allows: make each lookup fast "
+                              "(no sleeping, allocation or searching per call)"))
 
     def _nothing(self, n: int, function: str) -> Outcome:
         return Outcome(values=np.full((n, 3), np.nan), evaluated=np.zeros(n, bool),

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..i18n import N_, _
 from . import protocol
 from .capture import CappedOutput
 from .failures import (EXCEPTION, EXITED, FORBIDDEN_SYSCALL, LOAD_ERROR, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash,
@@ -317,7 +318,7 @@ class Worker:
         try:
             self._setup(binary, deadline)
             self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work
-            status, count, payload = self._receive(None, None, deadline, "loading the submission")
+            status, count, payload = self._receive(None, None, deadline, N_("loading the submission"))
             if status != protocol.READY or count != 1:
                 self._fail(PROTOCOL, f"expected the ready message, got status {protocol.STATUS_NAMES[status]}")
         except BaseException:
@@ -450,7 +451,7 @@ class Worker:
         if placement not in protocol.PLACEMENTS:
             raise ValueError(f"placement must be one of {', '.join(protocol.PLACEMENTS)}, not {placement!r}")
         payload = protocol.set_faces_payload(faces)
-        self._call(protocol.SET_FACES, protocol.PLACEMENTS[placement], payload, 0, 0, timeout_s, "setting the faces")
+        self._call(protocol.SET_FACES, protocol.PLACEMENTS[placement], payload, 0, 0, timeout_s, N_("setting the faces"))
 
     def fetch(self, dirs: np.ndarray, timeout_s: float = 10.0) -> np.ndarray:
         """fetchColor for each direction (n, 3) -> colours (n, 3) float64."""
@@ -587,7 +588,7 @@ class Worker:
             return count, reply
         if status == protocol.EXCEPTION:
             text = protocol.decode_text(reply)
-            raise SubmissionFailure(EXCEPTION, f"uncaught exception: {text}" if text else "uncaught exception",
+            raise SubmissionFailure(EXCEPTION, _("uncaught exception: %(text)s") % {"text": text} if text else _("uncaught exception"),
                                     fatal=False, output=self.output(),
                                     detail="bad_alloc" if "bad_alloc" in text else "")
         # Every byte on the reply pipe may have been written by the submission
@@ -681,11 +682,11 @@ class Worker:
             raise from_crash(report, self.output(), self.limits.cpu_seconds)
         if status == protocol.LOAD_ERROR:
             self._finish()
-            raise SubmissionFailure(LOAD_ERROR, f"the submission could not be loaded: {protocol.decode_text(payload)}",
+            raise SubmissionFailure(LOAD_ERROR, _("the submission could not be loaded: %(text)s") % {"text": protocol.decode_text(payload)},
                                     output=self.output())
         if status == protocol.EXCEPTION and expected_count is None and what == "loading the submission":
             self._finish()
-            raise SubmissionFailure(EXCEPTION, f"the EnvironmentMap constructor threw: {protocol.decode_text(payload)}",
+            raise SubmissionFailure(EXCEPTION, _("the EnvironmentMap constructor threw: %(text)s") % {"text": protocol.decode_text(payload)},
                                     output=self.output())
         return status, count, payload
 
@@ -730,7 +731,7 @@ class Worker:
         self._output.wait_closed(2.0)
         # "wall": the outer bound, which a busy machine can reach too: the
         # runner tries once more before it is a verdict (grader_limit).
-        raise SubmissionFailure(TIMEOUT, f"{what} did not finish in time (killed)", output=self.output(),
+        raise SubmissionFailure(TIMEOUT, _("%(what)s did not finish in time (killed)") % {"what": _(what)}, output=self.output(),
                                 detail=why, grader_limit=why == "wall")
 
     def _exited(self, what: str):
@@ -745,24 +746,24 @@ class Worker:
                 # The filter's trap with signals blocked (system() and
                 # posix_spawn block them while starting a process) kills
                 # before our handler can say which call it was.
-                raise SubmissionFailure(FORBIDDEN_SYSCALL, "made a forbidden system call with signals blocked "
-                                        "(SIGSYS; system(), popen() and posix_spawn do this to start a process)",
+                raise SubmissionFailure(FORBIDDEN_SYSCALL, _("made a forbidden system call with signals blocked "
+                                        "(SIGSYS; system(), popen() and posix_spawn do this to start a process)"),
                                         signal_name=name, output=self.output(), exit_status=status)
             if signo == signal.SIGKILL and self.limits.cpu_seconds:
                 # The kernel's SIGKILL at the hard CPU limit, or a kill from
                 # outside (the machine's, or the submission's own): tried once
                 # more by the runner unless the CPU limit explains it.
                 at_limit = self._last_cpu >= (self.limits.cpu_seconds - 2) * 1e9
-                raise SubmissionFailure(TIMEOUT, f"the worker was killed ({name}) while {what} ran, "
-                                        "probably at its CPU-time limit", signal_name=name,
+                raise SubmissionFailure(TIMEOUT, _("the worker was killed (%(name)s) while %(what)s ran, "
+                                        "probably at its CPU-time limit") % {"name": name, "what": _(what)}, signal_name=name,
                                         output=self.output(), exit_status=status, detail="cpu",
                                         grader_limit=not at_limit)
-            raise SubmissionFailure(EXITED, f"the worker was killed by {name} while {what} ran",
+            raise SubmissionFailure(EXITED, _("the worker was killed by %(name)s while %(what)s ran") % {"name": name, "what": _(what)},
                                     signal_name=name, output=self.output(), exit_status=status)
         if status == protocol.EXIT_PROTOCOL:
-            raise SubmissionFailure(PROTOCOL, f"the worker lost its request channel while {what} ran",
+            raise SubmissionFailure(PROTOCOL, _("the worker lost its request channel while %(what)s ran") % {"what": _(what)},
                                     output=self.output(), exit_status=status)
-        raise SubmissionFailure(EXITED, f"the program ended itself (exit status {status}) while {what} ran",
+        raise SubmissionFailure(EXITED, _("the program ended itself (exit status %(status)s) while %(what)s ran") % {"status": status, "what": _(what)},
                                 output=self.output(), exit_status=status)
 
     def _fail(self, kind: str, message: str):

@@ -380,9 +380,9 @@ class SubmissionRunner:
         f = lo + guess if guess is not None and 0 <= guess < n - lo else lo
         if f > lo and attempt(lo, f) is not None:
             f = lo          # the inputs before it fail too: keep nothing (never trust the index more)
-        reason = (f"{failure.message} (after {self.max_failed_runs} failed runs of this submission the grader "
-                  f"stopped narrowing failures down: this input and the {n - f - 1} after it in the batch "
-                  "count as failed)")
+        reason = _("%(message)s (after %(runs)d failed runs of this submission the grader "
+                   "stopped narrowing failures down: this input and the %(rest)d after it in the batch "
+                   "count as failed)") % {"message": failure.message, "runs": self.max_failed_runs, "rest": n - f - 1}
         told = SubmissionFailure(failure.kind, reason, signal_name=failure.signal_name, crash=failure.crash,
                                  fatal=failure.fatal, output=failure.output, exit_status=failure.exit_status,
                                  detail=failure.detail)

@@ -179,7 +179,7 @@ class FetchAnalysis:
                                                    "for every direction: it still looks like the starting code."))]
         if self.length_dependent or any(v.candidate is not None and v.candidate.by_length and v.share >= SHARE
                                         for v in self.faces):
-            out.append(Diagnosis("not-normalized", _("The answer changes with the direction's length, or (u, v) do "
+            out.append(Diagnosis("not-divided-by-m", _("The answer changes with the direction's length, or (u, v) do "
                                                      "not reach the face's edges: divide the face-plane coordinates by the major "
                                                      "component's magnitude m.")))
         pattern = find_pattern(self.faces)
@@ -243,7 +243,7 @@ class FetchAnalysis:
             out.append(Diagnosis("tie-untouched-face", self.ties_untouched))
         if self.precision:
             out.append(Diagnosis("float-precision", self.precision))
-        elif self.overflow and not any(d.id == "not-normalized" for d in out):
+        elif self.overflow and not any(d.id == "not-divided-by-m" for d in out):
             # Dividing by the length squares the components too: one mistake, one fix (divide by m).
             out.append(Diagnosis("length-overflow", self.overflow))
         return out
@@ -636,8 +636,7 @@ def _ties(lookups, inst: Instrument | None, out: FetchAnalysis) -> None:
         text = ", ".join(f"{x:g}" for x in dirs[i])
         ok = _(" or ").join(face_name(k) for k in np.flatnonzero(touched[i]))
         out.ties_untouched = _("fetchColor(Vector3(%(d)s)) samples the %(face)s face, which this "
-                               "direction does not touch (it lies on the edge of %(touched)s): %(wrong)d of "
-                               "%(total)d directions on edges and corners go to an untouched face. With strict "
+                               "direction does not touch (it lies on the edge of %(touched)s). With strict "
                                "comparisons (>) a tie fails every test and falls through to the last branch; use "
                                ">= so that a tied direction picks one of the faces it touches.") % {
             "d": text, "face": face_name(int(faces[i])), "touched": ok, "wrong": int(wrong.sum()), "total": len(dirs)}

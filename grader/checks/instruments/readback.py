@@ -27,6 +27,9 @@ GRID = 4                  # calibration points per texel along each axis
 CALIBRATION_FACE = 2      # any face: readTexture is the same code on each
 SCALE_TOLERANCE = 0.02    # |scale - 1| below this is no scale mistake
 EXPLAINED = 0.9           # share of a face's directions the fitted map must explain
+RADIUS = 0.5              # farther than this (texels of colour) from every calibrated colour: not one readTexture gives
+TIE = 1e-6                # grid points this much farther than the closest are as close (float noise)
+CELL = RADIUS + 2 * TIE   # the search grid's cell: every point within RADIUS + TIE is in the 3 x 3 cells around
 
 
 @dataclass
@@ -36,8 +39,34 @@ class Calibration:
     size: tuple[int, int]
 
     def __post_init__(self):
-        from scipy.spatial import cKDTree
-        self.tree = cKDTree(self.colour)
+        # A fixed-radius search (numpy only, so the student kit needs no
+        # scipy): the calibrated colours sorted by the grid cell they fall in,
+        # with a margin of empty cells so that no neighbour wraps to another row.
+        self.colour = np.asarray(self.colour, np.float64)
+        self._origin = self.colour.min(axis=0) - 2 * CELL
+        cells = self._cells(self.colour)
+        self._rows = int(cells[:, 1].max()) + 4
+        keys = cells[:, 0] * self._rows + cells[:, 1]
+        self._order = np.argsort(keys, kind="stable")
+        self._keys = keys[self._order]
+
+    def _cells(self, points: np.ndarray) -> np.ndarray:
+        return np.floor((points - self._origin) / CELL).astype(np.int64)
+
+    def _candidates(self, points: np.ndarray):
+        """(query row, calibration index) of every calibrated colour in the
+        3 x 3 cells around each point that can be within RADIUS of one."""
+        low, high = self.colour.min(axis=0) - CELL, self.colour.max(axis=0) + CELL
+        queries = np.flatnonzero(np.isfinite(points).all(axis=1) & (points >= low).all(axis=1)
+                                 & (points <= high).all(axis=1))
+        cells = self._cells(points[queries])
+        around = np.array([(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+        keys = ((cells[:, None, 0] + around[:, 0]) * self._rows + cells[:, None, 1] + around[:, 1]).ravel()
+        start = np.searchsorted(self._keys, keys, "left")
+        count = np.searchsorted(self._keys, keys, "right") - start
+        first = np.cumsum(count) - count
+        position = np.arange(int(count.sum())) - np.repeat(first - start, count)
+        return np.repeat(np.repeat(queries, len(around)), count), self._order[position]
 
     def read_back(self, answers: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(face (n,), uv (n, 2)) each answer was read at; -1 / NaN where it
@@ -48,16 +77,19 @@ class Calibration:
         rows = np.flatnonzero(face >= 0)
         if not len(rows):
             return face, uv
-        k = min(64, len(self.uv))
-        dist, idx = self.tree.query(answers[rows, :2], k=k)
-        dist, idx = dist.reshape(len(rows), k), idx.reshape(len(rows), k)
+        query, index = self._candidates(answers[rows, :2])
+        delta = answers[rows[query], :2] - self.colour[index]
+        dist = np.sqrt(delta[:, 0] * delta[:, 0] + delta[:, 1] * delta[:, 1])
+        closest = np.full(len(rows), np.inf)
+        np.minimum.at(closest, query, dist)
         # Every grid point as close as the closest (within float noise): the
         # whole flat region of a readTexture that returns one texel.
-        near = dist <= dist[:, :1] + 1e-6
-        centroid = (self.uv[idx] * near[..., None]).sum(axis=1) / near.sum(axis=1)[:, None]
-        # Farther than a quarter texel from any calibrated colour: not a colour it gives.
-        found = dist[:, 0] <= 0.5
-        uv[rows[found]] = centroid[found]
+        near = (dist <= closest[query] + TIE) & (closest[query] <= RADIUS)
+        n = np.bincount(query[near], minlength=len(rows))
+        found = n > 0
+        for axis in range(2):
+            total = np.bincount(query[near], weights=self.uv[index[near], axis], minlength=len(rows))
+            uv[rows[found], axis] = total[found] / n[found]
         return face, uv
 
 

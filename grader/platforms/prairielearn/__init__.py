@@ -41,26 +41,27 @@ import tempfile
 import traceback
 from pathlib import Path
 
+from ...i18n import N_, Translated, _, ngettext
 from ...results import BUILD_ERROR, UNGRADABLE
 
 DEFAULT_ROOT = Path("/grade")
 # PNGs the checks leave beside the reports (CheckResult.artifacts): shown
 # under these labels, in this order (the most useful first: the budget may
 # leave the last out); others follow by name.
-IMAGE_LABELS = {
-    "render_submission": "Your render",
-    "render_reference": "Reference render",
-    "render_difference": "Difference (brighter is further off)",
-    "arrows": "Axis arrows on each face",
-    "render_flip": "FLIP error map",
-    "speed_accuracy_chart": "Speed against accuracy (your lookup is the star)",
-}
+IMAGE_LABELS = Translated({
+    "render_submission": N_("Your render"),
+    "render_reference": N_("Reference render"),
+    "render_difference": N_("Difference (brighter is further off)"),
+    "arrows": N_("Axis arrows on each face"),
+    "render_flip": N_("Where it looks different (brighter is further off)"),
+    "speed_accuracy_chart": N_("Speed against accuracy (your lookup is the star)"),
+})
 MAX_RESULTS_BYTES = 1_000_000   # PrairieLearn's limit for the whole results.json
 RESULTS_BUDGET = 900_000        # what we fill, with room to spare
 MAX_IMAGE_BYTES = 200_000       # per picture, encoded (larger ones are halved until they fit)
 TEXT_WIDTH = 100                # columns of the plain text (PrairieLearn's <pre> scrolls wider lines)
-FAILED_MESSAGE = ("The autograder failed before it could grade your submission. This is not your fault: "
-                  "please tell your instructor.")
+FAILED_MESSAGE = N_("The autograder failed before it could grade your submission. This is not your fault: "
+                    "please tell your instructor.")
 
 
 def _number(value: float) -> float:
@@ -83,12 +84,14 @@ def plain_text(markdown: str, width: int = TEXT_WIDTH) -> str:
 
 def _message(result, hidden: int) -> str:
     if result.status == UNGRADABLE:
-        return FAILED_MESSAGE
+        return _(FAILED_MESSAGE)
     from ...reports.view import STATUS_TEXT
     status = STATUS_TEXT.get(result.status, result.status)
-    message = f"Score: {result.score:g} / {result.max_score:g} ({status})."
+    message = _("Score: %(score)s / %(max_score)s (%(status)s).") % {
+        "score": f"{result.score:g}", "max_score": f"{result.max_score:g}", "status": status}
     if hidden:
-        message += f" {hidden} hidden check{'s' if hidden > 1 else ''} also count towards the score."
+        message += " " + ngettext("%(count)d hidden check also counts towards the score.",
+                                  "%(count)d hidden checks also count towards the score.", hidden) % {"count": hidden}
     return message
 
 
@@ -97,7 +100,7 @@ def _pictures(checks) -> list[tuple[str, Path]]:
     order = list(IMAGE_LABELS)
     named = sorted(((name, Path(path)) for c in checks for name, path in c.artifacts.items()),
                    key=lambda kv: (order.index(kv[0]) if kv[0] in order else len(order), kv[0]))
-    return [(IMAGE_LABELS.get(name, name.replace("_", " ")), path) for name, path in named]
+    return [(IMAGE_LABELS[name] if name in IMAGE_LABELS else name.replace("_", " "), path) for name, path in named]
 
 
 def _size(data: dict) -> int:
@@ -108,15 +111,15 @@ def results_from(result) -> dict:
     """PrairieLearn's results.json for one GradeResult (student view)."""
     from ...reports.gradescope_json import check_markdown, png_data_url, ran, student_summary
     from ...reports.text import clean
-    from ...reports.view import check_state, is_visible
+    from ...reports.view import check_label, check_state, is_visible
     shown = [c for c in result.checks if is_visible(c)]
     built = result.status != BUILD_ERROR
     tests = [{
-        "name": clean(check.title) or check.name,
+        "name": clean(check_label(check)) or check.name,
         "description": check.name,
         "points": _number(check.score),
         "max_points": _number(check.max_score),
-        "message": check_state(check) if ran(check, built) else "not run",
+        "message": _(check_state(check)) if ran(check, built) else _("not run"),
         "output": plain_text(check_markdown(check)),
     } for check in shown]
     gradable = result.status != UNGRADABLE
@@ -139,14 +142,15 @@ def results_from(result) -> dict:
         else:
             left_out += 1
     if left_out:
-        data["output"] += (f"\n({left_out} picture{'s' if left_out > 1 else ''} left out to keep the results "
-                           "under PrairieLearn's size limit.)\n")
+        data["output"] += "\n(" + ngettext("%(count)d picture left out to keep the results under PrairieLearn's size limit.",
+                                           "%(count)d pictures left out to keep the results under PrairieLearn's size limit.",
+                                           left_out) % {"count": left_out} + ")\n"
     return data
 
 
 def failure_results(reason: str = "") -> dict:
     """What results.json says when the grader itself failed (never a traceback)."""
-    return {"gradable": False, "score": 0.0, "message": FAILED_MESSAGE + (f" ({reason})" if reason else ""),
+    return {"gradable": False, "score": 0.0, "message": _(FAILED_MESSAGE) + (f" ({reason})" if reason else ""),
             "output": "", "tests": [], "images": []}
 
 
