@@ -11,7 +11,7 @@ paths (grader.PROJECT_ROOT is selfcheck/ there):
                      following its imports (grader_modules), and the files
                      they read: the shim and worker C sources the build and
                      the worker compile, the visible rubric (no secret), the
-                     diagnosis catalogue (a module), the locale
+                     diagnosis catalogue (a module), the locale compiled (.mo)
     reference/       the renderer's C and the cut envmap.h (the library the
                      checks trace and resolve with; selfcheck/Makefile builds it)
     student_template/ the API headers and loader the grader builds with
@@ -19,6 +19,9 @@ paths (grader.PROJECT_ROOT is selfcheck/ there):
                      the renders check's inputs and the reference renders
     reference_answers.npz
                      the lookup's answers on the kit's inputs (answers.py)
+    requirements-kit.txt, bootstrap.py
+                     the packages the first `make selfcheck` installs
+                     (environment.py), and what installs them
 
 Pristine copies: a student who edits envmap_test.cfg or a header at the
 kit's root (as the handout invites) does not change what is checked, as on
@@ -190,17 +193,12 @@ def write_selfcheck(root: Path, artifacts: Path) -> None:
     from .. import fixtures, i18n
     from ..build import API_HEADERS
     from ..score import load_rubric
-    from . import answers
+    from . import answers, environment
     package = PROJECT_ROOT / "grader"
     for rel in grader_modules() + list(GRADER_FILES):
         _copy(package / rel, root / "grader" / rel)
     (root / "grader" / "rubric.toml").write_text(visible_rubric(load_rubric()))
-    for lang in i18n.LANGUAGES:
-        if lang != i18n.DEFAULT:     # the .po, and its .mo for a Python without Babel (i18n.translations)
-            po = i18n.po_path(lang)
-            target = root / po.relative_to(PROJECT_ROOT)
-            _copy(po, target)
-            target.with_suffix(".mo").write_bytes(i18n.compiled(lang))
+    i18n.compile_catalogues(root / i18n.LOCALE_DIR.relative_to(PROJECT_ROOT))   # .mo only: the kit has no Babel
     (root / "reference" / "include").mkdir(parents=True)
     (root / "reference" / "include" / "envmap.h").write_text(kit_header((REFERENCE / "include" / "envmap.h").read_text()))
     for name in RENDERER_SOURCES:
@@ -212,17 +210,7 @@ def write_selfcheck(root: Path, artifacts: Path) -> None:
         for path in (fixture.scene, fixture.map, fixture.path):
             _copy(path, root / Path(os.path.normpath(path)).relative_to(PROJECT_ROOT))
     answers.record(root / answers.ANSWERS, artifacts)
-    _environment_files(root)
-
-
-def _environment_files(root: Path) -> None:
-    """The locked requirements the kit's first `make selfcheck` installs
-    (grader.kit.environment, from the kit environment's branch)."""
-    try:
-        from . import environment
-    except ImportError:           # not merged yet: bootstrap.py then says what is missing
-        return
-    environment.write_requirements(root)
+    environment.write_requirements(root)      # what bootstrap.py installs on first use
 
 
 def _copy_template(dest: Path) -> list[Path]:
