@@ -13,7 +13,7 @@ CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
 REF_SRC := $(sort $(wildcard reference/src/*.c))
 REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
-.PHONY: all reference venv test test-fast sanitize fuzz selfcheck grade grade-all fixtures student-kit bundle translations gradescope bench study clean system-deps core-deps
+.PHONY: all reference venv test test-fast kit-agreement sanitize fuzz selfcheck grade grade-all fixtures student-kit bundle translations gradescope bench study clean system-deps core-deps
 
 all: reference
 
@@ -58,6 +58,11 @@ test: system-deps venv reference
 # The suite without the slow, sanitizer and browser tests (markers: pytest.ini, tests/conftest.py).
 test-fast: system-deps venv reference
 	$(PY) -m pytest -n 2 -q -m "not slow and not sanitizer and not browser" tests
+
+# The student kit's self-check against the grader on every zoo submission
+# (tests/test_kit_agreement.py; many minutes): `make test` runs a subset.
+kit-agreement: system-deps venv reference
+	$(PY) -m pytest -n 2 -q -m agreement tests/test_kit_agreement.py
 
 # Regenerate fixtures/ after changing a scene, a map or the reference.
 fixtures: venv reference

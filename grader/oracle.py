@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import io
 import os
+import zipfile
 from pathlib import Path
 from typing import Iterator, Protocol
 
@@ -131,9 +133,16 @@ class Recorder(_ByQuestion):
         return self.inner.resolve(escapes, rgb)
 
     def save(self, path: Path) -> None:
-        """One .npz: each answer's arrays as `<method>:<digest>/<i>`."""
-        arrays = {f"{key}/{i}": a for key, parts in self.answers.items() for i, a in enumerate(parts)}
-        np.savez_compressed(path, **arrays)
+        """One .npz: each answer's arrays as `<method>:<digest>/<i>.npy`,
+        byte-stable (fixed member times, unlike np.savez: the kit's zip is
+        reproducible)."""
+        with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+            for key, parts in self.answers.items():
+                for i, a in enumerate(parts):
+                    member = io.BytesIO()
+                    np.lib.format.write_array(member, np.ascontiguousarray(a), allow_pickle=False)
+                    z.writestr(zipfile.ZipInfo(f"{key}/{i}.npy", date_time=(2026, 1, 1, 0, 0, 0)),
+                               member.getvalue(), zipfile.ZIP_DEFLATED)
 
 
 class Replay(_ByQuestion, Renderer):

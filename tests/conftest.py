@@ -6,7 +6,9 @@ Markers (registered in pytest.ini):
     sandbox    starts sandboxed workers or compiles in bubblewrap
     browser    drives a headless browser
     sanitizer  reruns suites under AddressSanitizer / UBSan
-`make test` runs everything; `make test-fast` leaves out slow, sanitizer and
+    agreement  the student kit against the grader on every zoo submission
+               (many minutes: pytest.ini leaves it out; `make kit-agreement`)
+`make test` runs everything but agreement; `make test-fast` leaves out slow, sanitizer and
 browser tests. Markers are given per test file below (MODULE_MARKERS) and
 per test (TEST_MARKERS), so test files owned by different people need no
 edits to be classified; a test file may also mark single tests with
@@ -45,6 +47,7 @@ MODULE_MARKERS = {
     "test_reference_sanitizers": ("sanitizer", "slow"),
     "test_report_html_browser": ("browser", "slow"),
     "test_markers": ("slow",),      # collects three test files in a subprocess, twice
+    "test_kit_agreement": ("slow", "sandbox"),   # builds the kit, grades each submission twice
 }
 # Single tests in otherwise fast files, by "module::test name" (parametrized
 # cases included): what would keep `make test-fast` from its 60 s.

@@ -25,7 +25,7 @@ VARIABLE_CALL = re.compile(r"\bDiagnosis\(\s*([A-Za-z_][\w.]*)\s*,")
 
 def _read_texture_ids():
     from grader.checks import read_texture
-    return set(read_texture.HYPOTHESES) | set(read_texture.DETAILS)
+    return set(read_texture.DIAGNOSIS_IDS)
 
 
 def _mapping_ids():

@@ -1,6 +1,7 @@
 """The student kit (`python -m grader kit`): holds no lookup code, no solution,
-no hidden check and no secret; builds and self-checks on its own (make and
-CMake); and its self-check agrees with the grader's visible checks."""
+no hidden check and no secret; builds on its own (make and CMake); and its
+self-check is the grader's own code, copied in (tests/test_kit_agreement.py
+holds the agreement with the grader on the zoos)."""
 from __future__ import annotations
 
 import base64
@@ -12,13 +13,16 @@ import shutil
 import subprocess
 import sys
 import time
+import tomllib
 import zipfile
 from pathlib import Path
 
 import pytest
 
+from fake_bwrap import write_failing_bwrap
 from grader import PROJECT_ROOT
-from grader.kit.build import GRADER_ONLY_CHECKS, build_kit, kit_header, lookup_names
+from grader.kit import NOT_IN_KIT
+from grader.kit.build import KitError, build_kit, grader_modules, kit_header, lookup_names, visible_rubric
 from grader.score import load_rubric
 
 TESTS = Path(__file__).parent
@@ -27,6 +31,8 @@ WRONG = TESTS / "submissions" / "wrong"
 TEMPLATE_SOURCE = PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp"
 # The heart of the reference lookup: these must be among the scanned names.
 KEY_NAMES = {"em_fetch", "em_read_texture", "em_direction_to_face", "FACE_AXES", "direction_face_uv", "read_bilinear", "u_sign"}
+VISIBLE_POINTS = sum(e["points"] for n, e in load_rubric()["checks"].items()
+                     if e.get("visibility", "visible") == "visible" and n not in NOT_IN_KIT)
 
 
 @pytest.fixture(scope="module")
@@ -37,24 +43,47 @@ def kit(tmp_path_factory):
 @pytest.fixture(scope="module")
 def alone(kit, tmp_path_factory) -> Path:
     """The zip unpacked alone in an empty folder (no project beside it), with
-    the program and the self-check driver built."""
+    the program built."""
     where = tmp_path_factory.mktemp("alone")
     with zipfile.ZipFile(kit.zip_path) as z:
         z.extractall(where)
     folder = where / "student-kit"
-    for target in ("all", "build/selfcheck_driver"):
-        run = subprocess.run(["make", "-s", target], cwd=folder, capture_output=True, text=True, timeout=300)
-        assert run.returncode == 0, run.stdout + run.stderr
-        assert "warning" not in run.stdout + run.stderr
+    run = subprocess.run(["make", "-s", "all"], cwd=folder, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "warning" not in run.stdout + run.stderr
     return folder
 
 
-def selfcheck(folder: Path, source: Path | None = None, *extra: str) -> tuple[subprocess.CompletedProcess, dict | None]:
+def kit_environment(**extra: str) -> dict:
+    """The caller's environment without PYTHONPATH (the kit has its own copy
+    of the grader) and with this Python for the self-check (its packages are
+    the kit's locked ones: grader.kit.environment)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "GRADER_SECRET", "ENVMAP_LIBRARY")}
+    return {**env, "SELFCHECK_PYTHON": sys.executable, **extra}
+
+
+@pytest.fixture(params=["bubblewrap", "no-bwrap"])
+def environment(request, tmp_path) -> dict:
+    """Both ways the kit runs here: bubblewrap as installed, and a failing
+    bwrap first on PATH (the worker is then the only confinement)."""
+    if request.param == "bubblewrap":
+        return kit_environment()
+    fake = write_failing_bwrap(tmp_path / "fakebin")
+    return kit_environment(PATH=f"{fake}:{os.environ.get('PATH', '/usr/bin:/bin')}")
+
+
+def selfcheck(folder: Path, source: Path | None = None, *extra: str, env: dict | None = None
+              ) -> tuple[subprocess.CompletedProcess, dict | None]:
     if source is not None:
         shutil.copyfile(source, folder / "EnvironmentMap.cpp")
-    run = subprocess.run(["make", "-s", "selfcheck", *extra], cwd=folder, capture_output=True, text=True, timeout=300)
+    run = subprocess.run(["make", "-s", "selfcheck", *extra], cwd=folder, capture_output=True, text=True,
+                         timeout=600, env=env or kit_environment())
     summary = folder / "build" / "selfcheck" / "selfcheck.json"
     return run, json.loads(summary.read_text()) if summary.is_file() else None
+
+
+def ids(summary: dict) -> set[str]:
+    return {d["id"] for d in summary["extra_data"]["diagnoses"]}
 
 
 # ---- what the kit holds --------------------------------------------------------------
@@ -70,28 +99,67 @@ def kit_files(folder: Path):
     return sorted(p for p in folder.rglob("*") if p.is_file())
 
 
+# Where the kit's copy of the grader names a lookup.c name without holding
+# its code: the cffi bindings, which the kit's header does not declare and
+# its library does not define (test_built_binaries_have_no_lookup_symbols);
+# the handout's (u, v) table the README prints (face_recovery); two variable
+# names of the face frames probed through the oracle (geometry).
+NAMED_NOT_HELD = {
+    "selfcheck/grader/reference.py": {"EM_FILTER_NEAREST", "em_cubemap_lookup", "em_cubemap_lookup_fn",
+                                      "em_direction_to_face_batch", "em_fetch_batch", "em_filter",
+                                      "em_read_texture_batch"},
+    "selfcheck/grader/checks/instruments/face_recovery.py": {"FACE_AXES"},
+    "selfcheck/grader/geometry.py": {"u_axis", "v_axis"},
+}
+
+
 def test_kit_holds_no_lookup_code(kit):
     pattern = re.compile(rb"\b(" + b"|".join(n.encode() for n in lookup_names()) + rb")\b")
     found = {}
     for path in kit_files(kit.folder):
-        hits = set(pattern.findall(path.read_bytes()))
-        if hits:
-            found[path.relative_to(kit.folder).as_posix()] = sorted(h.decode() for h in hits)
+        hits = {h.decode() for h in pattern.findall(path.read_bytes())}
+        rel = path.relative_to(kit.folder).as_posix()
+        if hits - NAMED_NOT_HELD.get(rel, set()):
+            found[rel] = sorted(hits - NAMED_NOT_HELD.get(rel, set()))
     assert not found, f"reference lookup names in the kit: {found}"
     names = {Path(n).name for n in kit.files}
-    assert "lookup.c" not in names
-    header = (kit.folder / "renderer" / "include" / "envmap.h").read_text()
-    assert "em_render" in header and "em_lookup_fn" in header and "em_cubemap_load_cross" in header
+    assert "lookup.c" not in names and "reference_submission.c" not in names
+    for header in ("renderer/include/envmap.h", "selfcheck/reference/include/envmap.h"):
+        text = (kit.folder / header).read_text()
+        assert "em_render" in text and "em_lookup_fn" in text and "em_cubemap_load_cross" in text
+        assert "em_fetch" not in text and "em_filter" not in text
 
 
 def test_built_binaries_have_no_lookup_symbols(alone):
-    binaries = [alone / "envmap", alone / "build" / "selfcheck_driver"] + sorted((alone / "build").rglob("*.o"))
+    run, summary = selfcheck(alone, CORRECT[0])
+    assert summary is not None, run.stdout + run.stderr
+    built = alone / "selfcheck" / "build"
+    binaries = [alone / "envmap", built / "libenvmap.so", built / "worker", *sorted(built.rglob("*.so")),
+                *sorted((alone / "build").rglob("*.o")), *sorted(built.rglob("*.o")), *sorted(built.rglob("*.a"))]
+    assert (built / "libenvmap.so") in binaries and len([b for b in binaries if b.suffix == ".so"]) >= 2
     names = set(lookup_names())
     for binary in binaries:
         nm = subprocess.run(["nm", "-C", str(binary)], capture_output=True, text=True, check=True).stdout
         symbols = {line.split()[-1] for line in nm.splitlines() if line.strip()}
-        assert not symbols & names, f"{binary.name}: {sorted(symbols & names)}"
-        assert "em_render" in symbols or binary.suffix == ".o"
+        assert not symbols & names, f"{binary.relative_to(alone)}: {sorted(symbols & names)}"
+    nm = subprocess.run(["nm", "-D", str(built / "libenvmap.so")], capture_output=True, text=True, check=True).stdout
+    assert "em_trace" in nm and "em_resolve" in nm
+
+
+def test_the_kit_ships_the_graders_own_modules_and_nothing_more(kit):
+    package = kit.folder / "selfcheck" / "grader"
+    shipped = sorted(p.relative_to(package).as_posix() for p in package.rglob("*.py"))
+    assert shipped == grader_modules()
+    for rel in shipped:     # byte copies: the kit runs the grader's code, not a restatement of it
+        assert (package / rel).read_bytes() == (PROJECT_ROOT / "grader" / rel).read_bytes(), rel
+    # What the self-check runs is there, what it never runs is not.
+    for rel in ("kit/selfcheck.py", "grade.py", "build.py", "worker/runner.py", "reports/html.py", "diagnoses.py",
+                "checks/read_texture.py", "checks/renders.py", "oracle.py"):
+        assert rel in shipped, rel
+    for rel in ("kit/build.py", "kit/answers.py", "cli.py", "commands/grade.py", "course/grade_all.py",
+                "platforms/gradescope.py", "study/chart.py", "kit/data.py"):
+        assert rel not in shipped, rel
+    assert not (package / "worker" / "null_submission.c").exists()
 
 
 def test_kit_holds_no_secret_no_hidden_check_and_nothing_from_tests_or_examples(kit):
@@ -107,10 +175,17 @@ def test_kit_holds_no_secret_no_hidden_check_and_nothing_from_tests_or_examples(
         data = path.read_bytes()
         assert secret not in data, path
         assert hashlib.sha256(data).hexdigest() not in ours, f"{path} is a copy of {ours.get(hashlib.sha256(data).hexdigest())}"
-    manifest = json.loads((kit.folder / "selfcheck" / "data" / "manifest.json").read_text())
-    visible = [n for n, e in rubric["checks"].items() if e.get("visibility", "visible") == "visible" and n not in GRADER_ONLY_CHECKS]
-    assert [c["name"] for c in manifest["rubric"]] == visible
-    assert "speed" not in json.dumps(manifest["checks"]) and "secret" not in json.dumps(manifest)
+    shipped = tomllib.loads((kit.folder / "selfcheck" / "grader" / "rubric.toml").read_text())
+    assert "secret" not in json.dumps(shipped) and set(shipped) == {"grading", "checks"}
+    assert shipped["checks"] == rubric["checks"]      # every check is visible today, with its points and settings
+    assert shipped["grading"] == {"language": rubric["grading"]["language"]}
+
+
+def test_a_rubric_with_a_hidden_check_cannot_make_a_kit():
+    rubric = load_rubric()
+    rubric["checks"]["stability"]["visibility"] = "after_due_date"
+    with pytest.raises(KitError, match="stability is not visible"):
+        visible_rubric(rubric)
 
 
 def test_kit_header_cut_is_exact():
@@ -123,9 +198,12 @@ def test_kit_header_cut_is_exact():
 
 
 def test_zip_is_reproducible(kit, tmp_path):
+    time.sleep(2)       # zip members carry times to 2 s: a build in the same second would prove nothing
     again = build_kit(tmp_path / "student-kit")
     assert again.zip_path.read_bytes() == kit.zip_path.read_bytes()
-    assert kit.size < 5_000_000
+    # 6.4 MB in December 2026: the recorded answers (4.8 MB) and the maps twice
+    # (the kit's own and the self-check's pristine copies).
+    assert kit.size < 8_000_000
 
 
 def test_template_is_the_kit_starting_point(kit):
@@ -138,6 +216,7 @@ def test_template_is_the_kit_starting_point(kit):
 
 
 def test_make_run_writes_a_compressed_png(alone):
+    shutil.copyfile(TEMPLATE_SOURCE, alone / "EnvironmentMap.cpp")     # black: other tests leave their file
     run = subprocess.run(["make", "-s", "run"], cwd=alone, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stdout + run.stderr
     png = (alone / "out.png").read_bytes()
@@ -148,31 +227,40 @@ def test_make_run_writes_a_compressed_png(alone):
     assert (alone / "out.hdr").is_file()
 
 
-def test_selfcheck_of_the_template_in_the_kit_alone(alone):
-    run, summary = selfcheck(alone, TEMPLATE_SOURCE)
+def test_selfcheck_of_the_template_in_the_kit_alone(alone, environment):
+    run, summary = selfcheck(alone, TEMPLATE_SOURCE, env=environment)
     assert run.returncode == 0, run.stdout + run.stderr
-    assert summary["max_score"] == sum(e["points"] for n, e in load_rubric()["checks"].items()
-                                       if e.get("visibility", "visible") == "visible" and n not in GRADER_ONLY_CHECKS)
+    assert summary["extra_data"]["max_score"] == VISIBLE_POINTS
+    assert [t["extra_data"]["check"] for t in summary["tests"]] == [
+        n for n, e in load_rubric()["checks"].items() if e.get("visibility", "visible") == "visible" and n not in NOT_IN_KIT]
     assert 0 < summary["score"] < 20
-    ids = {d["id"] for c in summary["checks"] for d in c["diagnoses"]}
-    assert {"not-implemented", "nearest-neighbor"} <= ids
-    md = (alone / "build" / "selfcheck" / "report.md").read_text()
-    assert f"**Score: {summary['score']:g} / {summary['max_score']:g}**" in md
-    assert "fetchColor still returns black" in md or "not-implemented" in md
-    page = (alone / "build" / "selfcheck" / "report.html").read_text()
+    assert {"not-implemented", "nearest-neighbor"} <= ids(summary)
+    # The grader's report, and the grader's results.json under the kit's name.
+    out = alone / "build" / "selfcheck"
+    assert (out / "results.json").read_bytes() == (out / "selfcheck.json").read_bytes()
+    md = (out / "report.md").read_text()
+    assert f"**Score: {summary['score']:g} / {VISIBLE_POINTS:g}**" in md
+    page = (out / "report.html").read_text()
     # Self-contained: no script, nothing fetched from elsewhere.
-    assert page.startswith("<!DOCTYPE html>") and "<script" not in page
+    assert page.startswith("<!DOCTYPE html>") and "<script" not in page and "default-src 'none'" in page
     assert not re.search(r'(src|href)="(https?:)?//', page)
-    assert f"Score: {summary['score']:g} / {summary['max_score']:g}" in page
+    assert f"{summary['score']:g} / {VISIBLE_POINTS:g}" in page
+    isolation = summary["extra_data"]["isolation"]
+    assert isolation == ("bubblewrap" if "SELFCHECK_PYTHON" in environment and "fakebin" not in environment["PATH"]
+                         else "privilege-drop" if os.geteuid() == 0 else "unsafe-none"), isolation
 
 
-def test_selfcheck_of_a_correct_solution_and_fail_under(alone):
-    run, summary = selfcheck(alone, CORRECT[0], "FAIL_UNDER=95")
+def test_fail_under_is_a_percentage_of_the_visible_points(alone):
+    run, summary = selfcheck(alone, CORRECT[0], "FAIL_UNDER=100")
     assert run.returncode == 0, run.stdout + run.stderr
-    assert summary["score"] == summary["max_score"]
-    assert not any(c["diagnoses"] for c in summary["checks"])
-    run, _ = selfcheck(alone, TEMPLATE_SOURCE, "FAIL_UNDER=50")
-    assert run.returncode != 0
+    assert summary["score"] == VISIBLE_POINTS and not summary["extra_data"]["diagnoses"]
+    run, summary = selfcheck(alone, TEMPLATE_SOURCE)
+    percent = 100 * summary["score"] / VISIBLE_POINTS       # 5.72 points of 95: 6.0 %
+    assert summary["score"] < int(percent) + 1 < 100
+    # Read as points, FAIL_UNDER=<percent rounded down> would fail: as a percentage it passes.
+    assert selfcheck(alone, None, f"FAIL_UNDER={int(percent)}")[0].returncode == 0
+    below = selfcheck(alone, None, f"FAIL_UNDER={int(percent) + 1}")[0]
+    assert below.returncode != 0 and f"FAIL_UNDER={int(percent) + 1}%" in below.stdout
 
 
 def test_selfcheck_names_a_crash(alone, tmp_path):
@@ -182,19 +270,20 @@ def test_selfcheck_names_a_crash(alone, tmp_path):
         "    if (direction.x > 0.5) { volatile int* p = nullptr; return Color(*p, 0, 0); }\n"))
     run, summary = selfcheck(alone, source)
     assert run.returncode == 0, run.stdout + run.stderr
-    assert "crash" in {d["id"] for c in summary["checks"] for d in c["diagnoses"]}
+    assert "crash" in ids(summary)
 
 
-def test_a_submission_calling_the_reference_lookup_does_not_build_and_says_why(alone, tmp_path):
+def test_a_submission_calling_the_reference_lookup_is_refused_as_the_grader_refuses_it(alone, tmp_path):
     source = tmp_path / "cheat.cpp"
     source.write_text(TEMPLATE_SOURCE.read_text().replace(
         "    (void)direction; // delete this line once you use `direction`\n",
         "    double rgb[3];\n    em_fetch(nullptr, EM_FILTER_BILINEAR, direction.x, direction.y, direction.z, rgb);\n")
         .replace('#include "EnvironmentMap.h"\n', '#include "EnvironmentMap.h"\n#include "envmap.h"\n'))
-    run, _ = selfcheck(alone, source)
-    report = (alone / "build" / "selfcheck" / "report.md").read_text()
-    assert "did not compile" in report and "em_" in report and "reference" in report
+    run, summary = selfcheck(alone, source)
     assert run.returncode != 0
+    assert summary["score"] == 0 and summary["extra_data"]["status"] == "build-error"
+    assert ids(summary) == {"build-error"}      # envmap.h is not there to include, as in the grader
+    assert "envmap.h" in (alone / "build" / "selfcheck" / "report.md").read_text()
 
 
 def test_selfcheck_html_escapes_what_the_submission_prints(alone, tmp_path):
@@ -205,9 +294,17 @@ def test_selfcheck_html_escapes_what_the_submission_prints(alone, tmp_path):
         .replace("#include <algorithm>\n", "#include <algorithm>\n#include <stdexcept>\n"))
     run, summary = selfcheck(alone, source)
     assert run.returncode == 0, run.stdout + run.stderr
-    assert "exception" in {d["id"] for c in summary["checks"] for d in c["diagnoses"]}
+    assert "exception" in ids(summary)
     page = (alone / "build" / "selfcheck" / "report.html").read_text()
     assert "<script>" not in page and "&lt;script&gt;" in page
+
+
+def test_a_submission_that_does_not_compile_gets_a_report(alone):
+    run, summary = selfcheck(alone, TESTS / "submissions" / "build" / "syntax_error.cpp")
+    assert run.returncode != 0
+    assert summary["extra_data"]["status"] == "build-error" and summary["score"] == 0
+    report = (alone / "build" / "selfcheck" / "report.md").read_text()
+    assert "error" in report
 
 
 @pytest.mark.slow
@@ -219,125 +316,55 @@ def test_cmake_build_and_selfcheck(kit, tmp_path, compiler):
     folder = tmp_path / "kit"
     shutil.copytree(kit.folder, folder)
     shutil.copyfile(CORRECT[0], folder / "EnvironmentMap.cpp")
-    env = dict(os.environ, CC=cc, CXX=cxx)
-    for cmd in (["cmake", "-S", ".", "-B", "build-cmake"], ["cmake", "--build", "build-cmake", "-j2"],
+    env = kit_environment(CC=cc, CXX=cxx)
+    for cmd in (["cmake", "-S", ".", "-B", "build-cmake", f"-DSELFCHECK_PYTHON={sys.executable}"],
+                ["cmake", "--build", "build-cmake", "-j2"],
                 ["cmake", "--build", "build-cmake", "--target", "selfcheck"], ["cmake", "--build", "build-cmake", "--target", "run"]):
         run = subprocess.run(cmd, cwd=folder, capture_output=True, text=True, timeout=600, env=env)
         assert run.returncode == 0, " ".join(cmd) + "\n" + run.stdout[-3000:] + run.stderr[-3000:]
         assert "warning" not in run.stdout.lower() + run.stderr.lower(), run.stdout + run.stderr
     summary = json.loads((folder / "build-cmake" / "selfcheck" / "selfcheck.json").read_text())
-    assert summary["score"] == summary["max_score"]
+    assert summary["score"] == VISIBLE_POINTS
     assert (folder / "out.png").read_bytes()[:4] == b"\x89PNG"
-
-
-# ---- the kit agrees with the grader ----------------------------------------------------
-
-
-def grader_visible(source: Path, out: Path) -> dict:
-    run = subprocess.run([sys.executable, "-m", "grader", "grade", "--visible-only", str(source), "--out", str(out)],
-                         cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=600)
-    results = out / "results.json"
-    assert results.is_file(), run.stdout + run.stderr
-    data = json.loads(results.read_text())
-    scores = {t["extra_data"]["check"]: t["score"] for t in data["tests"] if t["extra_data"]["check"] not in GRADER_ONLY_CHECKS}
-    ids = {d["id"] for d in data["extra_data"]["diagnoses"]}
-    # Diagnoses that only a grader-only check (speed) gives.
-    grader_only = {d["id"] for t in data["tests"] if t["extra_data"]["check"] in GRADER_ONLY_CHECKS
-                   for d in t["extra_data"].get("diagnoses", [])}
-    return {"scores": scores, "ids": ids - grader_only - {"slow"}}
-
-
-# The read_texture check's (u, v) points include 6 random ones per axis,
-# seeded per submission by the grader and fixed in the kit; a starting code
-# (nearest texel) matches where a random point lands in a face's last texel,
-# so its score there moves by up to about a point with the seed.
-SEEDED_SLACK = {"read_texture": 1.5}   # the other checks agree exactly
-
-
-@pytest.mark.slow
-@pytest.mark.sandbox
-@pytest.mark.parametrize("source", [TEMPLATE_SOURCE, *CORRECT], ids=lambda p: p.parent.name + "/" + p.name)
-def test_kit_scores_agree_with_the_grader(alone, tmp_path, source):
-    expected = grader_visible(source, tmp_path / "grader")
-    _, summary = selfcheck(alone, source)
-    got = {c["name"]: c["score"] for c in summary["checks"]}
-    assert set(got) == set(expected["scores"])
-    for name, score in expected["scores"].items():
-        slack = SEEDED_SLACK.get(name, 0.0) if source == TEMPLATE_SOURCE else 0.0
-        assert abs(got[name] - score) <= slack + 0.011, (name, got[name], score)
-    assert {d["id"] for c in summary["checks"] for d in c["diagnoses"]} == expected["ids"]
-
-
-# A representative handful: each readTexture mistake the kit models, each
-# kind of fetchColor mistake, a combination and a length mistake. (The zoo's
-# crashing and hanging members take the grader 25-35 s each to narrow down.)
-# From the compound zoo (tests/submissions/compound), three the kit names
-# fully: a whole-texel offset, three mistakes at once, float components.
-# Known gaps: readTexture mistakes outside the kit's list (rows or columns
-# flipped, unclamped or wrapped edges...), which the grader finds by fitting
-# a model family the kit cannot hold without filter code; and crashes, which
-# the grader narrows down to the input (an out-of-bounds read it reports as
-# such), while the kit loses the chunk of 2048 calls that crashed (so its
-# score for a crashing submission is lower than the grader's).
-ZOO_SAMPLE = [WRONG / f"{name}.cpp" for name in (
-    "nearest-neighbor", "half-texel-offset", "weights-swapped", "u-flipped-pos-x", "uv-swapped-neg-y",
-    "wrong-face-x-swapped", "combo-swapped-and-flipped", "not-normalized-length", "nan-huge", "crash-null")]
-ZOO_SAMPLE += [TESTS / "submissions" / "compound" / f"{name}.cpp" for name in (
-    "offset-one-clamped_correct-fetch", "signed-major-wrong-face_nearest")]
-# The old self-check still loses a whole chunk to a crash, where the grader
-# now goes on past it and sees this file's NaN too: the drift issue 20 ends
-# by running the grader's own checks in the kit (strict: it must then pass).
-ZOO_SAMPLE += [pytest.param(TESTS / "submissions" / "compound" / "float-args_wh-swapped.cpp",
-                            marks=pytest.mark.xfail(strict=True, reason="issue 20: the kit's own crash handling"))]
-
-
-@pytest.mark.slow
-@pytest.mark.sandbox
-@pytest.mark.parametrize("source", ZOO_SAMPLE, ids=lambda p: p.stem)
-def test_kit_names_the_graders_diagnoses_on_the_wrong_zoo(alone, tmp_path, source):
-    expected = grader_visible(source, tmp_path / "grader")
-    _, summary = selfcheck(alone, source)
-    got = {d["id"] for c in summary["checks"] for d in c["diagnoses"]}
-    assert got == expected["ids"], (got, expected["ids"])
-    assert summary["score"] < summary["max_score"]
-
-
-def test_a_submission_that_does_not_compile_gets_a_report(alone):
-    run, summary = selfcheck(alone, TESTS / "submissions" / "build" / "syntax_error.cpp")
-    assert run.returncode != 0
-    assert summary["build_failed"] and summary["score"] == 0
-    report = (alone / "build" / "selfcheck" / "report.md").read_text()
-    assert "did not compile" in report and "error" in report
 
 
 # ---- the report is selfcheck's own -------------------------------------------------------
 
 # A static initialiser in the student's own file (the template, otherwise
-# untouched): the first driver process leaves a daemon that has left the
-# driver's session (setsid) and its tree (double fork), waits until
-# selfcheck.py has exited, then writes full marks into both report files.
+# untouched), run when the worker loads it: it tries to open a file in the
+# report folder (absolute path, filled in below); where it can, it leaves a
+# daemon that has left the worker's session (setsid) and its tree (double
+# fork), waits until the self-check has exited, then writes full marks into
+# both report files. Where it cannot, the report says why (the worker refuses
+# the open, or the initialiser aborts): proof that it ran.
 REPORT_REWRITER = r'''
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 #include <cstdio>
+#include <cstdlib>
 namespace {
-void rewrite(const char* path, const char* text) {
+const char* const OUT = "@OUT@";
+void rewrite(const char* name, const char* text) {
+    char path[4096];
+    std::snprintf(path, sizeof path, "%s/%s", OUT, name);
     if (FILE* f = std::fopen(path, "w")) { std::fputs(text, f); std::fclose(f); }
 }
 struct Rewriter {
     Rewriter() {
-        if (open("build/selfcheck/.rewriter", O_CREAT | O_EXCL | O_WRONLY, 0644) < 0) return;   // once
-        pid_t selfcheck = getppid();
-        if (fork() != 0) return;              // the driver goes on as usual
+        char mark[4096];
+        std::snprintf(mark, sizeof mark, "%s/.rewriter", OUT);
+        int fd = open(mark, O_CREAT | O_WRONLY, 0644);
+        if (fd < 0) std::abort();               // cannot reach the reports: say so by crashing
+        close(fd);
+        if (fork() != 0) return;                // the worker goes on as usual
         setsid();
         if (fork() != 0) _exit(0);
         int null = open("/dev/null", O_RDWR);
         dup2(null, 0); dup2(null, 1); dup2(null, 2);
-        for (int i = 0; i < 6000 && kill(selfcheck, 0) == 0; ++i) usleep(10000);
-        usleep(200000);
-        rewrite("build/selfcheck/report.md", "# Self-check of EnvironmentMap.cpp\n\n**Score: 95 / 95** (visible checks)\n");
-        rewrite("build/selfcheck/selfcheck.json", "{\"score\": 95, \"max_score\": 95, \"checks\": []}\n");
+        sleep(20);
+        rewrite("report.md", "# Self-check\n\n**Score: 95 / 95**\n");
+        rewrite("selfcheck.json", "{\"score\": 95, \"tests\": []}\n");
         _exit(0);
     }
 } rewriter;
@@ -345,38 +372,23 @@ struct Rewriter {
 '''
 
 
-def processes_running(executable: Path) -> list[int]:
-    found = []
-    for entry in os.listdir("/proc"):
-        try:
-            if entry.isdigit() and os.readlink(f"/proc/{entry}/exe") == str(executable):
-                found.append(int(entry))
-        except OSError:
-            pass
-    return found
-
-
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc to see what is left running")
-def test_the_students_code_cannot_rewrite_the_report_after_selfcheck(alone, tmp_path):
+@pytest.mark.slow
+def test_the_students_code_cannot_reach_the_reports(alone, tmp_path, environment):
     folder = tmp_path / "kit"
     shutil.copytree(alone, folder, symlinks=True)
-    (folder / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text() + REPORT_REWRITER)
-    shutil.rmtree(folder / "build" / "selfcheck", ignore_errors=True)
-    run = subprocess.run(["make", "-s", "selfcheck"], cwd=folder, capture_output=True, text=True, timeout=300)
+    out = folder / "build" / "selfcheck"
+    out.mkdir(parents=True, exist_ok=True)
+    (folder / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text() + REPORT_REWRITER.replace("@OUT@", str(out)))
+    run = subprocess.run(["make", "-s", "selfcheck"], cwd=folder, capture_output=True, text=True, timeout=600,
+                         env=environment)
     assert run.returncode == 0, run.stdout + run.stderr
-    printed = re.search(r"^Score: ([\d.]+) / ([\d.]+)", run.stdout, re.M)
+    printed = re.search(r"^\S+\s+([\d.]+) / ([\d.]+)\s", run.stdout, re.M)
     assert printed and float(printed[1]) < float(printed[2]), run.stdout
-    assert (folder / "build" / "selfcheck" / ".rewriter").exists(), "the attacker's initialiser did not run"
-    # Whatever the driver left running gets its chance to act before the reports are read.
-    driver = (folder / "build" / "selfcheck_driver").resolve()
-    deadline = time.monotonic() + 30
-    while processes_running(driver) and time.monotonic() < deadline:
-        time.sleep(0.1)
-    time.sleep(0.5)
-    md = (folder / "build" / "selfcheck" / "report.md").read_text()
-    summary = json.loads((folder / "build" / "selfcheck" / "selfcheck.json").read_text())
-    assert f"**Score: {printed[1]} / {printed[2]}**" in md
-    assert (summary["score"], summary["max_score"]) == (float(printed[1]), float(printed[2]))
+    summary = json.loads((out / "selfcheck.json").read_text())
+    assert not (out / ".rewriter").exists(), "the submission wrote into the report folder"
+    # It ran, and the worker stopped it (its seccomp filter refuses open(), or it aborted).
+    assert summary["score"] == float(printed[1]) and ids(summary) & {"forbidden-syscall", "crash"}, ids(summary)
+    assert f"**Score: {printed[1]} / {printed[2]}**" in (out / "report.md").read_text()
 
 
 # ---- GitHub Classroom -----------------------------------------------------------------
@@ -443,7 +455,7 @@ def run_workflow(repo: Path) -> dict:
         cwd = repo / fill(step.get("working-directory", "."))
         run = subprocess.run(["bash", "--noprofile", "--norc", "-eo", "pipefail", "-c", fill(step["run"])], cwd=cwd,
                              capture_output=True, text=True, timeout=300,
-                             env=dict(os.environ, GITHUB_OUTPUT=str(output), GITHUB_STEP_SUMMARY=str(summary)))
+                             env=kit_environment(GITHUB_OUTPUT=str(output), GITHUB_STEP_SUMMARY=str(summary)))
         assert run.returncode == 0, (step["name"], run.stdout + run.stderr)
         outputs[step.get("id", step["name"])] = dict(
             line.split("=", 1) for line in output.read_text().splitlines() if "=" in line)
@@ -457,12 +469,12 @@ def test_the_workflow_runs_in_a_repository_made_from_the_kit(alone, tmp_path, la
     kit = repo if layout == "kit-is-the-root" else repo / "student-kit"
     shutil.copytree(alone, kit, symlinks=True)
     shutil.rmtree(kit / "build" / "selfcheck", ignore_errors=True)
-    (kit / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text())   # partial credit: 7.33 / 95
+    (kit / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text())   # partial credit: 5.72 / 95
     assert (kit / ".github" / "workflows" / "grade.yml").read_text() == WORKFLOW.read_text()   # the kit's own
     ran = run_workflow(repo)
     assert ran["outputs"]["kit"]["dir"] == ("." if layout == "kit-is-the-root" else "./student-kit")
     summary = json.loads((kit / "build" / "selfcheck" / "selfcheck.json").read_text())
     # Classroom gets the score the self-check printed, partial credit included.
-    assert ran["points"] == (pytest.approx(summary["score"]), summary["max_score"])
-    assert 0 < summary["score"] < summary["max_score"]
-    assert f"**Score: {summary['score']:g} / {summary['max_score']:g}**" in ran["summary"]
+    assert ran["points"] == (pytest.approx(summary["score"]), VISIBLE_POINTS)
+    assert 0 < summary["score"] < VISIBLE_POINTS
+    assert f"**Score: {summary['score']:g} / {VISIBLE_POINTS:g}**" in ran["summary"]

@@ -94,38 +94,6 @@ def sample_points(width: int, height: int, seed: int) -> np.ndarray:
     return np.stack([u.ravel(), v.ravel()], axis=1)
 
 
-# Common single mistakes, each as the (u, v) at which the reference would give
-# the same answer (or the reference's other filter). The grader itself names
-# mistakes from the fitted model (texture_model); the student kit
-# (grader/kit) uses this table for its offline self-check.
-def _weights_swapped(uv, w, h):
-    p = uv * (w, h)
-    return np.clip((2 * np.floor(p) + 1 - p) / (w, h), 0.0, 1.0)
-
-
-HYPOTHESES = {
-    "nearest-neighbor": ("nearest", lambda uv, w, h: uv),
-    "half-texel-offset": ("bilinear", lambda uv, w, h: np.clip(uv - 0.5 / np.array([w, h]), 0.0, 1.0)),
-    "weights-swapped": ("bilinear", _weights_swapped),
-    "width-height-swapped": ("bilinear", lambda uv, w, h: np.clip(uv * (h / w, w / h), 0.0, 1.0)),
-    "scaled-by-size-minus-one": ("bilinear", lambda uv, w, h: uv * ((w - 1) / w, (h - 1) / h)),
-    "uv-swapped": ("bilinear", lambda uv, w, h: uv[:, ::-1]),
-    "u-flipped": ("bilinear", lambda uv, w, h: np.stack([1 - uv[:, 0], uv[:, 1]], 1)),
-    "v-flipped": ("bilinear", lambda uv, w, h: np.stack([uv[:, 0], 1 - uv[:, 1]], 1)),
-}
-
-DETAILS = {   # catalogue ids (grader.i18n): read out with _()
-    "nearest-neighbor": N_("readTexture returns the nearest texel instead of blending the four around p = (uW, vH)."),
-    "half-texel-offset": N_("readTexture samples half a texel off: it uses p = (uW - 0.5, vH - 0.5) instead of p = (uW, vH)."),
-    "weights-swapped": N_("readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10."),
-    "width-height-swapped": N_("readTexture mixes up the face width and height (u is scaled by the height or v by the width)."),
-    "scaled-by-size-minus-one": N_("readTexture uses p = (u(W-1), v(H-1)) instead of the handout's p = (uW, vH)."),
-    "uv-swapped": N_("readTexture uses u for the vertical position and v for the horizontal one."),
-    "u-flipped": N_("readTexture runs u from right to left."),
-    "v-flipped": N_("readTexture runs v from top to bottom (v = 0 must be the bottom row)."),
-}
-
-
 # Every id mistake_diagnoses can give (tests/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = tm.MISTAKE_IDS
 

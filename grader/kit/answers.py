@@ -8,8 +8,8 @@ Almost every question a check asks depends on the seed alone (directions,
 each path records them: a submission answering as the handout does, and one
 whose readTexture never answers (read_texture's worked case, asked per face
 over the whole sample set). tests/test_oracle.py replays submissions the
-recording never saw and finds every answer. Speed is left out: it times the
-live reference, which the kit cannot do (the kit scores the other checks).
+recording never saw and finds every answer. Speed is left out (grader.kit.NOT_IN_KIT): it
+times the live reference, which the kit cannot do.
 """
 from __future__ import annotations
 
@@ -22,10 +22,7 @@ from ..checks import all_checks, run_checks
 from ..checks.context import CheckContext
 from ..checks.read_texture import FACES, WORKED_SIZE, sample_points, worked_case
 from ..worker.runner import Outcome
-
-KIT_SEED = 20261201          # public, unrelated to the course secret (as grader.kit.data)
-ANSWERS = "reference_answers.npz"
-NOT_IN_KIT = ("speed",)
+from . import ANSWERS, KIT_SEED, NOT_IN_KIT  # noqa: F401 (grade --kit-inputs reads them here)
 
 
 class _AsTheHandout:

@@ -3,20 +3,38 @@ student_template/ and reference/ (`python -m grader kit`, `make student-kit`).
 
 The kit holds the template, the provided renderer and .hdr reader (reference/
 without lookup.c, and envmap.h without the lookup declarations), the maps
-and scenes the self-check renders, the figures, and the self-check: a driver
-compiled with the student's EnvironmentMap.cpp, a stdlib-only Python script,
-and the expected data computed here with the grader's reference
-(grader/kit/data.py). No lookup code, no solution, no hidden check, no secret.
+and scenes, the figures, and the self-check: in selfcheck/, a copy of the
+part of the checkout the grader's self-check entry point needs, at the same
+paths (grader.PROJECT_ROOT is selfcheck/ there):
+
+    grader/          the modules grader.kit.selfcheck imports, found by
+                     following its imports (grader_modules), and the files
+                     they read: the shim and worker C sources the build and
+                     the worker compile, the visible rubric (no secret), the
+                     diagnosis catalogue (a module), the locale compiled (.mo)
+    reference/       the renderer's C and the cut envmap.h (the library the
+                     checks trace and resolve with; selfcheck/Makefile builds it)
+    student_template/ the API headers and loader the grader builds with
+    Cubemap/ scenes/ envmap_test.cfg fixtures/renders/
+                     the renders check's inputs and the reference renders
+    reference_answers.npz
+                     the lookup's answers on the kit's inputs (answers.py)
+    requirements-kit.txt, bootstrap.py
+                     the packages the first `make selfcheck` installs
+                     (environment.py), and what installs them
+
+Pristine copies: a student who edits envmap_test.cfg or a header at the
+kit's root (as the handout invites) does not change what is checked, as on
+submission. No lookup code, no solution, no hidden check, no secret.
 """
 from __future__ import annotations
 
-import hashlib
 import json
+import modulefinder
 import os
 import re
 import shutil
 import stat
-import subprocess
 import tempfile
 import zipfile
 from dataclasses import dataclass, field
@@ -46,8 +64,18 @@ HEADER_NOTE = ("/* ---- lookups ------------------------------------------------
                "/* The environment lookup is yours to write: fetchColor and readTexture in\n"
                " * EnvironmentMap.cpp. The renderer calls it through em_lookup_fn (below). */\n\n")
 
-# Checks the kit cannot run on the student's machine, whatever the rubric says.
-GRADER_ONLY_CHECKS = {"speed": "the speed verdict needs the grader's reference timing on a quiet machine"}
+# The kit's copy of the checkout (grader.PROJECT_ROOT in the kit).
+SELFCHECK = "selfcheck"
+ENTRY_POINT = "grader.kit.selfcheck"
+# What only the speed check's run reaches (the study's chart, its baseline
+# timings), which the kit leaves out (grader.kit.NOT_IN_KIT): not followed.
+NOT_FOLLOWED = ("grader.study",)
+# Files beside the modules that they read (grader-relative): the build's
+# shim (grader.build._shim_files), the worker's source (grader.worker.native).
+# The null submission and reference_submission.c serve only speed.
+GRADER_FILES = ("shim/shim.cpp", "shim/submission_abi.h", "worker/worker.c")
+# What the kit's rubric keeps of [grading] (never the secret); [checks] whole.
+GRADING_KEYS = ("language",)
 
 
 class KitError(Exception):
@@ -108,28 +136,81 @@ def _stb_header() -> Path:
     raise KitError("stb_image_write.h not found: install libstb-dev (Debian/Ubuntu: apt-get install libstb-dev)")
 
 
-def _visible_rubric(rubric: dict) -> dict:
-    """The visible checks' points and partial-credit rules (no secret, no
-    hidden check), in the rubric's order (the order checks run in: later
-    ones use read_texture's finding), as the kit scores them."""
-    from ..checks import all_checks
-    titles = {name: c.title for name, c in all_checks().items()}
-    out = []
+def grader_modules(entry: str = ENTRY_POINT) -> list[str]:
+    """The `grader` modules the kit's entry point imports, directly or not
+    (the standard library's modulefinder, which also sees imports inside
+    functions), and the check modules grader.checks imports by name. Their
+    files, grader-relative, sorted."""
+    from ..checks import MODULES
+    finder = modulefinder.ModuleFinder(path=[str(PROJECT_ROOT)], excludes=list(NOT_FOLLOWED))
+    for name in (entry, *(f"grader.checks.{m}" for m in MODULES)):
+        finder.import_hook(name)
+    package = PROJECT_ROOT / "grader"
+    files = {Path(m.__file__).resolve().relative_to(package).as_posix()
+             for name, m in finder.modules.items() if name.split(".")[0] == "grader" and m.__file__}
+    return sorted(files)
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)   # a TOML basic string
+    if isinstance(value, list):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    raise KitError(f"grader/rubric.toml: the kit cannot write the value {value!r}")
+
+
+def visible_rubric(rubric: dict) -> str:
+    """rubric.toml for the kit: the course's language and every check's
+    table (points, partial credit, settings), no secret. A check that is not
+    visible cannot ship (its code would): KitError."""
+    hidden = [n for n, e in rubric.get("checks", {}).items() if e.get("visibility", "visible") != "visible"]
+    if hidden:
+        raise KitError(f"grader/rubric.toml: {', '.join(hidden)} {'is' if len(hidden) == 1 else 'are'} not visible; "
+                       "the kit runs the grader's own check code and cannot leave one out: make them visible "
+                       "for the kit, or build it from a rubric without them")
+    lines = ["# The course's rubric as the self-check uses it (written by grader/kit/build.py):",
+             "# the visible checks' points and settings; no secret."]
+    grading = {k: v for k, v in rubric.get("grading", {}).items() if k in GRADING_KEYS}
+    lines += ["", "[grading]"] + [f"{k} = {_toml_value(v)}" for k, v in grading.items()]
     for name, entry in rubric.get("checks", {}).items():
-        if entry.get("visibility", "visible") != "visible" or name in GRADER_ONLY_CHECKS:
-            continue
-        out.append({"name": name, "points": float(entry.get("points", 0)),
-                    "partial": entry.get("partial", "fraction"), "title": titles.get(name, name)})
-    return out
+        lines += ["", f"[checks.{name}]"] + [f"{k} = {_toml_value(v)}" for k, v in entry.items()]
+    return "\n".join(lines) + "\n"
 
 
-def _catalogue() -> dict:
-    from ..diagnoses import CATALOGUE, CONSEQUENCES, KINDS
-    # What the self-check can find: not the build's or the speed check's entries.
-    entries = {i: {"kind": e.kind, "title": e.title, "explanation": e.explanation, "what_to_do": e.what_to_do}
-               for i, e in CATALOGUE.items() if e.kind not in ("build", "speed")}
-    return {"entries": entries, "consequences": sorted(CONSEQUENCES),
-            "kinds": {k: v for k, v in KINDS.items() if k not in ("build", "speed")}}
+def _copy(src: Path, dest: Path) -> None:
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(src, dest)
+
+
+def write_selfcheck(root: Path, artifacts: Path) -> None:
+    """The kit's copy of the checkout under `root` (selfcheck/): the grader's
+    modules and files, the renderer, the template's API, the render inputs
+    and reference renders, the recorded answers."""
+    from .. import fixtures, i18n
+    from ..build import API_HEADERS
+    from ..score import load_rubric
+    from . import answers, environment
+    package = PROJECT_ROOT / "grader"
+    for rel in grader_modules() + list(GRADER_FILES):
+        _copy(package / rel, root / "grader" / rel)
+    (root / "grader" / "rubric.toml").write_text(visible_rubric(load_rubric()))
+    i18n.compile_catalogues(root / i18n.LOCALE_DIR.relative_to(PROJECT_ROOT))   # .mo only: the kit has no Babel
+    (root / "reference" / "include").mkdir(parents=True)
+    (root / "reference" / "include" / "envmap.h").write_text(kit_header((REFERENCE / "include" / "envmap.h").read_text()))
+    for name in RENDERER_SOURCES:
+        _copy(REFERENCE / "src" / name, root / "reference" / "src" / name)
+    for name in (*API_HEADERS, "EnvironmentMapLoader.cpp"):
+        _copy(TEMPLATE / name, root / "student_template" / name)
+    fixtures.check_stale()          # the kit's renders must be the reference's of today
+    for fixture in fixtures.render_fixtures():
+        for path in (fixture.scene, fixture.map, fixture.path):
+            _copy(path, root / Path(os.path.normpath(path)).relative_to(PROJECT_ROOT))
+    answers.record(root / answers.ANSWERS, artifacts)
+    environment.write_requirements(root)      # what bootstrap.py installs on first use
 
 
 def _copy_template(dest: Path) -> list[Path]:
@@ -151,12 +232,9 @@ def _copy_template(dest: Path) -> list[Path]:
 def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
     """Write the kit into `out` (replaced) and `out`.zip; returns both."""
     from .. import reference
-    from ..score import load_rubric
-    from .data import dump, write_data
 
     out = Path(out)
     zip_path = Path(zip_path) if zip_path else out.with_suffix(".zip")
-    rubric = load_rubric()
     reference.ensure_built()
     with tempfile.TemporaryDirectory(prefix=".kit-", dir=out.parent if out.parent.exists() else None) as tmp:
         staging = Path(tmp) / out.name
@@ -170,7 +248,7 @@ def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
             shutil.copyfile(REFERENCE / "src" / name, renderer / "src" / name)
         (staging / "third_party").mkdir()
         shutil.copyfile(_stb_header(), staging / "third_party" / "stb_image_write.h")
-        # The scene, the maps and scenes the self-check renders, the figures.
+        # The scene, the maps and scenes to render and play with, the figures.
         shutil.copyfile(PROJECT_ROOT / "envmap_test.cfg", staging / "envmap_test.cfg")
         for folder, pattern in (("Cubemap", "*.hdr"), ("scenes", "*.cfg")):
             (staging / folder).mkdir(exist_ok=True)
@@ -179,12 +257,7 @@ def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
         (staging / "figures").mkdir(exist_ok=True)
         for name in ("cross_layout.png", "face_uv.png"):
             shutil.copyfile(PROJECT_ROOT / "docs" / "figures" / name, staging / "figures" / name)
-        # The self-check's expected data.
-        data_dir = staging / "selfcheck" / "data"
-        checks = write_data(data_dir, staging / "Cubemap" / "test_environment_map.hdr")
-        manifest = {"format": 1, "rubric": _visible_rubric(rubric), "diagnoses": _catalogue(),
-                    "grader_only": GRADER_ONLY_CHECKS, "checks": checks}
-        dump(manifest, data_dir / "manifest.json")
+        write_selfcheck(staging / SELFCHECK, Path(tmp) / "recording")
         files = sorted(p.relative_to(staging).as_posix() for p in staging.rglob("*") if p.is_file())
         if out.exists():
             shutil.rmtree(out)
