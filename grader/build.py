@@ -96,6 +96,13 @@ STUDENT_ASSEMBLY = "EnvironmentMap.s"
 STUDENT_PREPROCESSED = "EnvironmentMap.ii"
 # The only headers a submission sees (copies in the scratch folder's include/).
 API_HEADERS = ("EnvironmentMap.h", "Vector3.h", "Color.h")
+# EnvironmentMap.h (with the standard headers it includes) precompiled with the
+# student's flags: parsing them was 3/4 of the compile (0.24 of 0.32 s CPU).
+# GCC takes it for a source whose first #include is EnvironmentMap.h and the
+# flags match, and silently reads the header otherwise (other --flags, another
+# first include): the same code either way. Not for sanitizer builds, whose
+# debug information would name the common folder instead of the scratch one.
+PRECOMPILED_HEADER = "EnvironmentMap.h.gch"
 # The reference sources EnvironmentMapLoader.cpp needs (reading a .hdr
 # cross); the lookup, renderer and scene parser are never linked.
 LOADER_REFERENCE_SOURCES = ("cross.c", "error.c", "rgbe.c")
@@ -523,7 +530,7 @@ def _publish(tmp: Path, final: Path) -> None:
 
 _common_lock = threading.Lock()  # threads of one process build our objects once
 # Changes whenever what a common folder holds changes (an older one is not reused).
-COMMON_LAYOUT = "common-2: scratch copies, allowed and reference symbols"
+COMMON_LAYOUT = "common-3: scratch copies, allowed and reference symbols, precompiled API header"
 COMMON_FILES = ("loader.o", "shim.o", "libreference.a", "exports.map", "allowed-symbols.txt",
                 "reference-symbols.txt")
 
@@ -574,6 +581,13 @@ def _build_common_objects(cache_dir: Path, sanitize: bool) -> Path:
     (tmp / "include").mkdir()
     for name in API_HEADERS:
         shutil.copyfile(TEMPLATE / name, tmp / "include" / name)
+    if not sanitize:
+        pch = [CXX, *cxxflags, f"-I{tmp / 'include'}", "-x", "c++-header", str(tmp / "include" / API_HEADERS[0]),
+               "-o", str(tmp / "include" / PRECOMPILED_HEADER)]
+        step = _run(pch, tmp, deadline)
+        if step.returncode != 0 or step.timed_out:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise HarnessBuildError(f"{' '.join(pch)}\n{step.output}")
     # What a student's object may leave undefined: the runtime libraries,
     # the linker's own symbols and the template's EnvironmentMap members
     # (loader.o). Never the reference's em_*.
@@ -887,6 +901,8 @@ def _scratch(common: Path, source: bytes, isolation: str) -> Path:
         (scratch / "tmp").mkdir()
         for name in API_HEADERS:
             shutil.copyfile(common / "include" / name, scratch / "include" / name)
+        if (common / "include" / PRECOMPILED_HEADER).is_file():
+            shutil.copyfile(common / "include" / PRECOMPILED_HEADER, scratch / "include" / PRECOMPILED_HEADER)
         for name in COMMON_FILES:
             shutil.copyfile(common / name, scratch / name)
         (scratch / SOURCE_NAME).write_bytes(source)
