@@ -85,6 +85,10 @@ TEST_MARKERS = {
     "test_redteam::test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops": SLOW,
     # truth decided densely for every zoo file (18 s), the quick study (12 s), the whole code scanned (9 s)
     "test_audit::test_truth_of_the_zoo": SLOW,
+    # a mutant built and its truth decided per case (5-12 s); crashing0, wrong and not-compiling stay fast
+    **{f"test_audit::test_truth_of_hand_reasoned_mutants[{case}]": SLOW
+       for case in ("equivalent", "wrong-non-square", "crashing1", "wrong-extreme", "wrong-ties")},
+    "test_sweep_and_stability_details::test_reads_past_the_face_at_ties_are_not_blamed_on_the_tie_rule": SLOW,
     "test_study::test_quick_study_writes_its_csv_chart_and_failure_map": SLOW,
     "test_system_deps::test_the_scan_finds_what_the_code_is_known_to_run": SLOW,
     # a crashing submission narrowed down per input (10 s; the sandbox case stays fast)
