@@ -16,6 +16,7 @@ edits to be classified; a test file may also mark single tests with
 """
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 from typing import NamedTuple
@@ -27,6 +28,11 @@ TESTS = Path(__file__).resolve().parent
 PROJECT_ROOT = TESTS.parent
 SUBMISSIONS = TESTS / "submissions"
 CORRECT_SUBMISSION = SUBMISSIONS / "correct"
+
+# One OpenMP thread for FLIP here and in every grader the tests start (they
+# inherit it), as grader.checks sets for itself: two xdist workers already
+# fill two cores, and idle OpenMP threads spin.
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 # Helpers next to the tests (assignment_model, fake_lookups) import by name.
 if str(TESTS) not in sys.path:
@@ -49,23 +55,95 @@ MODULE_MARKERS = {
     "test_markers": ("slow",),      # collects three test files in a subprocess, twice
     "test_kit_agreement": ("slow", "sandbox"),   # builds the kit, grades each submission twice
 }
-# Single tests in otherwise fast files, by "module::test name" (parametrized
-# cases included): what would keep `make test-fast` from its 60 s.
+# Single tests in otherwise fast files, by "module::test name" (every
+# parametrized case) or "module::test name[case id]" (that case only): what
+# would keep `make test-fast` from its 60 s. `make test` runs them all; where a
+# family of cases is split, the cheapest cases stay in test-fast so that each
+# family still runs there. Durations are from one run at load 10-12 on 2 cores
+# (about 3x a quiet machine's).
+SLOW = ("slow",)
 TEST_MARKERS = {
     # headless Chromium on a graded class
     "test_report_injection_e2e::test_no_name_runs_as_script_in_a_browser": ("browser", "slow"),
     # a whole-class grading (grade-all)
-    "test_report_injection_e2e::test_grade_all_with_markup_and_mathtext_names": ("slow",),
+    "test_report_injection_e2e::test_grade_all_with_markup_and_mathtext_names": SLOW,
     # a hypothesis property test of about 76 s
-    "test_texture_model::test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_other": ("slow",),
+    "test_texture_model::test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_other": SLOW,
+    # AddressSanitizer builds and runs (the sanitizer marker's own business)
+    "test_build::test_sanitized_build_loads_under_asan": ("sanitizer", "slow"),
+    "test_build_attacks::test_the_whole_standard_library_is_allowed[True]": ("sanitizer", "slow"),
+    # every standard header compiled (12 s)
+    "test_build_attacks::test_the_whole_standard_library_is_allowed[False]": SLOW,
+    # several real builds each, in more than one isolation mode (12-16 s)
+    "test_build_attacks::test_privilege_drop_builds_as_an_unprivileged_uid": SLOW,
+    "test_build_attacks::test_unsandboxed_build_still_checks_everything": SLOW,
+    "test_build_attacks::test_no_scratch_folder_outlives_its_build": SLOW,
+    "test_build_attacks::test_refusals_stay_short_whatever_the_object_holds": SLOW,
+    "test_build::test_untouched_template_builds_black_and_nearest": SLOW,
+    "test_template::test_untouched_template_builds_without_warnings_and_renders_black": SLOW,
+    "test_template::test_make_run_with_a_solution_renders_the_reference_image": SLOW,
+    "test_redteam::test_a_huge_library_is_refused_and_not_cached": SLOW,
+    "test_redteam::test_a_flood_of_warnings_stops_the_compiler_and_is_a_build_error": SLOW,
+    # waits out wall-clock bounds on purpose (7-10 s)
+    "test_redteam::test_a_worker_that_stops_itself_times_out_at_that_input": SLOW,
+    "test_redteam::test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops": SLOW,
+    # truth decided densely for every zoo file (18 s), the quick study (12 s), the whole code scanned (9 s)
+    "test_audit::test_truth_of_the_zoo": SLOW,
+    # a mutant built and its truth decided per case (5-12 s); crashing0, wrong and not-compiling stay fast
+    **{f"test_audit::test_truth_of_hand_reasoned_mutants[{case}]": SLOW
+       for case in ("equivalent", "wrong-non-square", "crashing1", "wrong-extreme", "wrong-ties")},
+    "test_sweep_and_stability_details::test_reads_past_the_face_at_ties_are_not_blamed_on_the_tie_rule": SLOW,
+    "test_study::test_quick_study_writes_its_csv_chart_and_failure_map": SLOW,
+    "test_system_deps::test_the_scan_finds_what_the_code_is_known_to_run": SLOW,
+    # a crashing submission narrowed down per input (10 s; the sandbox case stays fast)
+    "test_crash_localisation::test_a_submission_crashing_only_at_u_or_v_one_loses_only_those_inputs[plain]": SLOW,
+    # checks on fake lookups whose readTexture no model fits, or fits only after a long
+    # search (6-28 s each); the cheaper cases of each family stay fast
+    "test_checks_unit::test_being_hard_to_model_buys_no_fetch_color_points": SLOW,
+    "test_checks_unit::test_a_read_texture_answering_the_judge_otherwise_buys_no_fetch_color_points": SLOW,
+    "test_checks_unit::test_an_honest_read_texture_differs_alike_on_every_face": SLOW,
+    "test_checks_unit::test_an_out_of_bounds_read_is_attributed_to_read_texture": SLOW,
+    "test_checks_unit::test_a_read_texture_that_crashes_everywhere_earns_fetch_color_nothing": SLOW,
+    "test_checks_unit::test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points[v-flipped-texture-v-flipped]": SLOW,
+    "test_checks_unit::test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points[uv-swapped-texture-uv-swapped]": SLOW,
+    "test_checks_unit::test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points[size-minus-one-scaled-by-size-minus-one]": SLOW,
+    "test_checks_unit::test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points[u-flipped-texture-u-flipped]": SLOW,
+    "test_checks_unit::test_fetch_color_is_analysed_when_read_texture_is_almost_right": SLOW,
+    "test_sweep_and_stability_details::test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the_faces": SLOW,
+    "test_sweep_and_stability_details::test_honestly_wrong_everywhere_is_not_timed_output_wrong": SLOW,
+    "test_sweep_and_stability_details::test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture": SLOW,
+    "test_texture_model::test_a_fake_lookup_is_fitted_back_to_its_member[unclamped-w-minus-1-offset]": SLOW,
+    "test_texture_model::test_a_fake_lookup_is_fitted_back_to_its_member[unclamped-nearest]": SLOW,
+    "test_texture_model::test_a_correct_fetch_color_over_a_correct_read_texture_gets_no_diagnosis": SLOW,
+    "test_texture_model::test_a_fetch_color_mistake_over_a_wrong_read_texture_costs_fetch_color_points": SLOW,
+    # a kit recording graded per mistake (5-21 s each); one case of each family stays fast
+    "test_oracle::test_the_kits_recording_answers_submissions_it_never_saw[mistakes0]": SLOW,
+    "test_oracle::test_the_kits_recording_answers_submissions_it_never_saw[mistakes1]": SLOW,
+    "test_oracle::test_the_kits_recording_answers_submissions_it_never_saw[mistakes2]": SLOW,
+    "test_oracle::test_the_kits_recording_answers_submissions_it_never_saw[mistakes4]": SLOW,
+    "test_oracle::test_recorded_answers_grade_as_the_live_reference[mistakes1]": SLOW,
+    "test_oracle::test_recorded_answers_grade_as_the_live_reference[mistakes2]": SLOW,
+    # the 256 x 256 maps generated again (10-16 s); the 128 x 128 ones stay fast
+    "test_cubemap::test_committed_map_is_the_generators_output[test_environment_map.hdr]": SLOW,
+    "test_cubemap::test_committed_map_is_the_generators_output[interior_cross.hdr]": SLOW,
+    # the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+    "test_kit::test_the_students_code_cannot_rewrite_the_report_after_selfcheck": SLOW,
+    "test_kit::test_the_workflow_runs_in_a_repository_made_from_the_kit": SLOW,
+    "test_kit::test_selfcheck_of_a_correct_solution_and_fail_under": SLOW,
+    "test_kit::test_selfcheck_names_a_crash": SLOW,
 }
+
+
+def _markers(module: str, item) -> tuple[str, ...]:
+    name = getattr(item, "originalname", None) or item.name
+    return (MODULE_MARKERS.get(module, ()) + TEST_MARKERS.get(f"{module}::{name}", ())
+            + (TEST_MARKERS.get(f"{module}::{item.name}", ()) if item.name != name else ()))
 
 
 def pytest_collection_modifyitems(config, items):
     for item in items:
         module = item.module.__name__.rsplit(".", 1)[-1]
-        test = f"{module}::{getattr(item, 'originalname', None) or item.name}"
-        for name in MODULE_MARKERS.get(module, ()) + TEST_MARKERS.get(test, ()):
+        for name in dict.fromkeys(_markers(module, item)):
             item.add_marker(getattr(pytest.mark, name))
 
 

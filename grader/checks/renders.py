@@ -1,6 +1,8 @@
 """Full renders with the submission's lookup, against the fixture renders."""
 from __future__ import annotations
 
+import functools
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,11 +52,41 @@ def matched_share(expected_display: np.ndarray, got_display: np.ndarray) -> floa
     return float((flip_pixels(expected_display, got_display) <= PIXEL_FLIP_MAX).mean())
 
 
+def _stamp(path) -> tuple:
+    st = os.stat(path)
+    return str(path), st.st_mtime_ns, st.st_size
+
+
+@functools.lru_cache(maxsize=16)
+def _traced(scene: tuple, size: tuple[int, int], spp: int):
+    """The reference's camera paths of a scene (the same for every
+    submission: traced once per process, not once per grading; four renders
+    share the main scene). Read-only, so no caller can change them for the next."""
+    escapes = oracle.current().trace(scene[0], size, spp)
+    for a in (escapes.dirs, escapes.weights, escapes.pixels):
+        a.setflags(write=False)
+    return escapes
+
+
+@functools.lru_cache(maxsize=16)
+def _faces(cross: tuple) -> np.ndarray:
+    faces = oracle.current().load_cross(cross[0])
+    faces.setflags(write=False)
+    return faces
+
+
+@functools.lru_cache(maxsize=16)
+def _expected(render: tuple) -> np.ndarray:
+    expected = display(np.load(render[0], allow_pickle=False))
+    expected.setflags(write=False)
+    return expected
+
+
 def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
     """(image, outcome): the fixture's scene traced by the reference, the
     environment looked up by the submission in its worker."""
-    escapes = oracle.current().trace(fixture.scene, fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
-    ctx.lookups.set_faces(oracle.current().load_cross(fixture.map))
+    escapes = _traced(_stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
+    ctx.lookups.set_faces(_faces(_stamp(fixture.map)))
     outcome = ctx.lookups.fetch(escapes.dirs)
     rgb = np.nan_to_num(outcome.values, nan=0.0, posinf=0.0, neginf=0.0)
     return oracle.current().resolve(escapes, rgb), outcome
@@ -80,7 +112,7 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         diagnoses += failure_diagnoses(outcome.failures)
         if outcome.failures:
             crashed_in = fixture.name
-        expected = display(fixture.load())
+        expected = _expected(_stamp(fixture.path)).copy()   # fixture.load(), once per process; FLIP wants it writable
         got = display(image)
         scored = score_render(expected, got)
         s, f_mean, f_map, ok = scored.ssim, scored.flip_mean, scored.flip_map, scored.passed

@@ -169,6 +169,20 @@ def _all_stopped(pid: int) -> bool:
     return True
 
 
+def _stopped_itself(pid: int | None) -> bool:
+    """The worker is there and every thread of it is stopped (state T):
+    what a SIGSTOP does, which nothing but the worker itself (or freeze())
+    sends it, as it runs in a session of its own."""
+    if pid is None:
+        return False
+    try:
+        if not os.listdir(f"/proc/{pid}/task"):
+            return False
+    except OSError:
+        return False
+    return _all_stopped(pid)
+
+
 def _deadline_left(deadline: float) -> float:
     return max(0.0, deadline - time.monotonic())
 
@@ -214,6 +228,7 @@ class Worker:
         # while a reply is awaited; `stuck` is what it showed at a timeout.
         self._watch: tuple[int | None, float, int | None] | None = None
         self.stuck: tuple[int, float, float] | None = None
+        self._frozen = False     # stopped by freeze(), not by itself
         self.start_time_s = 0.0
         # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
         self._cpu_limit: tuple[int, int] | None = None
@@ -507,6 +522,7 @@ class Worker:
                 os.kill(self._worker_pid, signal.SIGSTOP)
             except ProcessLookupError:
                 return
+            self._frozen = True
             # The stop lands asynchronously: wait (briefly) until every
             # thread is stopped, so nothing of it runs in what follows.
             deadline = time.monotonic() + 1.0
@@ -519,6 +535,7 @@ class Worker:
                 os.kill(self._worker_pid, signal.SIGCONT)
             except ProcessLookupError:
                 pass
+        self._frozen = False
 
     def cpu_ns(self) -> int:
         """CPU time the worker process has used so far (see fetch_timed)."""
@@ -727,12 +744,15 @@ class Worker:
             cpu1 = self._cpu_or_none()
             cpu = (cpu1 - cpu0) / 1e9 if cpu0 is not None and cpu1 is not None else 0.0
             self.stuck = (value, time.monotonic() - since, cpu)
+        # A worker that stopped itself reached the wall bound by its own doing,
+        # not the machine's: a second try would only wait as long again.
+        stopped = why == "wall" and not self._frozen and _stopped_itself(self._worker_pid)
         self._kill()
         self._output.wait_closed(2.0)
         # "wall": the outer bound, which a busy machine can reach too: the
         # runner tries once more before it is a verdict (grader_limit).
         raise SubmissionFailure(TIMEOUT, _("%(what)s did not finish in time (killed)") % {"what": _(what)}, output=self.output(),
-                                detail=why, grader_limit=why == "wall")
+                                detail=why, grader_limit=why == "wall" and not stopped)
 
     def _exited(self, what: str):
         self._finish()
