@@ -18,12 +18,12 @@ Measure (any version of the grader):
     PYTHONPATH=. .venv/bin/python tests/test_offmodel_zoo.py OUT
 """
 import json
-import re
 from pathlib import Path
 
 import pytest
 
 from grader.grade import GradeOptions, grade
+from zoo_truth import Zoo
 from grader.results import GRADED
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole submissions
@@ -32,41 +32,8 @@ ZOO = Path(__file__).parent / "submissions" / "offmodel"
 NAMES = sorted(p.stem for p in ZOO.glob("*.cpp"))
 FETCH_CHECKS = ("fetch_sweep", "stability", "speed")   # what judges fetchColor alone
 
-# The handout's readTexture, written independently of every zoo file.
-HANDOUT_READ = """Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
-{
-    const double px = u * m_FaceWidth, py = v * m_FaceHeight;
-    const int x0 = std::clamp((int)px, 0, m_FaceWidth - 1), y0 = std::clamp((int)py, 0, m_FaceHeight - 1);
-    const int x1 = std::min(x0 + 1, m_FaceWidth - 1), y1 = std::min(y0 + 1, m_FaceHeight - 1);
-    const double a = px - (int)px, b = py - (int)py;
-    auto at = [&](int x, int y) { const float* p = addr + 3 * (y * m_FaceWidth + x); return Color(p[0], p[1], p[2]); };
-    return (1 - b) * ((1 - a) * at(x0, y0) + a * at(x1, y0)) + b * ((1 - a) * at(x0, y1) + a * at(x1, y1));
-}
-"""
-READ_BLOCK = re.compile(r"// readTexture:begin\n.*?// readTexture:end\n", re.S)
-
-
-def truth(name: str) -> dict:
-    return json.loads((ZOO / f"{name}.json").read_text())
-
-
-def verdict(name: str, found: set) -> tuple[set, set]:
-    """(missing, false) diagnoses of `found` against the sidecar's truth."""
-    t = truth(name)
-    causes = {(i, f) for i, f in t["causes"]}
-    allowed = causes | {(i, f) for i, f in t["per_face"]}
-    return causes - found, {d for d in found - allowed if d[0] not in t["symptoms"]}
-
-
-def with_handout_read(name: str) -> str | None:
-    """The submission's source with its readTexture replaced by the
-    handout's; None when its readTexture already is the handout's."""
-    src = (ZOO / f"{name}.cpp").read_text()
-    block = READ_BLOCK.search(src)
-    assert block, f"{name}: no readTexture block"
-    if block.group(0).split("\n", 1)[1].rsplit("// readTexture:end", 1)[0] == HANDOUT_READ:
-        return None
-    return READ_BLOCK.sub("// readTexture:begin\n" + HANDOUT_READ.replace("\\", "\\\\") + "// readTexture:end\n", src)
+ZOO_TRUTH = Zoo(ZOO)
+truth, verdict, with_handout_read = ZOO_TRUTH.truth, ZOO_TRUTH.verdict, ZOO_TRUTH.with_handout_read
 
 
 def test_every_offmodel_submission_has_its_truth():
