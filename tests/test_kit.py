@@ -263,6 +263,21 @@ def test_fail_under_is_a_percentage_of_the_visible_points(alone):
     assert below.returncode != 0 and f"FAIL_UNDER={int(percent) + 1}%" in below.stdout
 
 
+def test_the_kit_reports_in_japanese_with_its_compiled_catalogue(alone):
+    # The kit carries grader.mo, not the .po: its Japanese must be whole without Babel.
+    from test_i18n import english_sentences
+    assert not list((alone / "selfcheck").rglob("*.po"))
+    source = WRONG / "u-flipped-pos-x.cpp"
+    run, english = selfcheck(alone, source, "REPORT_LANG=en")
+    assert run.returncode == 0, run.stdout + run.stderr
+    run, japanese = selfcheck(alone, source, "REPORT_LANG=ja")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert japanese["score"] == english["score"] and ids(japanese) == ids(english) == {"u-flipped"}
+    md = (alone / "build" / "selfcheck" / "report.md").read_text()
+    assert "直すところ" in md or "面" in md
+    assert english_sentences(md, "EnvironmentMap") == []
+
+
 def test_selfcheck_names_a_crash(alone, tmp_path):
     source = tmp_path / "crash.cpp"
     source.write_text(TEMPLATE_SOURCE.read_text().replace(
