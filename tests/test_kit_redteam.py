@@ -7,7 +7,7 @@ covering what the other zoos do not: a BOM and CRLF line ends, state kept
 between calls, NaN/inf/-0/denormal answers in a pattern, a crash in some
 batches only, code that looks for the kit around it. And the kit's own
 files edited (its rubric, its grader): the self-check must refuse, not
-report a full score. One kit build for the module (test_kit_agreement's
+report a full score; an edited API header is named. One kit build for the module (test_kit_agreement's
 fixture)."""
 from __future__ import annotations
 
@@ -107,3 +107,26 @@ def test_a_file_added_to_the_kits_grader_gives_no_score(kit_alone, tmp_path):
     (folder / "selfcheck" / "grader" / "sitecustomize.py").write_text("")
     done = selfcheck(folder)
     assert done.returncode != 0 and "grader/sitecustomize.py" in done.stderr, done.stdout + done.stderr
+
+
+def test_an_edited_api_header_is_named(kit_alone, tmp_path):
+    """A member added to the kit's EnvironmentMap.h and used in
+    EnvironmentMap.cpp: `make` builds it, the grader (the course's header)
+    does not, nor does the self-check, which said only "did not compile"
+    and left the student to wonder why; it now says which provided file is not
+    the course's. A fresh kit's files are the course's."""
+    folder = tmp_path / "kit"
+    shutil.copytree(kit_alone, folder, symlinks=True)
+    fresh = selfcheck(folder)
+    assert "not the course's" not in fresh.stderr, fresh.stderr
+    header = folder / "EnvironmentMap.h"
+    member = "    int m_FaceHeight = 0;              // texel rows per face\n"
+    assert member in header.read_text()
+    header.write_text(header.read_text().replace(member, member + "    double m_Scale = 1.0;\n"))
+    source = (ZOO.parent / "correct" / "idiomatic.cpp").read_text()
+    used = "    const double px = u * m_FaceWidth;\n"
+    assert used in source
+    (folder / "EnvironmentMap.cpp").write_text(source.replace(used, "    const double px = u * m_FaceWidth * m_Scale;\n"))
+    assert subprocess.run(["make", "-s", "envmap"], cwd=folder, capture_output=True).returncode == 0
+    done = selfcheck(folder)
+    assert done.returncode != 0 and "EnvironmentMap.h here is not the course's" in done.stderr, done.stdout + done.stderr

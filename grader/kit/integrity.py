@@ -43,3 +43,13 @@ def changed_files(root: Path) -> list[str]:
         return [MANIFEST]
     now = _files(root)
     return sorted(name for name in built.keys() | now.keys() if built.get(name) != now.get(name))
+
+
+def edited_api_files(kit: Path, root: Path) -> list[str]:
+    """The provided files in the kit's folder `kit` (its API headers and
+    loader) that differ from the course's copies under `root`
+    (student_template/): grading compiles EnvironmentMap.cpp with the
+    course's, so an edit there builds with `make` but not when graded."""
+    from ..build import API_HEADERS
+    return [name for name in (*API_HEADERS, "EnvironmentMapLoader.cpp")
+            if (kit / name).is_file() and _digest(kit / name) != _digest(root / "student_template" / name)]

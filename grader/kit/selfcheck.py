@@ -82,6 +82,11 @@ def main(argv: list[str] | None = None) -> int:
               f"{' ...' if len(changed) > 10 else ''}. Unpack the kit again (keep your EnvironmentMap.cpp).",
               file=sys.stderr)
         return 3
+    edited = integrity.edited_api_files(args.source.resolve().parent, PROJECT_ROOT)
+    if edited:
+        print(f"selfcheck: {', '.join(edited)} here {'is' if len(edited) == 1 else 'are'} not the course's: the "
+              "self-check, like grading, compiles EnvironmentMap.cpp with the course's copies "
+              "(selfcheck/student_template/).", file=sys.stderr)
     from .. import oracle
     from ..grade import grade
     from ..reports.terminal import print_summary
