@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from . import integrity
 
 TEMPLATE = PROJECT_ROOT / "student_template"
 REFERENCE = PROJECT_ROOT / "reference"
@@ -258,6 +259,7 @@ def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
         for name in ("cross_layout.png", "face_uv.png"):
             shutil.copyfile(PROJECT_ROOT / "docs" / "figures" / name, staging / "figures" / name)
         write_selfcheck(staging / SELFCHECK, Path(tmp) / "recording")
+        integrity.write_manifest(staging / SELFCHECK)     # last: what the self-check compares
         files = sorted(p.relative_to(staging).as_posix() for p in staging.rglob("*") if p.is_file())
         if out.exists():
             shutil.rmtree(out)

@@ -19,7 +19,8 @@ results.json) and selfcheck.json (the same as results.json, the name the
 kit's workflow reads). Exit status: 0 when the checks ran; 1 when the file
 did not compile, or with --fail-under when the score is below that
 percentage of the visible points; 3 when the self-check itself failed
-(ungradable: not the student's fault).
+(ungradable: not the student's fault) or the kit's own files were changed
+(integrity.py: no score then).
 """
 from __future__ import annotations
 
@@ -29,10 +30,12 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from . import ANSWERS, KIT_SEED, NOT_IN_KIT
+from . import ANSWERS, KIT_SEED, NOT_IN_KIT, integrity
 
 SOURCE = Path("EnvironmentMap.cpp")
 SUMMARY = "selfcheck.json"
+# What grade() writes into OUT, with SUMMARY.
+REPORTS = ("results.json", "report.html", "report.md", "junit.xml")
 
 
 def kit_options(rubric: Path | None = None, lang: str | None = None):
@@ -70,6 +73,20 @@ def main(argv: list[str] | None = None) -> int:
     if not args.source.is_file():
         print(f"selfcheck: {args.source} not found: run it from the kit's folder", file=sys.stderr)
         return 2
+    changed = integrity.changed_files(PROJECT_ROOT)
+    if changed:
+        for name in (SUMMARY, *REPORTS):       # no earlier score left to read
+            (args.out / name).unlink(missing_ok=True)
+        print("selfcheck: the kit's own files in selfcheck/ are not as the kit was built, so its score would not be "
+              f"the grader's; no score given. Changed: {', '.join(changed[:10])}"
+              f"{' ...' if len(changed) > 10 else ''}. Unpack the kit again (keep your EnvironmentMap.cpp).",
+              file=sys.stderr)
+        return 3
+    edited = integrity.edited_api_files(args.source.resolve().parent, PROJECT_ROOT)
+    if edited:
+        print(f"selfcheck: {', '.join(edited)} here {'is' if len(edited) == 1 else 'are'} not the course's: the "
+              "self-check, like grading, compiles EnvironmentMap.cpp with the course's copies "
+              "(selfcheck/student_template/).", file=sys.stderr)
     from .. import oracle
     from ..grade import grade
     from ..reports.terminal import print_summary

@@ -1,0 +1,69 @@
+// Kit red team (issue 20): correct only when it can see the kit: fetchColor answers black unless its parent process's folder (/proc/<ppid>/cwd) holds selfcheck/reference_answers.npz, as the kit's self-check does when it runs unconfined (a student's machine without bubblewrap). Right verdict: the grader's, black everywhere (its worker never sees the kit); the kit must give the same or say it cannot vouch.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <unistd.h>
+
+namespace {
+
+struct FaceCoord
+{
+    int face;
+    double u;
+    double v;
+};
+
+// Where a direction meets the cube: the face and (u, v) of README.md's table.
+FaceCoord directionToFace(const Vector3& d)
+{
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    auto toUnit = [](double s, double m) { return (s / m + 1.0) / 2.0; };
+    if (ax >= ay && ax >= az) {
+        return d.x > 0 ? FaceCoord{FACE_POS_X, toUnit(d.z, ax), toUnit(d.y, ax)}
+                       : FaceCoord{FACE_NEG_X, toUnit(-d.z, ax), toUnit(d.y, ax)};
+    }
+    if (ay >= az) {
+        return d.y > 0 ? FaceCoord{FACE_POS_Y, toUnit(d.x, ay), toUnit(d.z, ay)}
+                       : FaceCoord{FACE_NEG_Y, toUnit(d.x, ay), toUnit(-d.z, ay)};
+    }
+    return d.z > 0 ? FaceCoord{FACE_POS_Z, toUnit(d.x, az), toUnit(-d.y, az)}
+                   : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
+}
+
+} // namespace
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    static const bool inKit = [] {
+        char path[64];
+        std::snprintf(path, sizeof path, "/proc/%d/cwd/selfcheck/reference_answers.npz", static_cast<int>(getppid()));
+        return access(path, R_OK) == 0;
+    }();
+    if (!inKit) return Color(0.0, 0.0, 0.0);
+    const auto [face, u, v] = directionToFace(direction);
+    return readTexture(faceAddress(face), u, v);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const double px = u * m_FaceWidth;
+    const double py = v * m_FaceHeight;
+    const int ix = static_cast<int>(px);
+    const int iy = static_cast<int>(py);
+    const double alpha = px - ix;
+    const double beta = py - iy;
+
+    const auto texel = [&](int x, int y) -> Color {
+        x = std::clamp(x, 0, m_FaceWidth - 1);
+        y = std::clamp(y, 0, m_FaceHeight - 1);
+        const float* t = addr + 3 * (static_cast<std::ptrdiff_t>(y) * m_FaceWidth + x);
+        return {t[0], t[1], t[2]};
+    };
+    const Color c0 = (1.0 - alpha) * texel(ix, iy) + alpha * texel(ix + 1, iy);
+    const Color c1 = (1.0 - alpha) * texel(ix, iy + 1) + alpha * texel(ix + 1, iy + 1);
+    return (1.0 - beta) * c0 + beta * c1;
+}
