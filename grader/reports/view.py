@@ -63,7 +63,7 @@ STATE_PASSED, STATE_PARTIAL, STATE_FAILED, STATE_ERROR, STATE_SKIPPED, STATE_INF
 ISOLATION_TEXT = Translated({
     "bubblewrap": N_("bubblewrap sandbox"),
     "privilege-drop": N_("separate unprivileged user with a system-call filter"),
-    "unsafe-none": N_("no sandbox (the instructor chose --unsafe-no-sandbox)"),
+    "unsafe-none": N_("no sandbox (--unsafe-no-sandbox, or the student kit's self-check on your own machine, where bubblewrap is missing)"),
     "": N_("none needed (no code of the submission ran)"),
 })
 
