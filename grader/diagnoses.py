@@ -3,7 +3,7 @@
 Checks attach a grader.results.Diagnosis (id, face, detail) to what they
 find; reports look the id up here for the title, the explanation and what to
 do about it. The words are written for a student who has the handout; the
-conventions they cite are ASSIGNMENT.md's. docs/diagnoses.md is generated
+conventions they cite are docs/assignment.md's. docs/diagnoses.md is generated
 from this table (`python -m grader.diagnoses > docs/diagnoses.md`), and a test
 checks that the two agree.
 """
@@ -749,7 +749,7 @@ def catalogue_markdown() -> str:
         "plain words with what to do about it; `results.json` lists it under",
         '`extra_data.diagnoses` as `{"id": ..., "face": ..., "detail": ...}`',
         "(`face` only where it applies). Conventions are those of",
-        "`ASSIGNMENT.md`.",
+        "`docs/assignment.md`.",
         "",
     ]
     for kind, heading in KINDS.items():

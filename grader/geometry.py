@@ -3,7 +3,7 @@
 Everything here stands on the reference library (reference/src/lookup.c,
 through grader.reference): direction -> (face, u, v) *is* the C function, and
 the inverse uses each face's frame read off that same function (`face_frames`),
-so the face table of ASSIGNMENT.md is written down in one place, lookup.c.
+so the face table of docs/assignment.md is written down in one place, lookup.c.
 Faces are 0..5 = FACE_NAMES = +X -X +Y -Y +Z -Z (em_face). On a face, the
 plane coordinates a = 2u - 1, b = 2v - 1 lie in [-1, 1]:
 

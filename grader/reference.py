@@ -2,7 +2,7 @@
 
 Numpy arrays in and out; C errors become EnvmapError with the C message.
 Cube maps are numpy arrays of shape (6, H, W, 3), float32, indexed
-[face, y, x, channel] with y = 0 the bottom row (ASSIGNMENT.md, "Buffer"):
+[face, y, x, channel] with y = 0 the bottom row (docs/assignment.md, "Buffer"):
 exactly the memory layout the C library and students' code use.
 """
 from __future__ import annotations

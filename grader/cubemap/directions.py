@@ -1,7 +1,7 @@
 """Texel averages weighted by solid angle, for the map generators.
 
 Directions, (u, v) and solid angles are grader/geometry.py's (the face table
-of ASSIGNMENT.md, read off the reference library): with a = 2u - 1 and
+of docs/assignment.md, read off the reference library): with a = 2u - 1 and
 b = 2v - 1 the point (u, v) of a face is the direction below (major
 component +-1), as tests/test_cubemap.py checks against the handout.
 

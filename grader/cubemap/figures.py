@@ -4,7 +4,7 @@
   and v arrows, and the cube folded up in 3D with its axes (the handout's
   figure 3);
 - face_uv.png: each face as seen from the centre of the cube, its (u, v)
-  arrows in 3D terms and the direction of each corner (ASSIGNMENT.md's table);
+  arrows in 3D terms and the direction of each corner (docs/assignment.md's table);
 - test_environment_map.png: the test map as a cross, a lat-long view and a
   mirror sphere;
 - generated_maps.png: the other generated maps, as crosses and lat-long views.
@@ -28,7 +28,7 @@ FIGURES_DIR = PROJECT_ROOT / "docs" / "figures"
 CUBEMAP_DIR = PROJECT_ROOT / "Cubemap"
 
 # (column, row) of each face's cell in the vertical cross, row 0 at the top
-# (ASSIGNMENT.md), as reference/src/cross.c lays it out.
+# (docs/assignment.md), as reference/src/cross.c lays it out.
 CROSS_CELLS = cross_cells()
 AXIS_COLOURS = {"x": "#d62728", "y": "#2ca02c", "z": "#1f5fd6"}
 FACE_FILL = "#f2f2f2"
@@ -143,7 +143,7 @@ def _draw_cube(ax) -> None:
     ax.set_title("The cube seen from outside (+x, +y, +z towards you)", fontsize=10)
 
 
-# ASSIGNMENT.md's table, as text for the panels.
+# docs/assignment.md's table, as text for the panels.
 UV_FORMULAS = {
     "+X": ("(1 + z/m)/2", "(1 + y/m)/2"), "-X": ("(1 - z/m)/2", "(1 + y/m)/2"),
     "+Y": ("(1 + x/m)/2", "(1 + z/m)/2"), "-Y": ("(1 + x/m)/2", "(1 - z/m)/2"),

@@ -1,6 +1,6 @@
 """The debugging map `Cubemap/test_environment_map.hdr`, defined on the sphere of directions.
 
-ASSIGNMENT.md ("The scene and the test map"): a red, a green and a blue arrow
+docs/assignment.md ("The scene and the test map"): a red, a green and a blue arrow
 pointing along +x, +y and +z; when the arrows on the rendered sphere point
 the same ways as the axes, fetchColor is done. The design (docs/cubemap.md):
 

@@ -96,7 +96,7 @@ def kit_header(text: str) -> str:
         text = text[:i] + note + text[j:]
     return text.replace(
         " * envmap.h - the reference implementation of the cube-map environment-mapping\n"
-        " * assignment (../shared/ASSIGNMENT.md is the contract), as a C11 library with\n"
+        " * assignment (docs/assignment.md is the contract), as a C11 library with\n"
         " * no dependencies beyond libc and libm.",
         " * envmap.h - the provided part of the environment-mapping assignment: the\n"
         " * .hdr reader, cube-map faces, scenes and the ray tracer, in C11 with no\n"

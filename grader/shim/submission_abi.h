@@ -24,7 +24,7 @@ int sub_abi_version(void);
 /* A new EnvironmentMap with no texels (NULL when the constructor threw). */
 void *sub_create(char *message, size_t message_size);
 void sub_destroy(void *map);
-/* Point the map at 6 faces of w x h RGB floats laid out as ASSIGNMENT.md says;
+/* Point the map at 6 faces of w x h RGB floats laid out as docs/assignment.md says;
  * the buffer is not copied (the worker places it between guard pages). */
 int sub_set_faces(void *map, const float *texels, int w, int h,
                   char *message, size_t message_size);

@@ -1,9 +1,9 @@
 /*
  * envmap.h - the reference implementation of the cube-map environment-mapping
- * assignment (../shared/ASSIGNMENT.md is the contract), as a C11 library with
+ * assignment (docs/assignment.md is the contract), as a C11 library with
  * no dependencies beyond libc and libm.
  *
- * Conventions (ASSIGNMENT.md, "Conventions"):
+ * Conventions (docs/assignment.md, "Conventions"):
  *   - faces are numbered +X, -X, +Y, -Y, +Z, -Z (0..5);
  *   - a cube map is one float RGB buffer face_width wide and 6*face_height
  *     tall; face k starts at k*W*H*3 floats; texel (x, y) of a face is at
@@ -103,7 +103,7 @@ typedef enum em_filter {
 
 /* Face and (u, v) of a direction (need not be unit length). Ties between
  * components of equal magnitude go to the first face in the order
- * x, y, z (any touching face is correct, ASSIGNMENT.md). Returns
+ * x, y, z (any touching face is correct, docs/assignment.md). Returns
  * EM_FACE_NONE, with u = v = 0.5, for zero, NaN or infinite components. */
 int em_direction_to_face(double x, double y, double z, double *u, double *v);
 /* Batch form: dirs n*3, faces_out n, uv_out n*2. */

@@ -1,7 +1,7 @@
 /*
  * cross.c - cube maps and the vertical cross they are stored in.
  *
- * The cross and the face buffer are laid out as ASSIGNMENT.md ("Vertical
+ * The cross and the face buffer are laid out as docs/assignment.md ("Vertical
  * cross", "Buffer") fixes them: cells in the image (column, row), row 0 at
  * the top,
  *

@@ -1,6 +1,6 @@
 /* lookup.c - the environment in a direction: the face a direction exits
  * through, its (u, v) on that face, and the texture filters that read the
- * face (ASSIGNMENT.md, "What students write" and "Conventions").
+ * face (docs/assignment.md, "What students write" and "Conventions").
  *
  * Lattice conventions (p is the pixel position on a face):
  *   - nearest and bilinear follow the handout literally: p = (u W, v H) and
@@ -30,7 +30,7 @@
 
 enum { AXIS_X = 0, AXIS_Y = 1, AXIS_Z = 2 };
 
-/* ASSIGNMENT.md's (u, v) table as data, one row per face in buffer order:
+/* docs/assignment.md's (u, v) table as data, one row per face in buffer order:
  * u = (1 + u_sign * d[u_axis] / m) / 2, v = (1 + v_sign * d[v_axis] / m) / 2,
  * with m the absolute value of the major component. */
 typedef struct face_axes {
@@ -72,7 +72,7 @@ static int direction_face_uv(const double d[3], double *u, double *v)
     const int axis = major_axis(a);
     const double m = a[axis];
     const int face = 2 * axis + (d[axis] < 0.0);
-    /* where the ray meets that face, from ASSIGNMENT.md's table */
+    /* where the ray meets that face, from docs/assignment.md's table */
     const face_axes *t = &FACE_AXES[face];
     *u = 0.5 * (1.0 + t->u_sign * (d[t->u_axis] / m));
     *v = 0.5 * (1.0 + t->v_sign * (d[t->v_axis] / m));
@@ -116,7 +116,7 @@ typedef struct cube_view {
 } cube_view;
 
 /* 1 when cube can be read; the six face addresses (em_cubemap_face,
- * ASSIGNMENT.md "Buffer") are looked up once per call, not per lookup. */
+ * docs/assignment.md "Buffer") are looked up once per call, not per lookup. */
 static int cube_view_init(const em_cubemap *cube, cube_view *view)
 {
     if (!cube || !cube->texels || cube->face_width <= 0 || cube->face_height <= 0)

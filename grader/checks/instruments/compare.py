@@ -50,7 +50,7 @@ def _nudged(dirs: np.ndarray, axis: int) -> np.ndarray:
 
 def tie_alternatives(cube, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray:
     """(n, 3, 3) acceptable colours for each direction: the reference colour on
-    each face the direction touches (ASSIGNMENT.md: at ties every touching face
+    each face the direction touches (docs/assignment.md: at ties every touching face
     is correct). Rows for faces not touched are NaN. `cube`: a
     reference.CubeMap or its (6, H, W, 3) texels."""
     dirs = np.asarray(dirs, np.float64)

@@ -107,7 +107,7 @@ NAMED_TURNS = {
                      N_("u and v both run the wrong way on -X, -Y and -Z and only there: you divide by the "
                         "signed major component, which is negative on those faces. Divide by m = |major "
                         "component| and keep the table's signs.")),
-    # OpenGL's table (sc, tc per face) against ASSIGNMENT.md's: +X, -X and -Z turned 180 degrees.
+    # OpenGL's table (sc, tc per face) against docs/assignment.md's: +X, -X and -Z turned 180 degrees.
     "opengl-table": ((0, 1, 5), True,
                      N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong way) and +Y, -Y, +Z "
                         "are right: these are OpenGL's cube-map signs (sc, tc per face), not this assignment's "
@@ -600,7 +600,7 @@ def _lengths(lookups, dirs: np.ndarray, tol: float, out: FetchAnalysis) -> None:
                          "|component|, instead: it needs no squares.") % {"which": and_list(which)}
 
 
-# ASSIGNMENT.md's (u, v) table: per face, (u axis, u sign, v axis, v sign).
+# docs/assignment.md's (u, v) table: per face, (u axis, u sign, v axis, v sign).
 FACE_AXES = ((2, 1, 1, 1), (2, -1, 1, 1), (0, 1, 2, 1), (0, 1, 2, -1), (0, 1, 1, -1), (0, 1, 1, 1))
 
 
@@ -635,7 +635,7 @@ def _edge_read(faces: np.ndarray, px: np.ndarray, py: np.ndarray, touched: np.nd
                column: np.ndarray) -> np.ndarray:
     """Answers explained by readTexture's own edge behaviour: a read past a
     touched face's last row lands in the next face's first row of the buffer
-    (faces one above the other, ASSIGNMENT.md), one before its first row in
+    (faces one above the other, docs/assignment.md), one before its first row in
     the previous face's last row, in the column that face's u gives
     (`column` (n, 6): u W per touched face). Not a tie sent astray."""
     h = FACE_SIZE

@@ -1,7 +1,7 @@
 """fetchColor judged through the submission's own readTexture, live.
 
 A correct fetchColor over *this* readTexture returns the student's own
-readTexture at the reference's face and (u, v) (ASSIGNMENT.md's table). So
+readTexture at the reference's face and (u, v) (docs/assignment.md's table). So
 each judged direction's answer is compared with the student's readTexture
 called directly at that face and (u, v): no model of readTexture is needed,
 and nothing depends on whether one fits, so being hard to model buys nothing

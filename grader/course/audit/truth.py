@@ -19,7 +19,7 @@ neighbours, so that any wrong index, weight or face shows:
 
 Wherever components tie (or are within NEAR_TIE of the largest, where float
 rounding may pick either) every touching face's colour is accepted
-(ASSIGNMENT.md); that colour is the reference's readTexture at the point
+(docs/assignment.md); that colour is the reference's readTexture at the point
 where the direction meets that face (grader.geometry's face frames).
 """
 from __future__ import annotations
