@@ -54,6 +54,7 @@ MODULE_MARKERS = {
     "test_report_html_browser": ("browser", "slow"),
     "test_markers": ("slow",),      # collects three test files in a subprocess, twice
     "test_kit_agreement": ("slow", "sandbox"),   # builds the kit, grades each submission twice
+    "test_kit_redteam": ("slow", "sandbox"),     # grades each attack in the kit and in the grader
 }
 # Single tests in otherwise fast files, by "module::test name" (every
 # parametrized case) or "module::test name[case id]" (that case only): what
@@ -131,6 +132,8 @@ TEST_MARKERS = {
     "test_kit::test_the_workflow_runs_in_a_repository_made_from_the_kit": SLOW,
     "test_kit::test_cmake_build_and_selfcheck": SLOW,
     "test_kit::test_selfcheck_names_a_crash": SLOW,
+    "test_kit::test_fail_under_is_a_percentage_of_the_visible_points": SLOW,
+    "test_kit::test_the_kit_reports_in_japanese_with_its_compiled_catalogue": SLOW,
     "test_kit::test_selfcheck_html_escapes_what_the_submission_prints": SLOW,
 }
 
