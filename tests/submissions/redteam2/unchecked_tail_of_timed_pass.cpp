@@ -1,9 +1,9 @@
-// About eleven times the reference's time per lookup (as slow_11x_control.cpp; the limit is 8x), but on the speed check's timing faces black for lookups 5,000 to 49,999 after the grader last called readTexture directly: the tail of each timed pass, which nothing compares (only each pass's first 5,000 timed answers are compared with untimed ones, and the untimed ones judged). Verdict (secure): speed fails (slow or timed-output-wrong), as for slow_11x_control.cpp.
+// About 13 times the reference's time per lookup (as slow_11x_control.cpp; the limit is 8x), but on the speed check's timing faces black for lookups 5,000 to 49,999 after the grader last called readTexture directly: the tail of each timed pass, which nothing compares (only each pass's first 5,000 timed answers are compared with untimed ones, and the untimed ones judged). Verdict (secure): speed fails (slow or timed-output-wrong), as for slow_11x_control.cpp.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
 
-constexpr int WORK = 110;
+constexpr int WORK = 150;
 #include <cmath>
 #include <cstddef>
 
@@ -53,7 +53,7 @@ Color EnvironmentMap::fetchColor(const Vector3& direction) const
     }
     const auto [face, u, v] = directionToFace(direction);
     volatile double waste = 0;
-    for (int i = 0; i < WORK; ++i)   // about eleven times the reference's time per lookup
+    for (int i = 0; i < WORK; ++i)   // about 13 times the reference's time per lookup
         waste = waste + i * 1e-9;
     return readTexture(faceAddress(face), u, v);
 }
