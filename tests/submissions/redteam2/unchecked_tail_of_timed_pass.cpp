@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-constexpr int WORK = 150;
+constexpr int WORK = 180;
 #include <cmath>
 #include <cstddef>
 
