@@ -81,6 +81,20 @@ def face_uv_to_direction(face, u, v, normalized: bool = True) -> np.ndarray:
     return normalize(d) if normalized else d
 
 
+def uv_on_face(dirs: np.ndarray, face) -> np.ndarray:
+    """(u, v) (n, 2) of directions (n, 3) on the given faces (n,), which each
+    must touch (its major magnitude m is that face's): the inverse of
+    face_uv_to_direction, exact at ties, where a nudge towards one face
+    would move (u, v)."""
+    normal, u_axis, v_axis = face_frames()
+    dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+    face = np.asarray(face, np.int64)
+    m = np.abs(dirs).max(axis=1)
+    a = np.einsum("ij,ij->i", dirs, u_axis[face]) / m
+    b = np.einsum("ij,ij->i", dirs, v_axis[face]) / m
+    return np.stack([(1 + a) / 2, (1 + b) / 2], axis=1)
+
+
 def normalize(dirs: np.ndarray) -> np.ndarray:
     return dirs / np.linalg.norm(dirs, axis=-1, keepdims=True)
 

@@ -102,13 +102,11 @@ def kit_files(folder: Path):
 # Where the kit's copy of the grader names a lookup.c name without holding
 # its code: the cffi bindings, which the kit's header does not declare and
 # its library does not define (test_built_binaries_have_no_lookup_symbols);
-# the handout's (u, v) table the README prints (face_recovery); two variable
-# names of the face frames probed through the oracle (geometry).
+# two variable names of the face frames probed through the oracle (geometry).
 NAMED_NOT_HELD = {
     "selfcheck/grader/reference.py": {"EM_FILTER_NEAREST", "em_cubemap_lookup", "em_cubemap_lookup_fn",
                                       "em_direction_to_face_batch", "em_fetch_batch", "em_filter",
                                       "em_read_texture_batch"},
-    "selfcheck/grader/checks/instruments/face_recovery.py": {"FACE_AXES"},
     "selfcheck/grader/geometry.py": {"u_axis", "v_axis"},
 }
 

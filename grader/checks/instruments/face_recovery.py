@@ -25,6 +25,7 @@ import numpy as np
 from ... import oracle, reference
 from ...i18n import N_, _, and_list
 from ...results import Diagnosis
+from ...geometry import uv_on_face
 
 # Every id a candidate can give (tests/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",
@@ -600,21 +601,6 @@ def _lengths(lookups, dirs: np.ndarray, tol: float, out: FetchAnalysis) -> None:
                          "|component|, instead: it needs no squares.") % {"which": and_list(which)}
 
 
-# docs/assignment.md's (u, v) table: per face, (u axis, u sign, v axis, v sign).
-FACE_AXES = ((2, 1, 1, 1), (2, -1, 1, 1), (0, 1, 2, 1), (0, 1, 2, -1), (0, 1, 1, -1), (0, 1, 1, 1))
-
-
-def face_uv(dirs: np.ndarray, face: np.ndarray) -> np.ndarray:
-    """(u, v) of each direction on the given face (which it must touch), with
-    m its major axis's magnitude: exact at ties, where a nudge would move (u, v)."""
-    table = np.array(FACE_AXES)[face]
-    m = np.abs(dirs).max(axis=1)
-    rows = np.arange(len(dirs))
-    u = (1 + table[:, 1] * dirs[rows, table[:, 0]] / m) / 2
-    v = (1 + table[:, 3] * dirs[rows, table[:, 2]] / m) / 2
-    return np.stack([u, v], axis=1)
-
-
 def tie_directions() -> np.ndarray:
     """Directions where two or three components tie as the largest in
     magnitude: edges (random third component) and corners."""
@@ -683,7 +669,7 @@ def _ties(lookups, inst: Instrument | None, out: FetchAnalysis) -> None:
         if len(rows):
             d = dirs[rows]
             k = 2 * axis + (d[:, axis] < 0)
-            uv = face_uv(d, k)
+            uv = uv_on_face(d, k)
             column[rows, k] = np.clip(uv[:, 0] * FACE_SIZE, 0, FACE_SIZE - 1)
             m_over_len = np.abs(d).max(axis=1) / np.linalg.norm(d, axis=1)
             # As fetchColor treats that face elsewhere: its (u, v) mistake and
