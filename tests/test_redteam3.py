@@ -7,12 +7,14 @@ trick, shown slow here. An attack that still works has an
 `xfail(strict=True)` test asserting the secure verdict: it passes now and
 fails loudly once the grader is fixed (then drop the mark).
 
-All three that work spend the speed check's allowances where the time is:
+All four that work spend the speed check's allowances where the time is:
 the timing faces may be judged right 10% less often than the sweep, and
-timed answers may differ from untimed ones on 1%, both pooled over every
-pass of every round, while the figure that counts is one pass; and the judge
-believes a readTexture that answers it otherwise than the readTexture check
-on under half of a face.
+timed answers may differ from untimed ones on 1%, both counted in lookups
+(not time) and pooled over every pass of every round, while the figure that
+counts is one pass; and the judge believes a readTexture that answers it
+otherwise than the readTexture check on under half of a face. Each attack
+tells the speed check's faces by their size and random texels, so the other
+checks see the control's code: graded whole, 100 against the controls' 95.
 """
 from __future__ import annotations
 
@@ -27,7 +29,8 @@ from test_redteam2 import ISOLATION, mode  # noqa: F401  (mode: both production 
 REDTEAM3 = Path(__file__).parent / "submissions" / "redteam3"
 
 CONTROLS = ("slow_control", "costly_few_control")
-ATTACKS = ("one_cheap_pass_echoed", "readtexture_vouches_for_cheap_lookups", "costly_few_skipped_when_timed")
+ATTACKS = ("one_cheap_pass_echoed", "readtexture_vouches_for_cheap_lookups", "costly_few_skipped_when_timed",
+           "costly_few_wrong_on_timing_faces")
 
 
 def test_every_redteam3_submission_has_a_test():
@@ -72,8 +75,8 @@ def test_one_cheap_pass_echoed_untimed_does_not_buy_speed(tmp_path, mode):
 @pytest.mark.sandbox
 @pytest.mark.xfail(strict=True, raises=AssertionError,
                    reason="the judge believes a live readTexture that differs from the readTexture check's on under "
-                          "half of a face (own_read.DIFFERS_HERE): black there in both, plus 8% wrong under "
-                          "TIMED_SLACK (11x measured 5.7-5.9x)")
+                          "half of a face (own_read.DIFFERS_HERE): black on 46% of each timing face in both "
+                          "(11x measured 6.2-6.5x, every answer judged right)")
 def test_a_readtexture_vouching_for_cheap_lookups_does_not_buy_speed(tmp_path, mode):
     speed = speed_of("readtexture_vouches_for_cheap_lookups", tmp_path, mode)
     assert speed.status == FAILED and speed.score == 0
@@ -86,4 +89,15 @@ def test_a_readtexture_vouching_for_cheap_lookups_does_not_buy_speed(tmp_path, m
                           "of lookups that carry most of the time skipped while timed (11x measured 1.5-1.8x)")
 def test_skipping_the_costly_few_while_timed_does_not_buy_speed(tmp_path, mode):
     speed = speed_of("costly_few_skipped_when_timed", tmp_path, mode)
+    assert speed.status == FAILED and speed.score == 0
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="TIMED_SLACK lets the timing faces be judged right 10% less often than the sweep (the zoo's "
+                          "honest mistakes: at most 0.3% less), priced in lookups, not time: the 0.7% of lookups "
+                          "that carry most of the time black on the timing faces (11x measured 1.6x)")
+def test_being_wrong_on_the_costly_few_does_not_buy_speed(tmp_path, mode):
+    speed = speed_of("costly_few_wrong_on_timing_faces", tmp_path, mode)
     assert speed.status == FAILED and speed.score == 0

@@ -1,4 +1,4 @@
-// As costly_few_control.cpp (fast except on 7 directions in 1000, which cost about 1,500 times the reference's lookup: 11 times the reference's time per lookup on average; the limit is 8x), but black at no cost on those costly directions while timed (the first 100,000 calls on the speed check's 256 x 256 faces since the grader last called readTexture directly), right on them untimed: timed answers differ from the untimed ones on 0.7% of directions, under the 1% allowed, and every untimed answer is right, while nearly all of the time is skipped. Verdict (secure): speed fails (slow, or timed-output-wrong), as for the control.
+// As costly_few_control.cpp (fast except on 7 directions in 1000, which cost about 1,500 times the reference's lookup: 11 times the reference's time per lookup on average; the limit is 8x), but black at no cost on those costly directions while timed (the first 100,000 calls on the speed check's 256 x 256 random faces, told by their size and texels, since the grader last called readTexture directly), right on them untimed: timed answers differ from the untimed ones on 0.7% of directions, under the 1% allowed, and every untimed answer is right, while nearly all of the time is skipped. Verdict (secure): speed fails (slow, or timed-output-wrong), as for the control, and the whole grading no higher than the control's (95 of 100).
 #include "EnvironmentMap.h"
 
 #include <algorithm>
@@ -46,13 +46,33 @@ bool costly(const Vector3& d)   // 7 directions in 1000, by a hash of the direct
 thread_local bool insideFetch = false;
 long sinceDirectRead = 0;     // fetchColor calls on 256 x 256 faces since readTexture was last called directly
 
+// The speed check's faces: 256 x 256 and independent random texels (neighbours differ by 1/3 on
+// average; the scenes' faces are smooth). The same window holds every texture of one size, so the
+// first texel tells when the faces change; the test runs again only then.
+bool timingFaces(const float* texels, int width, int height)
+{
+    static float first[3] = {-1.0f, -1.0f, -1.0f};
+    static bool rough = false;
+    if (width != 256 || height != 256)
+        return false;
+    if (texels[0] != first[0] || texels[1] != first[1] || texels[2] != first[2]) {
+        double sum = 0;
+        for (int i = 0; i < 24; ++i)
+            sum += std::abs(texels[i] - texels[i + 3]);
+        rough = sum / 24 > 0.12;
+        for (int c = 0; c < 3; ++c)
+            first[c] = texels[c];
+    }
+    return rough;
+}
+
 } // namespace
 
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
     // A round of the speed check on its 256 x 256 faces: two timed passes of 50,000 calls, then the
     // judged directions again, untimed (then the judge calls readTexture directly).
-    const bool timed = m_FaceWidth == 256 && m_FaceHeight == 256 && sinceDirectRead++ < 100000;
+    const bool timed = timingFaces(m_Texels, m_FaceWidth, m_FaceHeight) && sinceDirectRead++ < 100000;
     const auto [face, u, v] = directionToFace(direction);
     if (costly(direction)) {
         if (timed)

@@ -1,11 +1,9 @@
-// About 11 times the reference's time per lookup (slow_control.cpp, its control: the limit is 8x), but on the speed check's 256 x 256 faces (told by their size) black at no cost wherever u < 0.47 (46% of the directions on each face), and its readTexture black there too on 256 x 256 faces (the readTexture check never uses that size): the judge asks readTexture what a correct fetchColor returns, and a readTexture that answers the judge otherwise than the check on under half of a face is believed, so those answers are judged right; black also on 14% of the other directions (by a hash of the direction: wrong, 8% of all, under the 10% the timing faces may miss). Every timed answer agrees with the untimed one and about 92% are judged right, while more than half the lookups cost nothing. Verdict (secure): speed fails (slow, or timing-faces-wrong), as for the control.
+// About 11 times the reference's time per lookup (slow_control.cpp, its control: the limit is 8x), but on the speed check's 256 x 256 random faces (told by their size and their texels: the scenes' faces are smooth) black at no cost wherever u < 0.47 (46% of the directions on each face), and its readTexture black there too on those faces (the readTexture check never uses that size): the judge asks readTexture what a correct fetchColor returns, and a readTexture that answers the judge otherwise than the readTexture check on under half of a face is believed, so every timed answer is judged right and agrees with the untimed one, while more than 45% of the lookups cost nothing. Verdict (secure): speed fails (slow, or timing-faces-wrong), as for the control, and the whole grading no higher than the control's (95 of 100).
 #include "EnvironmentMap.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
-#include <cstring>
 
 constexpr int WORK = 150;
 
@@ -34,13 +32,24 @@ FaceCoord directionToFace(const Vector3& d)
                    : FaceCoord{FACE_NEG_Z, toUnit(d.x, az), toUnit(d.y, az)};
 }
 
-std::uint64_t hashed(const Vector3& d)
+// The speed check's faces: 256 x 256 and independent random texels (neighbours differ by 1/3 on
+// average; the scenes' faces are smooth). The same window holds every texture of one size, so the
+// first texel tells when the faces change; the test runs again only then.
+bool timingFaces(const float* texels, int width, int height)
 {
-    std::uint64_t b[3];
-    std::memcpy(&b[0], &d.x, 8);
-    std::memcpy(&b[1], &d.y, 8);
-    std::memcpy(&b[2], &d.z, 8);
-    return (b[0] * 0x9E3779B97F4A7C15ULL ^ b[1] * 0xC2B2AE3D27D4EB4FULL ^ b[2]) >> 17;
+    static float first[3] = {-1.0f, -1.0f, -1.0f};
+    static bool rough = false;
+    if (width != 256 || height != 256)
+        return false;
+    if (texels[0] != first[0] || texels[1] != first[1] || texels[2] != first[2]) {
+        double sum = 0;
+        for (int i = 0; i < 24; ++i)
+            sum += std::abs(texels[i] - texels[i + 3]);
+        rough = sum / 24 > 0.12;
+        for (int c = 0; c < 3; ++c)
+            first[c] = texels[c];
+    }
+    return rough;
 }
 
 } // namespace
@@ -48,9 +57,8 @@ std::uint64_t hashed(const Vector3& d)
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
     const auto [face, u, v] = directionToFace(direction);
-    // The speed check's faces (256 x 256): black at no cost for u < 0.47, on every face,
-    // and on 14% of the other directions (8% of all: wrong, and under the timing faces' slack).
-    if (m_FaceWidth == 256 && m_FaceHeight == 256 && (u < 0.47 || hashed(direction) % 100 < 14))
+    // The speed check's faces: black at no cost for u < 0.47, on every face.
+    if (timingFaces(m_Texels, m_FaceWidth, m_FaceHeight) && u < 0.47)
         return {0.0f, 0.0f, 0.0f};
     volatile double waste = 0;
     for (int i = 0; i < WORK; ++i)   // about 11 times the reference's time per lookup
@@ -63,7 +71,7 @@ Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
     // ... and readTexture says the same there, so the judge (which asks readTexture what a
     // correct fetchColor returns) agrees: under half of each face, the share under which
     // a readTexture that answers the judge otherwise than the readTexture check is believed.
-    if (m_FaceWidth == 256 && m_FaceHeight == 256 && u < 0.47)
+    if (timingFaces(m_Texels, m_FaceWidth, m_FaceHeight) && u < 0.47)
         return {0.0f, 0.0f, 0.0f};
     const double px = u * m_FaceWidth;
     const double py = v * m_FaceHeight;
