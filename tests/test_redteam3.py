@@ -7,13 +7,15 @@ trick, shown slow here. An attack that still works has an
 `xfail(strict=True)` test asserting the secure verdict: it passes now and
 fails loudly once the grader is fixed (then drop the mark).
 
-All four that work spend the speed check's allowances where the time is:
-the timing faces may be judged right 10% less often than the sweep, and
-timed answers may differ from untimed ones on 1%, both counted in lookups
-(not time) and pooled over every pass of every round, while the figure that
-counts is one pass; and the judge believes a readTexture that answers it
-otherwise than the readTexture check on under half of a face. Each attack
-tells the speed check's faces by their size and random texels, so the other
+All five work (each an xfail below). Three spend the speed check's
+allowances where the time is: the timing faces may be judged right 10% less
+often than the sweep, and timed answers may differ from untimed ones on 1%,
+both counted in lookups (not time) and pooled over every pass of every
+round, while the figure that counts is one pass. Two need no allowance: the
+judge asks the student's own readTexture what a correct fetchColor returns
+there, and a readTexture that answers the judge otherwise than the
+readTexture check on under half of a face is believed. Each attack tells
+the speed check's faces by their size and random texels, so the other
 checks see the control's code: graded whole, 100 against the controls' 95.
 """
 from __future__ import annotations
@@ -30,7 +32,7 @@ REDTEAM3 = Path(__file__).parent / "submissions" / "redteam3"
 
 CONTROLS = ("slow_control", "costly_few_control")
 ATTACKS = ("one_cheap_pass_echoed", "readtexture_vouches_for_cheap_lookups", "costly_few_skipped_when_timed",
-           "costly_few_wrong_on_timing_faces")
+           "costly_few_wrong_on_timing_faces", "costly_few_vouched_by_readtexture")
 
 
 def test_every_redteam3_submission_has_a_test():
@@ -100,4 +102,15 @@ def test_skipping_the_costly_few_while_timed_does_not_buy_speed(tmp_path, mode):
                           "that carry most of the time black on the timing faces (11x measured 1.6x)")
 def test_being_wrong_on_the_costly_few_does_not_buy_speed(tmp_path, mode):
     speed = speed_of("costly_few_wrong_on_timing_faces", tmp_path, mode)
+    assert speed.status == FAILED and speed.score == 0
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="the judge believes a live readTexture on the timing faces: one that vouches for black on the "
+                          "costly 0.7% of (face, u, v) is believed under any DIFFERS_HERE above 0.7%, and no answer is "
+                          "wrong or differs, so no allowance is spent (11x measured 1.6x)")
+def test_a_readtexture_vouching_for_the_costly_few_does_not_buy_speed(tmp_path, mode):
+    speed = speed_of("costly_few_vouched_by_readtexture", tmp_path, mode)
     assert speed.status == FAILED and speed.score == 0
