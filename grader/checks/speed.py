@@ -30,8 +30,21 @@ ROUNDS = 5          # interleaved rounds: student, reference, null library; fres
 MAX_ROUNDS = 15     # more while the ratio is near the limit: each side's fastest round settles with more
 PASS_LOOKUPS = 50_000
 TIMED_FACE = 256        # texels per side of the random timing faces
-TIMED_SLACK = 0.1       # the timing faces may be judged right this much less often than the sweep
-TIMED_DIFFER = 0.01     # timed answers may differ from the untimed ones on this share (none, for deterministic code)
+# The allowances are counted in lookups, but time can sit in a few of them:
+# skipping the costliest 0.7% of lookups while timed bought 11x code full
+# points under the old 1% and 10% (tests/test_redteam3.py). Honest code
+# needs almost none: the 38 zoo submissions whose speed is scored are judged
+# right on the timing faces at most 0.3% less often than in the sweep, and
+# their timed answers always equal the untimed ones.
+TIMED_SLACK = 0.02      # at most this much less often judged right on the timing faces than in the sweep ...
+SLACK_FLOOR = 0.003     # ... and at least this, with twice the sweep's own wrong share in between
+PASS_SLACK = 0.04       # the fastest pass alone (2,500 judged answers: chance spreads it more than the pool)
+TIMED_DIFFER = 0.001    # timed answers may differ from the untimed ones on this share (none, for deterministic code)
+# On the timing faces the judge reads the handout's readTexture where the
+# read_texture check found the student's right (a readTexture that tells
+# the timing faces by their size could vouch for black there), and elsewhere
+# believes the live one only where it differs from the handout on few calls.
+DIFFERS_HERE = 0.05
 PASSES = 2              # timed passes a round on every side, back to back (the first warms the caches)
 JUDGED = 5_000          # directions a round judged (and compared timed against untimed), drawn after its passes
 # Each side's time is its fastest round: on a shared machine noise only ever
@@ -84,6 +97,8 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                 allow_unsafe=getattr(ctx.lookups, "allow_unsafe", False))
     sub_ns, ref_ns, null_ns = [], [], []
     right = agree = total = redrawn = 0
+    each_pass = []      # (ns per lookup, share judged right, share agreeing) of every student pass
+    reads = own_read.HandoutReads(cube_faces) if texture is not None and texture.ok else ctx.lookups
     with open_lookups(baseline_library(), **mode) as base, open_lookups(null_library(), **mode) as null:
         base.set_faces(cube_faces)
         null.set_faces(cube_faces)
@@ -121,11 +136,17 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
             judged = np.concatenate([dirs[p] for dirs, p in zip(passes, picked)])
             untimed = np.asarray(ctx.lookups.fetch(judged).values, np.float64)
             timed_values = np.concatenate([np.asarray(v, np.float64)[p] for v, p in zip(timed.values, picked)])
-            right += int(own_read.judge(ctx.lookups, judged, untimed, tol, (TIMED_FACE, TIMED_FACE), texels=cube_faces,
-                                        texture_mismatch=texture.face_mismatch if texture is not None else 0.0).ok.sum())
+            ok = own_read.judge(reads, judged, untimed, tol, (TIMED_FACE, TIMED_FACE), texels=cube_faces,
+                                texture_mismatch=texture.face_mismatch if texture is not None else 0.0,
+                                differs_here=DIFFERS_HERE).ok
+            right += int(ok.sum())
             with np.errstate(invalid="ignore"):
                 same = (np.abs(timed_values - untimed) <= tol).all(axis=1) | (np.isnan(timed_values).all(axis=1) & np.isnan(untimed).all(axis=1))
             agree += int(same.sum())
+            # Each pass judged on its own too: the time that counts is one
+            # pass's, and pooled over all of them a cheap one hides.
+            for k, rows in enumerate(np.array_split(np.arange(len(judged)), PASSES)):
+                each_pass.append((timed.cpu_ns[k] / timed.lookups[k], float(ok[rows].mean()), float(same[rows].mean())))
             total += len(judged)
             sub_ns.append(timed.ns_per_lookup())
             # The student's worker is stopped while the others are timed:
@@ -139,6 +160,13 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
             if len(sub_ns) >= 3 and min(sub_ns) > 3 * within * min(ref_ns):
                 break   # clearly slow: more rounds would only cost the student's time budget
     right_fraction, agree_fraction = right / total, agree / total
+    fastest_ns, fastest_right, fastest_agree = min(each_pass)        # the pass whose time counts
+    slack = min(TIMED_SLACK, max(SLACK_FLOOR, 2 * (1 - sweep.fraction)))
+    right_total = total
+    if fastest_right < sweep.fraction - PASS_SLACK and right_fraction >= sweep.fraction - slack:
+        # The pool passes but the pass that counts does not: say its share.
+        right_fraction, right_total = fastest_right, JUDGED // PASSES
+    agree_fraction = min(agree_fraction, fastest_agree)
     result.metrics.update(timed_match=min(right_fraction, agree_fraction), timing_faces_match=right_fraction,
                           timed_agrees_with_untimed=agree_fraction)
     if agree_fraction < 1.0 - TIMED_DIFFER:
@@ -151,9 +179,10 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                                       _("Timed lookups differ from the same code's untimed answers on "
                                         "%(share)s of directions.") % values)]
         return
-    if right_fraction < sweep.fraction - TIMED_SLACK:
+    if right_fraction < sweep.fraction - slack or fastest_right < sweep.fraction - PASS_SLACK:
         result.status, result.fraction = FAILED, 0.0
-        values = {"size": TIMED_FACE, "right": f"{right_fraction:.1%}", "total": total, "sweep": f"{sweep.fraction:.1%}"}
+        values = {"size": TIMED_FACE, "right": f"{right_fraction:.1%}", "total": right_total,
+                  "sweep": f"{sweep.fraction:.1%}"}
         result.output = _("On the timing faces (%(size)d x %(size)d texels), fetchColor matched what your own "
                           "readTexture gives at the handout's face and (u, v) on %(right)s of %(total)d random "
                           "directions, against %(sweep)s in the sweep: the time of lookups that do not "

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ... import oracle
+from ...worker.runner import Outcome
 from .compare import Mismatches, compare, tied_face_uv
 
 # A fetchColor computing (u, v) in float (or in another order) differs from
@@ -101,14 +102,27 @@ def _handout(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarra
     return out
 
 
+class HandoutReads:
+    """The handout's readTexture over `texels` (6, H, W, 3), read as the judge
+    reads the student's: for judging where the live one is not to be asked."""
+
+    def __init__(self, texels: np.ndarray):
+        self.texels = texels
+
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        values = oracle.current().read_texture(self.texels, np.full(len(uv), face), uv, "bilinear")
+        return Outcome(values=np.asarray(values, np.float64), evaluated=np.ones(len(uv), bool))
+
+
 def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, int],
-          texels: np.ndarray | None = None, texture_mismatch=None) -> Judgement:
+          texels: np.ndarray | None = None, texture_mismatch=None, differs_here: float = DIFFERS_HERE) -> Judgement:
     """fetchColor's answers `values` (n, 3) for `dirs` (n, 3) against the
     student's readTexture, on the faces currently set (of `size` (W, H)).
     With `texels` (those faces) and `texture_mismatch` ((6,): per face, the
     share of the read_texture check's calls that differed from the handout,
     ReadTextureFinding.face_mismatch), a live readTexture that differs far
-    more often here is not believed on that face (DIFFERS_HERE, CHECK_SHARE)."""
+    more often here is not believed on that face (`differs_here`, CHECK_SHARE)."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     values = np.asarray(values, np.float64).reshape(-1, 3)
     faces, uv = tied_face_uv(dirs)                     # (n, k) faces, (n, k, 2): the reference's first
@@ -129,7 +143,7 @@ def judge(lookups, dirs: np.ndarray, values: np.ndarray, tol, size: tuple[int, i
         for face in range(6):
             here = seen & inside & (faces[:, 0] == face)
             share = float(differs[here].mean()) if here.any() else 0.0
-            if (share > DIFFERS_HERE and checked[face] < CHECK_SHARE * share) or \
+            if (share > differs_here and checked[face] < CHECK_SHARE * share) or \
                     checked[face] > checked.min() + FACE_SPREAD:
                 disbelieved |= faces[:, 0] == face
     cmp = compare(values, exact, tol)
