@@ -157,6 +157,16 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(20261201)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def grading_cache_folder(tmp_path_factory) -> Path:
+    """Where grading_cache.grade_once keeps this session's gradings: one
+    folder for every xdist worker (their base folders' parent)."""
+    import grading_cache
+    base = tmp_path_factory.getbasetemp()
+    grading_cache.FOLDER = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "grading-cache"
+    return grading_cache.FOLDER
+
+
 @pytest.fixture(scope="session")
 def reference_library() -> Path:
     """build/libenvmap.so, built once per test run (make reference)."""
