@@ -158,13 +158,23 @@ def rng() -> np.random.Generator:
 
 
 @pytest.fixture(scope="session", autouse=True)
-def grading_cache_folder(tmp_path_factory) -> Path:
-    """Where grading_cache.grade_once keeps this session's gradings: one
-    folder for every xdist worker (their base folders' parent)."""
-    import grading_cache
+def session_folder(tmp_path_factory) -> Path:
+    """Where session_once keeps what is done once per session (gradings of
+    grading_cache.grade_once, the student kit): one folder for every xdist
+    worker (their base folders' parent)."""
+    import session_once
     base = tmp_path_factory.getbasetemp()
-    grading_cache.FOLDER = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "grading-cache"
-    return grading_cache.FOLDER
+    session_once.FOLDER = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "once"
+    return session_once.FOLDER
+
+
+@pytest.fixture(scope="session")
+def student_kit(session_folder):
+    """The student kit (grader.kit.build), built once per session: read it,
+    never change it (copy it first)."""
+    import session_once
+    from grader.kit.build import build_kit
+    return session_once.once("student-kit", lambda folder: build_kit(folder / "student-kit"))
 
 
 @pytest.fixture(scope="session")

@@ -5,8 +5,8 @@ zoo's verdicts, the word counts, the Japanese reports, a control beside an
 attack): each such grading takes seconds. `grade_once` has
 grader.grade.grade's signature and answers with the GradeResult of the first
 such grading in this session, whichever xdist worker ran it: the grading is
-done once, under a file lock, in a folder all workers share (FOLDER, set by
-tests/conftest.py for the session; unset, every call grades).
+done once, under a file lock, in a folder all workers share
+(tests/session_once.py; outside a test session every call grades).
 
 What keys a grading is all that grade() reads: the submission's name and
 bytes (every file of a folder), the options with the language they choose,
@@ -24,10 +24,8 @@ compared) call grade() itself, as must tests that monkeypatch the grader.
 from __future__ import annotations
 
 import dataclasses
-import fcntl
 import hashlib
 import os
-import pickle
 import shutil
 from pathlib import Path
 
@@ -37,7 +35,9 @@ from grader.results import GradeResult
 from grader.submissions import student_name
 from grader.worker import sandbox
 
-RESULT = "result.pickle"
+import session_once
+from session_once import once
+
 OUT = "out"
 IMAGES = "images"
 
@@ -65,47 +65,30 @@ def grading_key(submission: Path, options: GradeOptions) -> str:
     return digest.hexdigest()[:24]
 
 
-FOLDER: Path | None = None
-
-
 def grade_once(submission: Path, out_dir: Path, options: GradeOptions | None = None,
                write_reports: bool = True) -> GradeResult:
     """grader.grade.grade, done once per key in this session (see above)."""
-    if FOLDER is None:
+    if session_once.FOLDER is None:
         return grade(submission, out_dir, options, write_reports)
-    return GradingCache(FOLDER).grade(submission, out_dir, options, write_reports)
+    submission, out_dir = Path(submission), Path(out_dir)
+    options = options or GradeOptions()
+    key = f"grading-{grading_key(submission, options)}"
+    result = once(key, lambda folder: grade(submission, folder / OUT, options, write_reports=True))
+    return _hand_out(result, session_once.FOLDER / key / OUT, out_dir, options, write_reports)
 
 
-class GradingCache:
-    def __init__(self, folder: Path):
-        self.folder = Path(folder)
-
-    def grade(self, submission: Path, out_dir: Path, options: GradeOptions | None = None,
-              write_reports: bool = True) -> GradeResult:
-        submission, out_dir = Path(submission), Path(out_dir)
-        options = options or GradeOptions()
-        entry = self.folder / grading_key(submission, options)
-        self.folder.mkdir(parents=True, exist_ok=True)
-        with open(f"{entry}.lock", "w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)    # the other worker waits for this grading, then reads it
-            if not (entry / RESULT).exists():
-                result = grade(submission, entry / OUT, options, write_reports=True)
-                (entry / f"{RESULT}.tmp").write_bytes(pickle.dumps(result))
-                (entry / f"{RESULT}.tmp").replace(entry / RESULT)
-        result = pickle.loads((entry / RESULT).read_bytes())
-        return self._hand_out(result, entry / OUT, out_dir, options, write_reports)
-
-    @staticmethod
-    def _hand_out(result: GradeResult, cached: Path, out_dir: Path, options: GradeOptions,
-                  write_reports: bool) -> GradeResult:
-        out_dir.mkdir(parents=True, exist_ok=True)
-        if write_reports:
-            shutil.copytree(cached, out_dir, dirs_exist_ok=True)
-        elif (cached / IMAGES).is_dir():
-            shutil.copytree(cached / IMAGES, out_dir / IMAGES, dirs_exist_ok=True)
-        for check in result.checks:
-            check.artifacts = {name: out_dir / Path(path).relative_to(cached)
-                               if Path(path).is_relative_to(cached) else path
-                               for name, path in check.artifacts.items()}
-        i18n.set_language(i18n.choose(options.lang, score.load_rubric(options.rubric)))
-        return result
+def _hand_out(result: GradeResult, cached: Path, out_dir: Path, options: GradeOptions,
+              write_reports: bool) -> GradeResult:
+    """The result as grade(..., out_dir) leaves it: reports (or only the
+    pictures) in out_dir, artifacts pointing there, the language set."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if write_reports:
+        shutil.copytree(cached, out_dir, dirs_exist_ok=True)
+    elif (cached / IMAGES).is_dir():
+        shutil.copytree(cached / IMAGES, out_dir / IMAGES, dirs_exist_ok=True)
+    for check in result.checks:
+        check.artifacts = {name: out_dir / Path(path).relative_to(cached)
+                           if Path(path).is_relative_to(cached) else path
+                           for name, path in check.artifacts.items()}
+    i18n.set_language(i18n.choose(options.lang, score.load_rubric(options.rubric)))
+    return result

@@ -8,11 +8,12 @@ import shutil
 from pathlib import Path
 
 import grading_cache
+import session_once
 from fake_bwrap import write_failing_bwrap
 from grader.grade import GradeOptions, grade
 from grader.results import BUILD_ERROR
 from grader.worker import sandbox
-from grading_cache import GradingCache, grading_key
+from grading_cache import grade_once, grading_key
 
 # A build error: a real grading in a fraction of a second.
 BROKEN = Path(__file__).parent / "submissions" / "wrong" / "syntax-error.cpp"
@@ -22,16 +23,16 @@ QUICK = GradeOptions(quick=True)
 def test_one_grading_per_key_and_a_copy_for_each_caller(tmp_path, monkeypatch):
     calls = []
     monkeypatch.setattr(grading_cache, "grade", lambda *a, **k: calls.append(a) or grade(*a, **k))
-    cache = GradingCache(tmp_path / "cache")
-    first = cache.grade(BROKEN, tmp_path / "a", QUICK)
+    monkeypatch.setattr(session_once, "FOLDER", tmp_path / "cache")
+    first = grade_once(BROKEN, tmp_path / "a", QUICK)
     first.checks[0].score = 99.0                    # a test changing what it got changes nobody else's
-    second = cache.grade(BROKEN, tmp_path / "b", QUICK, write_reports=False)
+    second = grade_once(BROKEN, tmp_path / "b", QUICK, write_reports=False)
     assert len(calls) == 1
     assert second.status == BUILD_ERROR and second.checks[0].score == 0.0
     direct = grade(BROKEN, tmp_path / "direct", QUICK)             # what grading it again gives
     assert (second.status, second.score, second.checks) == (direct.status, direct.score, direct.checks)
     for name in ("results.json", "report.md", "report.html", "junit.xml"):
-        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "cache" / grading_key(BROKEN, QUICK)
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "cache" / f"grading-{grading_key(BROKEN, QUICK)}"
                                                         / "out" / name).read_bytes()
     assert not (tmp_path / "b" / "results.json").exists()     # write_reports=False writes none
 
