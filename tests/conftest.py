@@ -157,6 +157,26 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(20261201)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def session_folder(tmp_path_factory) -> Path:
+    """Where session_once keeps what is done once per session (gradings of
+    grading_cache.grade_once, the student kit): one folder for every xdist
+    worker (their base folders' parent)."""
+    import session_once
+    base = tmp_path_factory.getbasetemp()
+    session_once.FOLDER = (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "once"
+    return session_once.FOLDER
+
+
+@pytest.fixture(scope="session")
+def student_kit(session_folder):
+    """The student kit (grader.kit.build), built once per session: read it,
+    never change it (copy it first)."""
+    import session_once
+    from grader.kit.build import build_kit
+    return session_once.once("student-kit", lambda folder: build_kit(folder / "student-kit"))
+
+
 @pytest.fixture(scope="session")
 def reference_library() -> Path:
     """build/libenvmap.so, built once per test run (make reference)."""

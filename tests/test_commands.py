@@ -65,9 +65,11 @@ def test_grade_help_explains_defaults_and_exit_status():
 
 
 @pytest.fixture(scope="module")
-def graded_correct(tmp_path_factory) -> tuple[subprocess.CompletedProcess, Path]:
-    out = tmp_path_factory.mktemp("correct") / "reports"
-    return grader("grade", str(CORRECT), "--quick", "--out", str(out)), out
+def graded_correct() -> tuple[subprocess.CompletedProcess, Path]:
+    """Once per session for both xdist workers (tests/session_once.py): read, never changed."""
+    import session_once
+    return session_once.once("cli-graded-correct", lambda folder: (
+        grader("grade", str(CORRECT), "--quick", "--out", str(folder / "reports")), folder / "reports"))
 
 
 def test_grade_correct_writes_every_report_and_exits_0(graded_correct):

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions, grade
+from grader.grade import GradeOptions
+from grading_cache import grade_once
 from grader.results import GRADED
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole submissions
@@ -27,7 +28,7 @@ def test_every_compound_submission_has_its_truth():
 def test_compound_submission_is_diagnosed_exactly(name, tmp_path):
     truth = json.loads((ZOO / f"{name}.json").read_text())
     causes = {(i, f) for i, f in truth["causes"]}
-    result = grade(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
+    result = grade_once(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
     assert result.status == GRADED
     found = {(d.id, d.face) for d in result.diagnoses}
     assert causes <= found, f"missing {causes - found}"

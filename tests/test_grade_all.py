@@ -80,9 +80,15 @@ def finished(out: Path) -> dict[str, float]:
 
 
 @pytest.fixture(scope="module")
-def resumed(tmp_path_factory):
-    """Run 1 killed after the first result, run 2 to the end, run 3 with nothing changed."""
-    root = tmp_path_factory.mktemp("class")
+def resumed():
+    """Run 1 killed after the first result, run 2 to the end, run 3 with nothing
+    changed: once per session for both xdist workers (tests/session_once.py);
+    tests read what it left, or copy it first."""
+    import session_once
+    return session_once.once("grade-all-resumed", _resume)
+
+
+def _resume(root: Path) -> dict:
     class_dir, out = make_class(root / "submissions"), root / "out"
     # One job: the first result appears while the others are still waiting.
     killed = subprocess.Popen(grade_all_cmd(class_dir, out, 1), cwd=PROJECT_ROOT, start_new_session=True,

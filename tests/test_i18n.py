@@ -157,6 +157,7 @@ def test_the_scan_finds_english_left_in_a_japanese_report():
 def graded(tmp_path_factory):
     """Each submission graded in Japanese and English (and Japanese twice)."""
     from grader.grade import GradeOptions, grade
+    from grading_cache import grade_once
     out, before = {}, i18n.language()
     try:
         for name in (*SUBMISSIONS, *OTHER):
@@ -164,7 +165,10 @@ def graded(tmp_path_factory):
                 if run == 2 and name != SUBMISSIONS[0]:
                     continue
                 folder = tmp_path_factory.mktemp(f"{name}-{lang}-{run}")
-                result = grade(OTHER.get(name, ZOO / f"{name}.cpp"), folder, GradeOptions(quick=True, lang=lang))
+                # The second Japanese grading is a real second one (determinism); the
+                # others may be this session's grading of that file and options.
+                result = (grade if run == 2 else grade_once)(OTHER.get(name, ZOO / f"{name}.cpp"), folder,
+                                                             GradeOptions(quick=True, lang=lang))
                 out[name, lang, run] = (result, folder)
     finally:
         i18n.set_language(before)

@@ -36,8 +36,9 @@ VISIBLE_POINTS = sum(e["points"] for n, e in load_rubric()["checks"].items()
 
 
 @pytest.fixture(scope="module")
-def kit(tmp_path_factory):
-    return build_kit(tmp_path_factory.mktemp("kit") / "student-kit")
+def kit(student_kit):
+    """The session's kit (tests/conftest.py): tests copy it before changing it."""
+    return student_kit
 
 
 @pytest.fixture(scope="module")

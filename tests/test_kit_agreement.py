@@ -24,7 +24,6 @@ import pytest
 
 from fake_bwrap import write_failing_bwrap
 from grader import PROJECT_ROOT
-from grader.kit.build import build_kit
 
 SUBMISSIONS = Path(__file__).parent / "submissions"
 ZOOS = sorted(p for p in SUBMISSIONS.iterdir() if p.is_dir())
@@ -78,9 +77,9 @@ def environment(mode: str, tmp_path: Path) -> dict:
 
 
 @pytest.fixture(scope="module")
-def kit_alone(tmp_path_factory) -> Path:
-    """The kit's zip unpacked alone in an empty folder."""
-    kit = build_kit(tmp_path_factory.mktemp("kit") / "student-kit")
+def kit_alone(student_kit, tmp_path_factory) -> Path:
+    """The kit's zip (the session's, tests/conftest.py) unpacked alone in an empty folder."""
+    kit = student_kit
     where = tmp_path_factory.mktemp("alone")
     with zipfile.ZipFile(kit.zip_path) as z:
         z.extractall(where)

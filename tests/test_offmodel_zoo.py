@@ -22,7 +22,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions, grade
+from grader.grade import GradeOptions
+from grading_cache import grade_once   # each (file, options) graded once a session
 from zoo_truth import Zoo
 from grader.results import GRADED
 
@@ -44,7 +45,7 @@ def test_every_offmodel_submission_has_its_truth():
 
 @pytest.mark.parametrize("name", NAMES)
 def test_offmodel_submission_is_diagnosed_exactly(name, tmp_path):
-    result = grade(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
+    result = grade_once(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
     assert result.status == GRADED
     missing, false = verdict(name, {(d.id, d.face) for d in result.diagnoses})
     assert not missing and not false, f"missing {missing}, false {false}"
@@ -75,8 +76,8 @@ def test_a_wrong_read_texture_costs_fetch_color_at_most_a_point(name, tmp_path):
     control = tmp_path / "control" / "EnvironmentMap.cpp"
     control.parent.mkdir()
     control.write_text(with_handout_read(name))
-    theirs = grade(ZOO / f"{name}.cpp", tmp_path / "a", GradeOptions(quick=True))
-    handout = grade(control.parent, tmp_path / "b", GradeOptions(quick=True))
+    theirs = grade_once(ZOO / f"{name}.cpp", tmp_path / "a", GradeOptions(quick=True))
+    handout = grade_once(control.parent, tmp_path / "b", GradeOptions(quick=True))
     assert abs(fetch_points(theirs) - fetch_points(handout)) <= 1.0, \
         ({c.name: c.score for c in theirs.checks}, {c.name: c.score for c in handout.checks})
 
@@ -90,8 +91,8 @@ def test_an_unfittable_read_texture_buys_fetch_color_no_points(tmp_path):
     """readTexture exact except at one point, fetchColor half a texel off:
     no more than the same fetchColor over the handout's readTexture (before:
     85.94 against 44.82 in quick mode)."""
-    attack = grade(ATTACKS / "half-texel-fetch_one-point-read.cpp", tmp_path / "a", GradeOptions(quick=True))
-    control = grade(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
+    attack = grade_once(ATTACKS / "half-texel-fetch_one-point-read.cpp", tmp_path / "a", GradeOptions(quick=True))
+    control = grade_once(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
     assert "No lookup the grader can model" in {c.name: c for c in attack.checks}["read_texture"].output
     assert attack.score <= control.score, (attack.score, control.score)
     assert fetch_points(attack) <= fetch_points(control) + 0.1
@@ -103,14 +104,14 @@ def test_a_read_texture_that_answers_the_judge_differently_buys_nothing(tmp_path
     fetchColor "right over its own readTexture" (71.56 before the guard).
     The readTexture check found it honest on other sizes, so the live answers
     are not believed there."""
-    attack = grade(ATTACKS / "direct-call-cheat.cpp", tmp_path / "a", GradeOptions(quick=True))
-    control = grade(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
+    attack = grade_once(ATTACKS / "direct-call-cheat.cpp", tmp_path / "a", GradeOptions(quick=True))
+    control = grade_once(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
     assert "texture-context-dependent" in {d.id for d in attack.diagnoses}
     assert attack.score <= control.score, (attack.score, control.score)
 
 
 def test_a_cheap_path_on_the_timing_faces_fails_speed_behind_an_unfittable_read_texture(tmp_path):
-    result = grade(ATTACKS / "cheap-timing-faces_one-point-read.cpp", tmp_path, GradeOptions(quick=True))
+    result = grade_once(ATTACKS / "cheap-timing-faces_one-point-read.cpp", tmp_path, GradeOptions(quick=True))
     speed = {c.name: c for c in result.checks}["speed"]
     assert speed.score == 0 and [d.id for d in speed.diagnoses] == ["timing-faces-wrong"], speed.output
 

@@ -90,11 +90,15 @@ def test_the_checks_ask_the_oracle_in_use(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def kit_answers(tmp_path_factory):
+def kit_answers():
+    """Recorded once per session for both xdist workers (tests/session_once.py)."""
+    import session_once
     from grader.kit import answers
-    folder = tmp_path_factory.mktemp("kit_answers")
-    answers.record(folder / answers.ANSWERS, folder / "images", seed=4321, quick=True)
-    return folder / answers.ANSWERS
+
+    def record(folder):
+        answers.record(folder / answers.ANSWERS, folder / "images", seed=4321, quick=True)
+        return folder / answers.ANSWERS
+    return session_once.once("kit-answers-4321-quick", record)
 
 
 # Mistakes the kit's recording never ran (it runs only a handout-like
@@ -117,11 +121,12 @@ def test_the_kits_recording_answers_submissions_it_never_saw(tmp_path, monkeypat
 
 
 @pytest.fixture(scope="module")
-def kit_seed_answers(tmp_path_factory):
+def kit_seed_answers(student_kit):
+    """The answers the kit ships (grader.kit.build records them with the kit's seed)."""
     from grader.kit import answers
-    folder = tmp_path_factory.mktemp("kit_seed_answers")
-    answers.record(folder / answers.ANSWERS, folder / "images")
-    return folder / answers.ANSWERS
+    path = student_kit.folder / "selfcheck" / answers.ANSWERS
+    assert path.is_file(), sorted(student_kit.files)
+    return path
 
 
 def _grade_cli(submission, out, *flags):

@@ -154,8 +154,9 @@ def test_every_pattern_submission_has_its_truth():
 @pytest.mark.sandbox
 @pytest.mark.parametrize("name", NAMES)
 def test_pattern_submission_is_diagnosed_exactly(name, tmp_path):
-    from grader.grade import GradeOptions, grade
-    result = grade(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
+    from grader.grade import GradeOptions
+    from grading_cache import grade_once
+    result = grade_once(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
     assert result.status == GRADED
     missing, false = verdict(name, {(d.id, d.face) for d in result.diagnoses})
     assert not missing and not false, f"missing {missing}, false {false}"
@@ -168,12 +169,13 @@ def test_pattern_submission_is_diagnosed_exactly(name, tmp_path):
 @pytest.mark.sandbox
 @pytest.mark.parametrize("name", [n for n in NAMES if with_handout_read(n) is not None])
 def test_a_wrong_read_texture_costs_the_pattern_at_most_a_point(name, tmp_path):
-    from grader.grade import GradeOptions, grade
+    from grader.grade import GradeOptions
+    from grading_cache import grade_once
     control = tmp_path / "control" / "EnvironmentMap.cpp"
     control.parent.mkdir()
     control.write_text(with_handout_read(name))
-    theirs = grade(ZOO / f"{name}.cpp", tmp_path / "a", GradeOptions(quick=True))
-    handout = grade(control.parent, tmp_path / "b", GradeOptions(quick=True))
+    theirs = grade_once(ZOO / f"{name}.cpp", tmp_path / "a", GradeOptions(quick=True))
+    handout = grade_once(control.parent, tmp_path / "b", GradeOptions(quick=True))
     assert abs(fetch_points(theirs) - fetch_points(handout)) <= 1.0, \
         ({c.name: c.score for c in theirs.checks}, {c.name: c.score for c in handout.checks})
     # The same pattern is named over the handout's readTexture.

@@ -16,10 +16,11 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions, grade
+from grader.grade import GradeOptions
 from grader.results import FAILED, GRADED
 from grader.worker import sandbox
 from fake_bwrap import write_failing_bwrap
+from grading_cache import grade_once
 
 REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
@@ -57,8 +58,9 @@ def mode(request, tmp_path, monkeypatch):
 
 
 def graded(name: str, out: Path, mode: str, only: tuple[str, ...] = ()):
-    result = grade(REDTEAM2 / f"{name}.cpp", out, GradeOptions(allow_stale=True, quick=True, only=only),
-                   write_reports=False)
+    # A control beside two attacks is graded once per mode (the cache keys the mode).
+    result = grade_once(REDTEAM2 / f"{name}.cpp", out, GradeOptions(allow_stale=True, quick=True, only=only),
+                        write_reports=False)
     assert result.status == GRADED, result.status
     assert result.isolation == ISOLATION[mode]
     return result

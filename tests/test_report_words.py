@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions, grade
+from grader.grade import GradeOptions
+from grading_cache import grade_once
 from grader.platforms.prairielearn import results_from
 from grader.reports import render_all
 from grader.reports.view import GLOSSARY
@@ -38,7 +39,7 @@ JARGON = ("SSIM", "FLIP", "ulp", "Fibonacci", "bubblewrap", "sandbox", "protocol
 def graded(tmp_path_factory):
     out = {}
     for name in [*ONE_MISTAKE, CORRECT, "compound/strict-ties_weights-swapped.cpp"]:
-        result = grade(HERE / name, tmp_path_factory.mktemp("words"), GradeOptions(quick=True),
+        result = grade_once(HERE / name, tmp_path_factory.mktemp("words"), GradeOptions(quick=True),
                        write_reports=False)
         out[name] = (result, render_all(result))
     return out

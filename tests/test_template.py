@@ -57,10 +57,11 @@ def test_workflow_uses_nothing_private():
 
 
 @pytest.fixture(scope="module")
-def kit_copy(tmp_path_factory) -> Path:
-    """The kit, as a student receives it."""
-    from grader.kit.build import build_kit
-    return build_kit(tmp_path_factory.mktemp("kit") / "student-kit").folder
+def kit_copy(student_kit, tmp_path_factory) -> Path:
+    """The kit, as a student receives it (a copy of the session's, which stays untouched)."""
+    copy = tmp_path_factory.mktemp("kit") / "student-kit"
+    shutil.copytree(student_kit.folder, copy, symlinks=True)
+    return copy
 
 
 def make_run(folder: Path) -> str:
