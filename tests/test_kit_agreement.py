@@ -43,6 +43,7 @@ SUBSET = [SUBMISSIONS / name for name in (
     "patterns/rotated-90-every-face_table.cpp",
     "redteam/terminal_escapes.cpp",
     "redteam2/believed_on_two_faces.cpp",
+    "redteam3/readtexture_vouches_for_cheap_lookups.cpp",
     "runtime_attacks/forged_reply.cpp",
     "wrong/u-flipped-pos-x.cpp",
 )]
