@@ -111,6 +111,22 @@ def test_a_constant_lookup_is_reported_as_such():
     assert found.constant and not found.fits
 
 
+@pytest.mark.parametrize("model", [
+    tm.TextureModel(A(offset=-0.5), A(flip="index")),
+    tm.TextureModel(A(edge="none", scale="N-1"), A(rounding="trunc", offset=-1.0)),
+    tm.TextureModel(A(weights="nearest", source="other"), A(edge="wrap", flip="coordinate")),
+    tm.TextureModel(A(weights="half", size="other"), A(weights="swapped", scale="N+1", rounding="round")),
+], ids=["half-texel_rows", "unclamped-w-1_trunc-1", "nearest-swapped_wrap-1-v", "half-wh_swapped-round"])
+def test_the_fits_batched_axis_judge_equals_judging_each_axis(model):
+    """The fit ranks all 6,480 axis models with all_mismatches; it must count
+    what mismatches counts for each, on every model of the family."""
+    probes = tm.probe(tm.fake_read_texture(model), 3)
+    axes = list(tm.all_axes())
+    for which in (0, 1):
+        data = tm._AxisData(probes, which)
+        assert data.all_mismatches(axes).tolist() == [data.mismatches(a) for a in axes]
+
+
 def test_the_words_name_the_offset():
     text = tm.describe_model(both(weights="nearest", offset=-1.0))
     assert "one to the left and below" in text and "p = (uW - 1, vH - 1)" in text
