@@ -53,13 +53,14 @@ def grading_key(submission: Path, options: GradeOptions) -> str:
     """What decides a grading's result: the same key, the same grading."""
     rubric = score.load_rubric(options.rubric)
     chosen = dataclasses.replace(options, lang=i18n.choose(options.lang, rubric))
+    files = _files(submission)
     digest = hashlib.sha256()
-    for part in (student_name(submission), *(f"{n}\0" for n, _ in _files(submission)),
+    for part in (student_name(submission), *(f"{n}\0" for n, _ in files),
                  repr(dataclasses.replace(chosen, rubric=Path(options.rubric).resolve())),
                  repr(sorted((k, v) for k, v in os.environ.items() if k.startswith("GRADER_"))),
                  repr(sandbox.sandbox_problem())):
         digest.update(part.encode() + b"\1")
-    for _, data in _files(submission):
+    for _, data in files:
         digest.update(hashlib.sha256(data).digest())
     digest.update(Path(options.rubric).read_bytes())
     return digest.hexdigest()[:24]

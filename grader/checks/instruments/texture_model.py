@@ -403,10 +403,11 @@ def _many_axis_predictions(axes: list[Axis], points: np.ndarray) -> tuple[np.nda
     i1 = np.where(nearest, base, base + 1)
     w1 = np.where(nearest, 0.0, np.where(weights == "linear", frac, np.where(weights == "swapped", 1.0 - frac, 0.5)))
     edge = column([a.edge for a in axes])
-    for which in ("i0", "i1"):
-        i = i0 if which == "i0" else i1
-        i = np.where(edge == "clamp", np.clip(i, 0, n - 1), np.where(edge == "wrap", np.mod(i, n), i))
-        i0, i1 = (i, i1) if which == "i0" else (i0, i)
+
+    def edged(i: np.ndarray) -> np.ndarray:
+        return np.where(edge == "clamp", np.clip(i, 0, n - 1), np.where(edge == "wrap", np.mod(i, n), i))
+
+    i0, i1 = edged(i0), edged(i1)
     flipped = column([a.flip == "index" for a in axes])
     i0, i1 = np.where(flipped, n - 1 - i0, i0), np.where(flipped, n - 1 - i1, i1)
     inside = (i0 >= 0) & (i0 < n) & (i1 >= 0) & (i1 < n)
