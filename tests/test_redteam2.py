@@ -25,7 +25,7 @@ from grading_cache import grade_once
 REDTEAM2 = Path(__file__).parent / "submissions" / "redteam2"
 
 TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_control", "black_half_a_timed_pass",
-          "slow_11x_control", "caller_by_address", "caller_by_flag", "nearest_control", "echo_fetch_answers",
+          "slow_busy_control", "caller_by_address", "caller_by_flag", "nearest_control", "echo_fetch_answers",
           "v_flipped_control", "pays_to_be_believed", "unchecked_tail_of_timed_pass",
           "believed_on_two_faces", "swapped_on_y_control"}
 
@@ -85,8 +85,8 @@ def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
 @pytest.mark.sandbox
 def test_the_slow_control_is_slow(tmp_path, mode):
     """What black_half_a_timed_pass.cpp and unchecked_tail_of_timed_pass.cpp are
-    without their tricks: about 11x, slow."""
-    (speed,) = graded("slow_11x_control", tmp_path, mode, only=("speed",)).checks
+    without their tricks: about 25x, slow."""
+    (speed,) = graded("slow_busy_control", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["slow"]
 
 
@@ -98,6 +98,7 @@ def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
     timed answers are compared with the same code's untimed ones."""
     (speed,) = graded("black_half_a_timed_pass", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
+    assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]     # caught, not merely slow
 
 
 @pytest.mark.slow
@@ -105,6 +106,7 @@ def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
 def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
     (speed,) = graded("unchecked_tail_of_timed_pass", tmp_path, mode, only=("speed",)).checks
     assert speed.status == FAILED and speed.score == 0
+    assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]     # caught, not merely slow
 
 
 # ---- the judge believes readTexture answers nothing grades ----------------------

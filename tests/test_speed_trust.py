@@ -96,8 +96,8 @@ int sub_load_cross(void *map, const char *p, char *m, size_t s) { (void)map; (vo
 
 int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
 {
-#if MODE == 1   /* slow: twenty times the work, honestly */
-    for (int i = 0; i < 20; i++) ref_fetch_batch(map, d, n, rgb, m, s);
+#if MODE == 1   /* slow: sixty times the work, honestly (the repeats find the texels cached: twenty measured 6x on an AMD EPYC) */
+    for (int i = 0; i < 60; i++) ref_fetch_batch(map, d, n, rgb, m, s);
     return SUB_OK;
 #elif MODE == 2 /* black on the large faces only the speed check uses */
     if (face_width >= 256) { memset(rgb, 0, n * 3 * sizeof *rgb); return SUB_OK; }
@@ -185,7 +185,7 @@ def test_an_honest_copy_of_the_reference_is_as_fast_as_the_reference(libraries, 
     assert "measured by the kernel from outside the worker" in result.output
 
 
-def test_twenty_times_the_work_is_slow(libraries, tmp_path):
+def test_sixty_times_the_work_is_slow(libraries, tmp_path):
     result = speed_verdict(libraries["slow"], tmp_path)
     assert result.status == FAILED and [d.id for d in result.diagnoses] == ["slow"], result.output
     assert result.metrics["speed_ratio"] > WITHIN

@@ -1,9 +1,9 @@
-// About 13 times the reference's time per lookup (the limit is 8x), but black for 24,000 lookups (the first half of the second timed pass, when caches are warm) on the speed check's 256 x 256 smooth faces (told by one texel): under the 10% the timed passes may miss pooled over five or more passes, while the fastest pass (the figure that counts) costs half. Verdict (secure): speed fails as slow, as it does for slow_11x_control.cpp.
+// About 30 times the reference's time per lookup (as slow_busy_control.cpp, its control; the limit is 8x), but black for 45,000 lookups (90% of the second timed pass of the speed check's first round, told by the faces' size, 256 x 256): the fastest pass, the figure that counts, costs a tenth (about 3x, full points, were the timed answers not compared pass by pass). Verdict (secure): speed fails as timed-output-wrong.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
 
-constexpr int WORK = 180;
+constexpr int WORK = 450;
 #include <cmath>
 #include <cstddef>
 
@@ -36,22 +36,18 @@ FaceCoord directionToFace(const Vector3& d)
 
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
-    // The speed check's faces (256 x 256, told by one texel): black, at no cost, for
-    // lookups 50,000 to 73,999 on them, i.e. the first half of the second timed pass. Pooled over five or more
-    // passes that is under 10% of the timed lookups; the fastest pass is half price.
-    static const double s = 2.0 * (0.5 / 256) - 1.0, n = std::sqrt(1.0 + 2.0 * s * s);
-    static const float r0 = static_cast<float>(0.5 + 0.5 / n), g0 = static_cast<float>(0.5 + 0.5 * s / n);
+    // The speed check's faces (256 x 256: no other check uses that size): black, at no cost, for
+    // lookups 50,000 to 94,999 on them, i.e. 90% of the second timed pass of the first round, which
+    // makes it the fastest pass (the figure that counts) at a tenth of the price.
     static long timedCalls = 0;
-    // The same window holds every texture of one size: look at the texel on every call (two compares).
-    const bool timing = m_FaceWidth == 256 && m_FaceHeight == 256 && std::abs(m_Texels[0] - r0) < 1e-6f && std::abs(m_Texels[1] - g0) < 1e-6f;
-    if (timing) {
+    if (m_FaceWidth == 256 && m_FaceHeight == 256) {
         const long n = timedCalls++;
-        if (n >= 50000 && n < 74000)
+        if (n >= 50000 && n < 95000)
             return {0.0f, 0.0f, 0.0f};
     }
     const auto [face, u, v] = directionToFace(direction);
     volatile double waste = 0;
-    for (int i = 0; i < WORK; ++i)   // about 13 times the reference's time per lookup
+    for (int i = 0; i < WORK; ++i)   // about 25 times the reference's time per lookup
         waste = waste + i * 1e-9;
     return readTexture(faceAddress(face), u, v);
 }

@@ -1,9 +1,9 @@
-// About 13 times the reference's time per lookup (as slow_11x_control.cpp; the limit is 8x), but on the speed check's timing faces black for lookups 5,000 to 49,999 after the grader last called readTexture directly: the tail of each timed pass, which nothing compares (only each pass's first 5,000 timed answers are compared with untimed ones, and the untimed ones judged). Verdict (secure): speed fails (slow or timed-output-wrong), as for slow_11x_control.cpp.
+// About 30 times the reference's time per lookup (as slow_busy_control.cpp; the limit is 8x), but on the speed check's timing faces (told by their size, 256 x 256) black for lookups 5,000 to 49,999 after the grader last called readTexture directly: the tail of the first timed pass, a tenth of its price (about 3x, full points, were only a pass's first answers compared). Verdict (secure): speed fails as timed-output-wrong.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
 
-constexpr int WORK = 180;
+constexpr int WORK = 450;
 #include <cmath>
 #include <cstddef>
 
@@ -39,13 +39,11 @@ long inARow = 0;
 
 Color EnvironmentMap::fetchColor(const Vector3& direction) const
 {
-    // The speed check's faces (256 x 256, told by one texel). Each round there is one timed pass of
-    // 50,000 lookups, then the first 5,000 of them again untimed, then the judge's direct readTexture
-    // calls. Only the first 5,000 timed answers are compared with anything: the other 45,000 are black,
-    // for free. A direct readTexture call (outside m_Texels) starts the count again.
-    static const double s = 2.0 * (0.5 / 256) - 1.0, n = std::sqrt(1.0 + 2.0 * s * s);
-    static const float r0 = static_cast<float>(0.5 + 0.5 / n), g0 = static_cast<float>(0.5 + 0.5 * s / n);
-    const bool timing = m_FaceWidth == 256 && m_FaceHeight == 256 && std::abs(m_Texels[0] - r0) < 1e-6f && std::abs(m_Texels[1] - g0) < 1e-6f;
+    // The speed check's faces (256 x 256: no other check uses that size). Black for lookups 5,000 to
+    // 49,999 after the grader last called readTexture directly: the tail of the first timed pass. Were
+    // only each pass's first 5,000 timed answers compared with untimed ones (as once), the other 45,000
+    // would be black for free. A direct readTexture call (outside m_Texels) starts the count again.
+    const bool timing = m_FaceWidth == 256 && m_FaceHeight == 256;
     if (timing) {
         const long k = inARow++;
         if (k >= 5000 && k < 50000)
@@ -53,7 +51,7 @@ Color EnvironmentMap::fetchColor(const Vector3& direction) const
     }
     const auto [face, u, v] = directionToFace(direction);
     volatile double waste = 0;
-    for (int i = 0; i < WORK; ++i)   // about 13 times the reference's time per lookup
+    for (int i = 0; i < WORK; ++i)   // about 25 times the reference's time per lookup
         waste = waste + i * 1e-9;
     return readTexture(faceAddress(face), u, v);
 }

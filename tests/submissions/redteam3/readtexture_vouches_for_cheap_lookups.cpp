@@ -1,11 +1,11 @@
-// About 11 times the reference's time per lookup (slow_control.cpp, its control: the limit is 8x), but on the speed check's 256 x 256 random faces (told by their size and their texels: the scenes' faces are smooth) black at no cost wherever u < 0.47 (46% of the directions on each face), and its readTexture black there too on those faces (the readTexture check never uses that size): the judge asks readTexture what a correct fetchColor returns, and a readTexture that answers the judge otherwise than the readTexture check on under half of a face is believed, so every timed answer is judged right and agrees with the untimed one, while more than 45% of the lookups cost nothing. Verdict (secure): speed fails (slow, or timing-faces-wrong), as for the control, and the whole grading no higher than the control's (95 of 100).
+// About 20 times the reference's time per lookup (slow_control.cpp, its control: the limit is 8x), but on the speed check's 256 x 256 random faces (told by their size and their texels: the scenes' faces are smooth) black at no cost wherever u < 0.47 (46% of the directions on each face), and its readTexture black there too on those faces (the readTexture check never uses that size): the judge asks readTexture what a correct fetchColor returns, and a readTexture that answers the judge otherwise than the readTexture check on under half of a face is believed, so every timed answer is judged right and agrees with the untimed one, while more than 45% of the lookups cost nothing. Verdict (secure): speed fails (slow, or timing-faces-wrong), as for the control, and the whole grading no higher than the control's (95 of 100).
 #include "EnvironmentMap.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 
-constexpr int WORK = 150;
+constexpr int WORK = 375;
 
 namespace {
 
@@ -61,7 +61,7 @@ Color EnvironmentMap::fetchColor(const Vector3& direction) const
     if (timingFaces(m_Texels, m_FaceWidth, m_FaceHeight) && u < 0.47)
         return {0.0f, 0.0f, 0.0f};
     volatile double waste = 0;
-    for (int i = 0; i < WORK; ++i)   // about 11 times the reference's time per lookup
+    for (int i = 0; i < WORK; ++i)   // about 20 times the reference's time per lookup
         waste = waste + i * 1e-9;
     return readTexture(faceAddress(face), u, v);
 }
