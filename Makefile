@@ -13,7 +13,7 @@ CFLAGS_REF := -std=c11 -O2 -fPIC -Wall -Wextra -Werror -D_POSIX_C_SOURCE=200809L
 REF_SRC := $(sort $(wildcard reference/src/*.c))
 REF_HDR := reference/include/envmap.h $(wildcard reference/src/*.h)
 
-.PHONY: all reference venv test test-fast kit-agreement sanitize fuzz selfcheck grade grade-all fixtures student-kit bundle translations gradescope bench study clean system-deps core-deps
+.PHONY: all reference venv test-all test test-fast kit-agreement sanitize fuzz selfcheck grade grade-all fixtures student-kit bundle translations gradescope bench study clean system-deps core-deps
 
 all: reference
 
@@ -51,16 +51,24 @@ $(VENV)/.installed: requirements.lock | core-deps
 
 venv: $(VENV)/.installed
 
-# The whole suite (CI runs this through .ci/run).
-test: system-deps venv reference
-	$(PY) -m pytest -n 2 -q tests
+# Every test (CI's gate: .ci/run; about 11 min on 2 cores). The tiers below
+# are subsets of it (markers: pytest.ini, tests/conftest.py).
+FAST = not slow and not sanitizer and not browser
 
-# The suite without the slow, sanitizer and browser tests (markers: pytest.ini, tests/conftest.py).
+test-all: system-deps venv reference
+	$(PY) -m pytest -n 2 -q -m "not agreement" tests
+
+# A developer's run (about 3 min): the fast tests and the representative slow
+# ones (each grading path once, both isolation modes).
+test: system-deps venv reference
+	$(PY) -m pytest -n 2 -q -m "$(FAST) or representative" tests
+
+# The suite without the slow, sanitizer and browser tests (under a minute).
 test-fast: system-deps venv reference
-	$(PY) -m pytest -n 2 -q -m "not slow and not sanitizer and not browser" tests
+	$(PY) -m pytest -n 2 -q -m "$(FAST)" tests
 
 # The student kit's self-check against the grader on every zoo submission
-# (tests/test_kit_agreement.py; many minutes): `make test` runs a subset.
+# (tests/test_kit_agreement.py; many minutes): `make test-all` runs a subset.
 kit-agreement: system-deps venv reference
 	$(PY) -m pytest -n 2 -q -m agreement tests/test_kit_agreement.py
 

@@ -8,8 +8,11 @@ Markers (registered in pytest.ini):
     sanitizer  reruns suites under AddressSanitizer / UBSan
     agreement  the student kit against the grader on every zoo submission
                (many minutes: pytest.ini leaves it out; `make kit-agreement`)
-`make test` runs everything but agreement; `make test-fast` leaves out slow, sanitizer and
-browser tests. Markers are given per test file below (MODULE_MARKERS) and
+    representative  a slow test `make test` runs all the same (REPRESENTATIVE below)
+`make test-all` (CI's gate, .ci/run) runs everything but agreement; `make test`
+(about 3 min) runs the fast tests and the representative slow ones: one or two
+of each family of gradings, both isolation modes; `make test-fast` (under a
+minute) leaves out slow, sanitizer and browser tests. Markers are given per test file below (MODULE_MARKERS) and
 per test (TEST_MARKERS), so test files owned by different people need no
 edits to be classified; a test file may also mark single tests with
 @pytest.mark.<name>.
@@ -137,6 +140,49 @@ TEST_MARKERS = {
     "test_kit::test_selfcheck_html_escapes_what_the_submission_prints": SLOW,
 }
 
+# Slow tests `make test` runs too (marked representative): each path of the
+# grader end to end once, so that a developer's three-minute run meets most
+# regressions before CI's full run (`make test-all`) meets the rest: a
+# correct and a wrong submission of each kind of mistake, both isolation
+# modes, a class, each platform's entry point, the kit's self-check, one
+# attack of each red team, one browser check. Keys as in TEST_MARKERS.
+REPRESENTATIVE = (
+    "test_grading_zoo::test_correct_submissions_get_full_marks_and_no_diagnosis[if_chain]",
+    "test_grading_zoo::test_correct_submissions_get_full_marks_and_no_diagnosis[float_math]",
+    "test_grading_zoo::test_wrong_submission_is_diagnosed[v-flipped-pos-z]",
+    "test_grading_zoo::test_wrong_submission_is_diagnosed[half-texel-offset]",
+    "test_grading_zoo::test_wrong_submission_is_diagnosed[crash-null]",
+    "test_grading_zoo::test_wrong_submission_is_diagnosed[syntax-error]",
+    "test_grading_zoo::test_the_untouched_template_scores_little_and_says_why",
+    "test_gradescope::test_correct_submission_scores_full_marks",
+    "test_gradescope::test_build_error_gives_valid_results_and_no_check_passes",
+    "test_gradescope::test_students_see_no_instructor_notes_and_instructors_get_them_on_stdout",
+    "test_prairielearn::test_entrypoint_grades_a_wrong_submission_in_the_documented_layout",
+    "test_commands::test_grade_correct_writes_every_report_and_exits_0",
+    "test_commands::test_each_subcommand_has_help",
+    "test_grade_all::test_class_summary_written",
+    "test_grade_all::test_gradebook_columns_and_statuses",
+    "test_grade_all::test_unmatched_students_and_canvas_test_student_are_printed",
+    "test_kit::test_selfcheck_names_a_crash",
+    "test_hostile::test_hostile_act_in_fetch_color_gets_its_verdict_at_its_input",
+    "test_hostile::test_files_outside_the_sandbox_are_not_visible",
+    "test_attack_zoo::test_an_attack_gets_its_verdict_and_the_report_is_intact[forged_reply]",
+    "test_attack_zoo::test_an_attack_gets_its_verdict_and_the_report_is_intact[timed_black]",
+    "test_production_build::test_in_privilege_drop_mode_the_build_uid_reads_nothing_of_ours",
+    "test_production_build::test_a_pasted_has_include_finds_no_course_file",
+    "test_redteam3::test_one_cheap_pass_echoed_untimed_does_not_buy_speed",
+    "test_redteam3::test_the_controls_are_slow[bubblewrap-slow_control]",
+    "test_redteam3::test_the_controls_are_slow[privilege-drop-costly_few_control]",
+    "test_i18n::test_a_crash_reads_in_japanese_in_privilege_drop_mode",
+    "test_report_html_browser::test_every_image_loads_and_shows_where_it_is_placed",
+    "test_markers::test_every_named_test_exists_and_test_fast_leaves_it_out",
+)
+
+
+def _named(keys, module: str, item) -> bool:
+    name = getattr(item, "originalname", None) or item.name
+    return f"{module}::{name}" in keys or f"{module}::{item.name}" in keys
+
 
 def _markers(module: str, item) -> tuple[str, ...]:
     name = getattr(item, "originalname", None) or item.name
@@ -149,6 +195,8 @@ def pytest_collection_modifyitems(config, items):
         module = item.module.__name__.rsplit(".", 1)[-1]
         for name in dict.fromkeys(_markers(module, item)):
             item.add_marker(getattr(pytest.mark, name))
+        if _named(REPRESENTATIVE, module, item):
+            item.add_marker(pytest.mark.representative)
 
 
 @pytest.fixture

@@ -3,7 +3,7 @@ the project: after a scene edit the grader refuses and names `make
 fixtures`; `make fixtures` regenerates them; then `make grade` grades.
 
 The copy shares the project's .venv/ (a symlink: creating one from the lock
-is tested by CI's fresh clone, where `make test` itself makes it) and
+is tested by CI's fresh clone, where `make test-all` itself makes it) and
 builds everything else (reference library, grader objects) itself.
 """
 from __future__ import annotations
@@ -65,7 +65,7 @@ def test_readme_names_only_targets_the_makefile_has():
     project, or in student_template/ for what README says students run)."""
     readme = (PROJECT_ROOT / "README.md").read_text()
     targets = sorted(set(re.findall(r"(?:`|^)make ([a-z][\w-]*)", readme, re.M)))
-    assert {"grade", "test", "test-fast", "fixtures", "grade-all", "gradescope", "venv"} <= set(targets)
+    assert {"grade", "test-all", "test", "test-fast", "fixtures", "grade-all", "gradescope", "venv"} <= set(targets)
     project, student = rules(PROJECT_ROOT), rules(PROJECT_ROOT / "student_template")
     for target in targets:
         db = student if target in STUDENT_TARGETS else project

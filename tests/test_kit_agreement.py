@@ -3,7 +3,7 @@ nothing but its own copy of the grader, gives what the grader gives on the
 kit's inputs (`grade --visible-only --kit-inputs`): the same points per check
 (to 0.01) and the same diagnosis ids, on submissions of every zoo.
 
-`make test` runs SUBSET (one or two per zoo folder, about a minute on two
+`make test-all` runs SUBSET (one or two per zoo folder, about a minute on two
 cores), two of them also with a failing bwrap first on PATH (privilege-drop
 as root; on a laptop without bubblewrap, the worker alone); `make
 kit-agreement` (pytest -m agreement) runs every .cpp of every zoo, many

@@ -35,3 +35,28 @@ def test_every_named_test_exists_and_test_fast_leaves_it_out():
 def test_every_module_named_exists():
     for module in MODULE_MARKERS:
         assert (PROJECT_ROOT / "tests" / f"{module}.py").is_file(), module
+
+
+def makefile_expression(target: str) -> str:
+    """The -m expression the Makefile's target gives pytest, $(FAST) filled in."""
+    import re
+    text = (PROJECT_ROOT / "Makefile").read_text()
+    fast = re.search(r"^FAST = (.+)$", text, re.M).group(1)
+    recipe = re.search(rf"^{re.escape(target)}:.*\n\t(.+)$", text, re.M).group(1)
+    return re.search(r'-m "([^"]+)"', recipe).group(1).replace("$(FAST)", fast)
+
+
+def test_make_test_runs_the_representative_tests_and_test_fast_does_not():
+    from conftest import REPRESENTATIVE
+    files = sorted({f"tests/{name.split('::')[0]}.py" for name in REPRESENTATIVE})
+    everything = collected("", *files)
+    tier = collected(makefile_expression("test"), *files)
+    fast = collected(makefile_expression("test-fast"), *files)
+    assert fast < tier < everything, "make test should run more than test-fast and less than test-all"
+    for name in REPRESENTATIVE:
+        module, test = name.split("::")
+        node = f"tests/{module}.py::{test}"
+        found = {n for n in everything if n == node or ("[" not in node and n.startswith(node + "["))}
+        assert found, f"{name} is not a test (renamed?)"
+        assert found <= tier, f"{name} is representative but make test leaves it out"
+        assert not found & fast, f"{name} runs in test-fast already: it need not be named representative"

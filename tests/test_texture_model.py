@@ -78,7 +78,7 @@ MEMBERS = {
 
 # The members fitted back in `make test-fast`: one for each part of the
 # family (weights, offset with rounding, edge, index flip, coordinate source);
-# each fit is a search of seconds. `make test` fits every member.
+# each fit is a search of seconds. `make test-all` fits every member.
 FAST_MEMBERS = {"handout", "nearest", "half-texel-truncated", "unclamped-bilinear", "rows-flipped", "uv-swapped"}
 
 
