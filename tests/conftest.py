@@ -179,15 +179,14 @@ REPRESENTATIVE = (
 )
 
 
-def _named(keys, module: str, item) -> bool:
+def _keys(module: str, item) -> tuple[str, ...]:
+    """The names a test is listed by: every case of it, and this case."""
     name = getattr(item, "originalname", None) or item.name
-    return f"{module}::{name}" in keys or f"{module}::{item.name}" in keys
+    return tuple(dict.fromkeys((f"{module}::{name}", f"{module}::{item.name}")))
 
 
 def _markers(module: str, item) -> tuple[str, ...]:
-    name = getattr(item, "originalname", None) or item.name
-    return (MODULE_MARKERS.get(module, ()) + TEST_MARKERS.get(f"{module}::{name}", ())
-            + (TEST_MARKERS.get(f"{module}::{item.name}", ()) if item.name != name else ()))
+    return MODULE_MARKERS.get(module, ()) + tuple(m for key in _keys(module, item) for m in TEST_MARKERS.get(key, ()))
 
 
 def pytest_collection_modifyitems(config, items):
@@ -195,7 +194,7 @@ def pytest_collection_modifyitems(config, items):
         module = item.module.__name__.rsplit(".", 1)[-1]
         for name in dict.fromkeys(_markers(module, item)):
             item.add_marker(getattr(pytest.mark, name))
-        if _named(REPRESENTATIVE, module, item):
+        if any(key in REPRESENTATIVE for key in _keys(module, item)):
             item.add_marker(pytest.mark.representative)
 
 

@@ -15,14 +15,16 @@ def collected(expression: str, *paths: str) -> set[str]:
     return {line.strip() for line in run.stdout.splitlines() if "::" in line}
 
 
+def cases(node: str, among: set[str]) -> set[str]:
+    """The collected tests a name stands for."""
+    return {n for n in among if n == node or ("[" not in node and n.startswith(node + "["))}
+
+
 def test_every_named_test_exists_and_test_fast_leaves_it_out():
     """A name without [case] stands for every case of the test; with it, for that case."""
     files = sorted({f"tests/{name.split('::')[0]}.py" for name in TEST_MARKERS})
     everything = collected("", *files)
     fast = collected("not slow and not sanitizer and not browser", *files)
-
-    def cases(node: str, among: set[str]) -> set[str]:
-        return {n for n in among if n == node or ("[" not in node and n.startswith(node + "["))}
 
     for name in TEST_MARKERS:
         module, test = name.split("::")
@@ -55,8 +57,7 @@ def test_make_test_runs_the_representative_tests_and_test_fast_does_not():
     assert fast < tier < everything, "make test should run more than test-fast and less than test-all"
     for name in REPRESENTATIVE:
         module, test = name.split("::")
-        node = f"tests/{module}.py::{test}"
-        found = {n for n in everything if n == node or ("[" not in node and n.startswith(node + "["))}
+        found = cases(f"tests/{module}.py::{test}", everything)
         assert found, f"{name} is not a test (renamed?)"
         assert found <= tier, f"{name} is representative but make test leaves it out"
         assert not found & fast, f"{name} runs in test-fast already: it need not be named representative"

@@ -1,4 +1,4 @@
-// About 30 times the reference's time per lookup (as slow_busy_control.cpp; the limit is 8x), but on the speed check's timing faces (told by their size, 256 x 256) black for lookups 5,000 to 49,999 after the grader last called readTexture directly: the tail of the first timed pass, a tenth of its price (about 3x, full points, were only a pass's first answers compared). Verdict (secure): speed fails as timed-output-wrong.
+// About 25 times the reference's time per lookup (as slow_busy_control.cpp; the limit is 8x), but on the speed check's timing faces (told by their size, 256 x 256) black for lookups 5,000 to 49,999 after the grader last called readTexture directly: the tail of the first timed pass, a tenth of its price (about 3x, full points, were only a pass's first answers compared). Verdict (secure): speed fails as timed-output-wrong.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
