@@ -30,8 +30,14 @@ candidate() {
   apt-cache policy "$1" 2>/dev/null | awk '/Candidate:/ {print $2; exit}' | grep -v '^(none)$' || true
 }
 
+# A package name with {clang} filled in. apt-cache policy takes most of a
+# second, so clang's major version is looked up once, and only for names
+# that hold {clang} (called in this shell, not in $(...), to keep it).
 clang_major=""
-clang_version() {
+name=""
+resolve() {
+  name=$1
+  [[ "$name" == *"{clang}"* ]] || return 0
   if [ -z "$clang_major" ]; then
     local v
     v=$(candidate clang)
@@ -39,7 +45,7 @@ clang_version() {
     v=${v#*:}                 # drop the epoch: 1:14.0-55.7 -> 14.0-55.7
     clang_major=${v%%[.~+-]*}
   fi
-  echo "$clang_major"
+  name=${name//\{clang\}/$clang_major}
 }
 
 # Lines of packages.txt in the wanted groups: "alternatives<TAB>group<TAB>why".
@@ -58,8 +64,8 @@ for e in "${entries[@]}"; do
   IFS='|' read -r -a parts <<<"$alts"
   found=0
   for p in "${parts[@]}"; do
-    p=${p//\{clang\}/$(clang_version)}
-    installed "$p" && { found=1; break; }
+    resolve "$p"
+    installed "$name" && { found=1; break; }
   done
   [ $found = 1 ] || missing+=("$e")
 done
@@ -83,9 +89,9 @@ for e in "${missing[@]}"; do
   pick=""
   tried=()
   for p in "${parts[@]}"; do
-    p=${p//\{clang\}/$(clang_version)}
-    tried+=("$p")
-    [ -n "$(candidate "$p")" ] && { pick=$p; break; }
+    resolve "$p"
+    tried+=("$name")
+    [ -n "$(candidate "$name")" ] && { pick=$name; break; }
   done
   if [ -n "$pick" ]; then
     chosen+=("$pick")

@@ -138,6 +138,19 @@ TEST_MARKERS = {
     "test_kit::test_fail_under_is_a_percentage_of_the_visible_points": SLOW,
     "test_kit::test_the_kit_reports_in_japanese_with_its_compiled_catalogue": SLOW,
     "test_kit::test_selfcheck_html_escapes_what_the_submission_prints": SLOW,
+    # the kit unpacked alone and built from nothing (3-4 s), then make run or a
+    # self-check in it (2-8 s each); test-fast keeps the kit's contents tests
+    "test_kit::test_built_binaries_have_no_lookup_symbols": SLOW,
+    "test_kit::test_selfcheck_of_the_template_in_the_kit_alone": SLOW,
+    "test_kit::test_make_run_writes_a_compressed_png": SLOW,
+    # the kit zipped twice (4-5 s)
+    "test_kit::test_zip_is_reproducible": SLOW,
+    # wait out wall-clock bounds on purpose (4-6 s, a core idle)
+    "test_worker_limits::test_a_batch_asleep_past_the_wall_bound_is_tried_once_more_then_narrowed": SLOW,
+    "test_build::test_compile_timeout_is_reported_and_not_cached": SLOW,
+    # the batched axis judge against each of 6,480 axes, per model (2 s each); one model stays fast
+    **{f"test_texture_model::test_the_fits_batched_axis_judge_equals_judging_each_axis[{case}]": SLOW
+       for case in ("unclamped-w-1_trunc-1", "nearest-swapped_wrap-1-v", "half-wh_swapped-round")},
 }
 
 # Slow tests `make test` runs too (marked representative): each path of the
@@ -164,6 +177,7 @@ REPRESENTATIVE = (
     "test_grade_all::test_gradebook_columns_and_statuses",
     "test_grade_all::test_unmatched_students_and_canvas_test_student_are_printed",
     "test_kit::test_selfcheck_names_a_crash",
+    "test_kit::test_built_binaries_have_no_lookup_symbols",
     "test_hostile::test_hostile_act_in_fetch_color_gets_its_verdict_at_its_input",
     "test_hostile::test_files_outside_the_sandbox_are_not_visible",
     "test_attack_zoo::test_an_attack_gets_its_verdict_and_the_report_is_intact[forged_reply]",

@@ -201,8 +201,14 @@ def worked_case(lookups, face: int, u: float, v: float, among: np.ndarray | None
 def _single_texel(values: np.ndarray, texels: np.ndarray) -> np.ndarray:
     """(n,) each answer is exactly one texel's colour (a lookup that never blends)."""
     flat = texels.reshape(-1, 3).astype(np.float64)
+    values = np.asarray(values, np.float64)
     with np.errstate(invalid="ignore"):
-        return (np.abs(values[:, None, :] - flat[None]) <= 1e-6).all(axis=2).any(axis=1)
+        # The red channel first, over every (answer, texel) pair; green and blue only where red is close.
+        i, t = np.nonzero(np.abs(values[:, None, 0] - flat[None, :, 0]) <= 1e-6)
+        close = (np.abs(values[i, 1:] - flat[t, 1:]) <= 1e-6).all(axis=1)
+    single = np.zeros(len(values), bool)
+    single[i[close]] = True
+    return single
 
 
 def _best_size_per_face(matched: np.ndarray, total: np.ndarray) -> tuple[float, ...]:

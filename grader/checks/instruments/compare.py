@@ -114,9 +114,11 @@ def compare(actual: np.ndarray, acceptable: np.ndarray, tol: np.ndarray | float)
     if acceptable.ndim == 2:
         acceptable = acceptable[:, None, :]
     with np.errstate(invalid="ignore"):
-        diff = np.abs(actual[:, None, :] - acceptable).max(axis=2)      # (n, k)
-    diff = np.where(np.isnan(acceptable).any(axis=2), np.inf, diff)
-    diff = np.where(np.isfinite(actual).all(axis=1)[:, None], diff, np.inf)
+        gap = np.abs(actual[:, None, :] - acceptable)
+        # (n, k): two maximums are 4-8x faster than a max over an axis of three, and keep NaN as it does
+        diff = np.maximum(np.maximum(gap[..., 0], gap[..., 1]), gap[..., 2])
+    # NaN from a NaN on either side or from inf - inf; an infinite actual value is inf from any finite colour
+    diff[np.isnan(diff)] = np.inf
     error = diff.min(axis=1)
     tol = np.broadcast_to(np.asarray(tol, np.float64), error.shape)
     return Comparison(ok=error <= tol, error=error, tolerance=np.array(tol))
