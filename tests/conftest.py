@@ -61,10 +61,10 @@ MODULE_MARKERS = {
 }
 # Single tests in otherwise fast files, by "module::test name" (every
 # parametrized case) or "module::test name[case id]" (that case only): what
-# would keep `make test-fast` from its 60 s. `make test` runs them all; where a
+# would keep `make test-fast` from its 60 s. `make test-all` runs them all; where a
 # family of cases is split, the cheapest cases stay in test-fast so that each
 # family still runs there. Durations are from one run at load 10-12 on 2 cores
-# (about 3x a quiet machine's).
+# (about 3x a quiet machine's), those from the kit on quiet ones (2026-12-02).
 SLOW = ("slow",)
 TEST_MARKERS = {
     # headless Chromium on a graded class
@@ -143,6 +143,8 @@ TEST_MARKERS = {
     "test_kit::test_built_binaries_have_no_lookup_symbols": SLOW,
     "test_kit::test_selfcheck_of_the_template_in_the_kit_alone": SLOW,
     "test_kit::test_make_run_writes_a_compressed_png": SLOW,
+    "test_kit::test_a_submission_calling_the_reference_lookup_is_refused_as_the_grader_refuses_it": SLOW,
+    "test_kit::test_a_submission_that_does_not_compile_gets_a_report": SLOW,
     # the kit zipped twice (4-5 s)
     "test_kit::test_zip_is_reproducible": SLOW,
     # wait out wall-clock bounds on purpose (4-6 s, a core idle)
@@ -178,6 +180,7 @@ REPRESENTATIVE = (
     "test_grade_all::test_unmatched_students_and_canvas_test_student_are_printed",
     "test_kit::test_selfcheck_names_a_crash",
     "test_kit::test_built_binaries_have_no_lookup_symbols",
+    "test_kit::test_a_submission_calling_the_reference_lookup_is_refused_as_the_grader_refuses_it",
     "test_hostile::test_hostile_act_in_fetch_color_gets_its_verdict_at_its_input",
     "test_hostile::test_files_outside_the_sandbox_are_not_visible",
     "test_attack_zoo::test_an_attack_gets_its_verdict_and_the_report_is_intact[forged_reply]",
