@@ -263,7 +263,8 @@ class Kit:
     def run(self, *args: str, mode: str = "ok", python: str = sys.executable, extra_env: dict | None = None):
         # Without the suite's bytecode cache (Makefile PYTEST): the fake pip writes a same-sized module within
         # the same second into a folder renamed into place, which a cached .pyc keyed by path cannot tell apart.
-        env = {**{k: v for k, v in os.environ.items() if k != "PYTHONPYCACHEPREFIX"}, "PYTHONPATH": str(self.fakes), "FAKE_PIP_LOG": str(self.log), "FAKE_PIP_MODE": mode,
+        ours = {k: v for k, v in os.environ.items() if k != "PYTHONPYCACHEPREFIX"}
+        env = {**ours, "PYTHONPATH": str(self.fakes), "FAKE_PIP_LOG": str(self.log), "FAKE_PIP_MODE": mode,
                **(extra_env or {})}
         return subprocess.run([python, "selfcheck/bootstrap.py", *args], cwd=self.root, env=env,
                               capture_output=True, text=True, timeout=120)

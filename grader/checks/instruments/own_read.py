@@ -74,6 +74,11 @@ def _regions(uv: np.ndarray, width: int, height: int) -> np.ndarray:
     return 3 * part[0] + part[1]
 
 
+# The order read_at asks the parts of a face in (_regions' numbers): the
+# interior, then the borders, then the corners.
+PART_ORDER = (4, 1, 3, 5, 7, 0, 2, 6, 8)
+
+
 def read_at(lookups, faces: np.ndarray, uv: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     """(n, 3) the student's readTexture on face faces[i] at uv[i] (NaN where it
     failed or no face): one batch per face and part of the face, interior first."""
@@ -81,9 +86,8 @@ def read_at(lookups, faces: np.ndarray, uv: np.ndarray, size: tuple[int, int]) -
     rows = np.flatnonzero((faces >= 0) & np.isfinite(uv).all(axis=1))
     if not len(rows):
         return out
-    # Per face, the interior, then the borders, then the corners (_regions' 4; 1, 3, 5, 7; 0, 2, 6, 8),
-    # each batch in row order: one stable sort by (face, part) instead of a mask per pair.
-    part_rank = np.array([5, 1, 6, 2, 0, 3, 7, 4, 8])
+    # Each batch in row order: one stable sort by (face, place of the part in PART_ORDER).
+    part_rank = np.argsort(PART_ORDER)
     key = faces[rows].astype(np.int64) * 9 + part_rank[_regions(uv[rows], *size)]
     order = np.argsort(key, kind="stable")
     starts = np.flatnonzero(np.diff(key[order], prepend=-1))
