@@ -1,7 +1,7 @@
 # The front door. `make` builds the reference library; `make test` sets up
 # .venv/ from requirements.lock (and the Debian packages in packages.txt) on
 # first use and runs the test suite; `make grade` grades the examples. Every
-# target README.md names installs what it needs (tests/test_front_door.py).
+# target README.md names installs what it needs (tests/project/test_front_door.py).
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -72,9 +72,9 @@ test-fast: system-deps venv reference
 	$(PYTEST) -n 2 -q -m "$(FAST)" tests
 
 # The student kit's self-check against the grader on every zoo submission
-# (tests/test_kit_agreement.py; many minutes): `make test-all` runs a subset.
+# (tests/kit/test_kit_agreement.py; many minutes): `make test-all` runs a subset.
 kit-agreement: system-deps venv reference
-	$(PYTEST) -n 2 -q -m agreement tests/test_kit_agreement.py
+	$(PYTEST) -n 2 -q -m agreement tests/kit/test_kit_agreement.py
 
 # Regenerate fixtures/ after changing a scene, a map or the reference.
 fixtures: venv reference
@@ -90,7 +90,7 @@ bundle: student-kit
 
 # The Japanese catalogue after English words changed (docs/glossary_ja.md):
 # new entries come out empty, changed ones fuzzy; translate them, then
-# tests/test_i18n.py passes again. No .mo: grader/i18n.py compiles the .po.
+# tests/unit/i18n/test_i18n.py passes again. No .mo: grader/i18n.py compiles the .po.
 translations: venv
 	PYTHONPATH=. $(VENV)/bin/pybabel extract -F babel.cfg --no-default-keywords -k _ -k N_ -k ngettext:1,2 \
 	    --add-location=file --sort-output --project=envmap-grader -o grader/locale/grader.pot .

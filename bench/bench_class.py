@@ -19,7 +19,7 @@ system of grade-all and everything it started), loaded / quiet, and now /
 baseline. Every run is also checked: a correct submission (tests/submissions/
 correct*) must get full marks, and no submission of the mix may be graded
 `timeout` or `ungradable` (the slow one is slow, not hanging). --mode
-privilege-drop puts a failing bwrap first on PATH (tests/fake_bwrap.py), as
+privilege-drop puts a failing bwrap first on PATH (tests/helpers/fake_bwrap.py), as
 on Gradescope and PrairieLearn. Exit status 1 when any check failed.
 """
 from __future__ import annotations

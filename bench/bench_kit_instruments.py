@@ -2,7 +2,7 @@
 code they replace (the grader's development environment still has scipy and
 scikit-image): readback's nearest-colour search against scipy's cKDTree, and
 image_metrics.ssim against scikit-image's structural_similarity. Both give
-the same answers (tests/test_readback.py, tests/test_image_metrics.py); this
+the same answers (tests/unit/checks/instruments/test_readback.py, tests/unit/checks/instruments/test_image_metrics.py); this
 says what that costs.
 
     .venv/bin/python bench/bench_kit_instruments.py [--repeats 9]
@@ -64,7 +64,7 @@ def main() -> int:
         for a in answers:
             fresh.read_back(a)
 
-    def tree_search():                 # the code readback used before (tests/test_readback.py keeps it)
+    def tree_search():                 # the code readback used before (tests/unit/checks/instruments/test_readback.py keeps it)
         tree = cKDTree(cal.colour)
         for a in answers:
             dist, idx = tree.query(a[:, :2], k=64)

@@ -5,7 +5,7 @@
 Looks up 1e6 random directions and the 1e6 directions of a 1024x1024 camera
 image (image order, so neighbouring lookups hit neighbouring texels) with the
 nearest, bilinear and seamless filters, and the same directions with the
-vectorised numpy model of tests/assignment_model.py (nearest and bilinear;
+vectorised numpy model of tests/helpers/assignment_model.py (nearest and bilinear;
 it has no seamless), all in this run on one core. Prints the median lookups
 per second of the repeats and the ratio C / numpy. The C figure is
 em_fetch_batch itself, into an output buffer allocated once.

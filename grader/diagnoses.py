@@ -719,7 +719,7 @@ _ORDER.update({old: _ORDER[new] for old, new in ALIASES.items()})
 class UnknownDiagnosis(KeyError):
     """An id that is not in the catalogue: the grader's mistake, never shown
     to a student as made-up words (the check runner turns a check that emits
-    one into a harness error; tests/test_diagnosis_catalogue.py finds them
+    one into a harness error; tests/unit/grading/test_diagnosis_catalogue.py finds them
     before that)."""
 
 

@@ -10,7 +10,7 @@ committed .mo. The student kit's copy of the grader has no Babel: the kit's
 build writes compiled .mo files into that copy (compile_catalogues), and a
 grader.mo beside (or instead of) the .po is read with the standard library's
 gettext. Fuzzy and empty entries are not used (they fall back to English),
-and tests/test_i18n.py fails while any remain.
+and tests/unit/i18n/test_i18n.py fails while any remain.
 docs/glossary_ja.md says how to update the catalogue and which words to use.
 
 The language is process-wide, set by grader.grade.grade() for each

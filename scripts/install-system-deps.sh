@@ -9,7 +9,7 @@
 # is named with the reason and what it was for; a missing "core" package
 # makes the script fail, a missing "test" package only skips some tests.
 # Needs root for apt-get; without it, it prints the command to run.
-# APT_OS_RELEASE and PATH can point elsewhere (tests/test_system_deps.py).
+# APT_OS_RELEASE and PATH can point elsewhere (tests/project/test_system_deps.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 os_release="${APT_OS_RELEASE:-/etc/os-release}"

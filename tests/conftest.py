@@ -37,9 +37,13 @@ CORRECT_SUBMISSION = SUBMISSIONS / "correct"
 # fill two cores, and idle OpenMP threads spin.
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-# Helpers next to the tests (assignment_model, fake_lookups) import by name.
-if str(TESTS) not in sys.path:
-    sys.path.insert(0, str(TESTS))
+# The helpers (tests/helpers/: assignment_model, fake_lookups, ...) import by
+# name, and so do the few test modules another test borrows from (test files'
+# names are unique across the folders).
+for folder in [TESTS / "helpers", *sorted(p.parent for p in TESTS.glob("*/**/test_*.py")
+                                          if "submissions" not in p.parts)]:
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
 
 # What each test file needs or costs. Files not listed are fast: unit tests,
 # the reference through cffi, report writers on hand-made results.

@@ -16,7 +16,7 @@ from .instruments.face_recovery import CANDIDATES, analyse
 from .instruments.face_recovery import DIAGNOSIS_IDS as _READ_BACK_IDS
 from .read_texture import ReadTextureFinding, read_texture
 
-# Every id the per-face analysis can give from a candidate (tests/test_diagnosis_catalogue.py).
+# Every id the per-face analysis can give from a candidate (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = tuple(sorted({i for c in CANDIDATES for i in c.ids} | set(_READ_BACK_IDS)))
 
 

@@ -94,7 +94,7 @@ def sample_points(width: int, height: int, seed: int) -> np.ndarray:
     return np.stack([u.ravel(), v.ravel()], axis=1)
 
 
-# Every id mistake_diagnoses can give (tests/test_diagnosis_catalogue.py).
+# Every id mistake_diagnoses can give (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = tm.MISTAKE_IDS
 
 

@@ -32,7 +32,7 @@ PASS_LOOKUPS = 50_000
 TIMED_FACE = 256        # texels per side of the random timing faces
 # The allowances are counted in lookups, but time can sit in a few of them:
 # skipping the costliest 0.7% of lookups while timed bought 11x code full
-# points under the old 1% and 10% (tests/test_redteam3.py). Honest code
+# points under the old 1% and 10% (tests/security/test_redteam3.py). Honest code
 # needs almost none: the 38 zoo submissions whose speed is scored are judged
 # right on the timing faces at most 0.3% less often than in the sweep, and
 # their timed answers always equal the untimed ones.

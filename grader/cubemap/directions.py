@@ -3,7 +3,7 @@
 Directions, (u, v) and solid angles are grader/geometry.py's (the face table
 of docs/assignment.md, read off the reference library): with a = 2u - 1 and
 b = 2v - 1 the point (u, v) of a face is the direction below (major
-component +-1), as tests/test_cubemap.py checks against the handout.
+component +-1), as tests/unit/cubemap/test_cubemap.py checks against the handout.
 
     +X: ( 1,  b,  a)    -X: (-1,  b, -a)
     +Y: ( a,  1,  b)    -Y: ( a, -1, -b)

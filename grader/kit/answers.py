@@ -7,7 +7,7 @@ Almost every question a check asks depends on the seed alone (directions,
 (u, v) points, textures), not on the submission's answers, so one run down
 each path records them: a submission answering as the handout does, and one
 whose readTexture never answers (read_texture's worked case, asked per face
-over the whole sample set). tests/test_oracle.py replays submissions the
+over the whole sample set). tests/unit/envmap/test_oracle.py replays submissions the
 recording never saw and finds every answer. Speed is left out (grader.kit.NOT_IN_KIT): it
 times the live reference, which the kit cannot do.
 """

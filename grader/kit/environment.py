@@ -99,7 +99,7 @@ def kit_closure(packages: dict[str, LockedPackage], wanted=KIT_PACKAGES) -> list
 def minimum_python(packages: list[LockedPackage]) -> tuple[int, int]:
     """The oldest Python every one of `packages` supports: the largest lower
     bound of their Requires-Python, read from this environment's installed
-    copies (the locked versions: tests/test_lock.py holds the venv to the lock)."""
+    copies (the locked versions: tests/project/test_lock.py holds the venv to the lock)."""
     from importlib import metadata
     floor = (3, 0)
     for package in packages:

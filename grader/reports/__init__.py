@@ -30,7 +30,7 @@ and reaches every format as text, never as markup:
     that forbids any script;
   - charts: names never reach matplotlib's mathtext ($ escaped);
   - the terminal: rich Text objects, never markup strings.
-tests/test_report_injection.py parses each output as its reader does
+tests/unit/reports/test_report_injection.py parses each output as its reader does
 (GitHub's cmark-gfm, markdown-it, html.parser, ElementTree, Chromium).
 """
 from __future__ import annotations

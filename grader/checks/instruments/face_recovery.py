@@ -27,7 +27,7 @@ from ...i18n import N_, _, and_list
 from ...results import Diagnosis
 from ...geometry import uv_on_face
 
-# Every id a candidate can give (tests/test_diagnosis_catalogue.py).
+# Every id a candidate can give (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",
                  "face-order", "uv-rotated", "uv-inset", "uv-offset", "uv-mismatch")
 from .compare import tolerance

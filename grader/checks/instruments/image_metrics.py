@@ -31,7 +31,7 @@ def ssim(reference_display: np.ndarray, test_display: np.ndarray) -> float:
     needs neither scikit-image nor scipy, and kit and grader judge with one
     function. It follows that function step for step (windows reflected at
     the border, a band of the window's radius left out of the mean, float32
-    images filtered in float32 as scipy.ndimage does); tests/test_image_metrics.py
+    images filtered in float32 as scipy.ndimage does); tests/unit/checks/instruments/test_image_metrics.py
     holds it to scikit-image within 1e-6."""
     a, b = np.asarray(reference_display), np.asarray(test_display)
     if a.shape != b.shape or a.ndim != 3:

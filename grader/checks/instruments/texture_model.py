@@ -366,7 +366,7 @@ class _AxisData:
         faces and both placements mostly repeat each other, ~3,500 answers
         are ~100-200 distinct ones), counted as often as it was given, a few
         hundred models at a time. Equal to `mismatches` model by model
-        (tests/test_texture_model.py)."""
+        (tests/unit/checks/instruments/test_texture_model.py)."""
         out = np.zeros(len(axes), np.int64)
         groups: dict[tuple[str, str], list[int]] = {}
         for i, a in enumerate(axes):

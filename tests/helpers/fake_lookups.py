@@ -1,0 +1,149 @@
+"""A fake submission: grader.checks.context.SubmissionLookups in-process,
+over the reference library, with mistakes injected on purpose.
+
+Checks run against it in milliseconds, with no compiler and no worker, so
+each check can be unit-tested per mistake (tests/unit/checks/test_checks_unit.py). The
+mistakes are written here from what each one *is* (the handout's (u, v) made
+wrong), independently of the recognisers in grader/checks/, and they compose
+the way a student's code does: fetchColor's (face, u, v) goes through the
+fake's own readTexture.
+
+    FakeLookups()                                         # a correct submission
+    FakeLookups(texture="nearest")                        # readTexture mistake
+    FakeLookups(fetch={"+X": "u-flipped"})                # fetchColor mistake on one face
+    FakeLookups(fetch={"+X": "wrong-face:-X", "-X": "wrong-face:+X"})
+    FakeLookups(fetch="not-normalized", texture="half-texel")
+    FakeLookups(fetch="half-texel-u", texture="one-point")     # issue 18's attack
+    FakeLookups(fetch="inset", texture="scrambled")             # nothing models readTexture
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from grader import reference
+from grader.worker.runner import Failure, Outcome
+
+FACES = reference.FACE_NAMES
+
+# readTexture mistakes: (filter, (u, v) as the reference should read them).
+TEXTURE_MISTAKES = {
+    "correct": ("bilinear", lambda uv, w, h: uv),
+    "nearest": ("nearest", lambda uv, w, h: uv),
+    "half-texel": ("bilinear", lambda uv, w, h: np.clip(uv - [0.5 / w, 0.5 / h], 0, 1)),
+    "size-minus-one": ("bilinear", lambda uv, w, h: uv * [(w - 1) / w, (h - 1) / h]),
+    "u-flipped": ("bilinear", lambda uv, w, h: np.stack([1 - uv[:, 0], uv[:, 1]], 1)),
+    "v-flipped": ("bilinear", lambda uv, w, h: np.stack([uv[:, 0], 1 - uv[:, 1]], 1)),
+    "uv-swapped": ("bilinear", lambda uv, w, h: uv[:, ::-1]),
+    # Reads one texel past the face where u or v is 1 (x1 = x0 + 1 unclamped):
+    # the worker reports an out-of-bounds read there; elsewhere it is right.
+    "out-of-bounds": ("bilinear", lambda uv, w, h: uv),
+    "black": ("bilinear", lambda uv, w, h: uv),
+    # The handout's except one answer, at (u, v) = (0.5, 0.5): black. No model
+    # of the family reproduces it (issue 18's "unfittable" readTexture).
+    "one-point": ("bilinear", lambda uv, w, h: uv),
+    # Crashes whenever it is called on its own (fetchColor here reads texels itself).
+    "crash-alone": ("bilinear", lambda uv, w, h: uv),
+    # One texel, at a column scrambled by x -> 5x mod W: nothing like any model.
+    "scrambled": ("nearest", lambda uv, w, h: np.stack([((np.floor(np.minimum(uv[:, 0] * w, w - 1)) * 5) % w + 0.5) / w,
+                                                        uv[:, 1]], 1)),
+}
+
+# fetchColor mistakes per face, on the (u, v) the reference computes.
+UV_MISTAKES = {
+    "u-flipped": lambda uv: np.stack([1 - uv[:, 0], uv[:, 1]], 1),
+    "v-flipped": lambda uv: np.stack([uv[:, 0], 1 - uv[:, 1]], 1),
+    "uv-swapped": lambda uv: uv[:, ::-1],
+}
+
+
+class FakeLookups:
+    def __init__(self, fetch: dict[str, str] | str | None = None, texture: str = "correct", ns_per_lookup: float = 10.0):
+        if texture not in TEXTURE_MISTAKES:
+            raise ValueError(f"unknown readTexture mistake {texture!r}: {sorted(TEXTURE_MISTAKES)}")
+        self.fetch_mistakes = fetch or {}
+        self.texture = texture
+        self.ns_per_lookup = ns_per_lookup
+        self.faces = np.zeros((6, 1, 1, 3), np.float32)
+        self.isolation, self.warnings, self.calls = "fake", [], 0
+        self._cube = reference.CubeMap(self.faces)
+
+    # ---- SubmissionLookups ------------------------------------------------
+
+    def set_faces(self, faces: np.ndarray) -> None:
+        self.faces = np.ascontiguousarray(faces, dtype=np.float32)
+        self._cube = reference.CubeMap(self.faces)
+
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
+        self.calls += 1
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        faces = np.full(len(uv), face, np.int32)
+        values, failed = self._read(faces, uv)
+        if self.texture == "crash-alone":
+            failed = np.ones(len(uv), bool)
+        return self._outcome(values, failed, lambda i: f"readTexture(face {FACES[face]}, u = {uv[i, 0]!r}, v = {uv[i, 1]!r})",
+                             "readTexture")
+
+    def fetch(self, dirs: np.ndarray, placement: str = "end") -> Outcome:
+        self.calls += 1
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        faces, uv = reference.direction_to_face(dirs)
+        faces, uv = faces.copy(), uv.copy()
+        mistakes = self.fetch_mistakes
+        if mistakes == "black":
+            return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
+        if mistakes == "inset":
+            # 1.5 texels in from every border, on every face.
+            size = np.array(self.faces.shape[2:0:-1], np.float64)
+            uv = (1.5 + uv * (size - 3)) / size
+        elif mistakes == "half-texel-u":
+            # Half a texel off in u on every face.
+            uv[:, 0] = uv[:, 0] + 0.5 / self.faces.shape[2]
+        elif mistakes == "not-normalized":
+            # Divided by the length instead of the major component's magnitude.
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                ratio = np.abs(dirs).max(axis=1) / np.linalg.norm(dirs, axis=1)
+            uv = 0.5 + (uv - 0.5) * np.nan_to_num(ratio, nan=1.0)[:, None]
+        elif isinstance(mistakes, dict):
+            original = faces.copy()
+            for name, mistake in mistakes.items():
+                rows = original == FACES.index(name)
+                if mistake.startswith("wrong-face:"):
+                    faces[rows] = FACES.index(mistake.split(":", 1)[1])
+                else:
+                    uv[rows] = UV_MISTAKES[mistake](uv[rows])
+        values, failed = self._read(faces, np.clip(uv, 0, 1))
+        # Degenerate directions: the reference returns *something*; keep it finite.
+        values[~np.isfinite(dirs).all(axis=1) | ~dirs.any(axis=1)] = 0.0
+        return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
+                             "fetchColor")
+
+    def time_fetch(self, passes: list[np.ndarray]):
+        """grader.worker.runner.TimedPasses at ns_per_lookup, with the fake's colours."""
+        from grader.worker.runner import TimedPasses
+        values = [self.fetch(p).values for p in passes]
+        return TimedPasses(cpu_ns=[int(self.ns_per_lookup * len(p)) for p in passes],
+                           lookups=[len(p) for p in passes], values=values)
+
+    # ---- the fake readTexture ---------------------------------------------
+
+    def _read(self, faces: np.ndarray, uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        h, w = self.faces.shape[1:3]
+        filter, transform = TEXTURE_MISTAKES[self.texture]
+        values = self._cube.read_texture(faces, np.asarray(transform(uv, w, h), np.float64), filter)
+        failed = np.zeros(len(uv), bool)
+        if self.texture == "out-of-bounds":
+            failed = (uv >= 1.0).any(axis=1)
+        if self.texture == "black":
+            values[:] = 0.0
+        if self.texture == "one-point":
+            values[(uv == 0.5).all(axis=1)] = 0.0
+        return values, failed
+
+    def _outcome(self, values, failed, describe, function: str) -> Outcome:
+        values = np.array(values, np.float64)
+        values[failed] = np.nan
+        failures = [Failure("out-of-bounds-read", function, int(i), describe(int(i)),
+                            "out-of-bounds read (SIGSEGV): right after the face's last texel",
+                            "Clamp x1 and y1 to the face as well as x0 and y0.")
+                    for i in np.flatnonzero(failed)[:4]]
+        return Outcome(values=values, evaluated=~failed, failures=failures, gave_up=bool(failed.sum() > 4))
