@@ -150,6 +150,7 @@ def diagnosed_report(tmp_path_factory):
     return report, artifacts, dom, shot, tmp
 
 
+@pytest.mark.representative
 def test_every_image_loads_and_shows_where_it_is_placed(diagnosed_report):
     report, artifacts, dom, shot, tmp = diagnosed_report
     # Every image but the speed chart, which waits until the lookup works.

@@ -30,6 +30,8 @@ from grader.course.grade_all import RECORD_FILE, Row, find_submissions, skipped_
 from grader.score import RUBRIC, load_rubric
 from grader.reports.gradescope_json import load_schema
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole classes
+
 SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
 # student -> (what they hand in, expected status, a diagnosis id expected or None)
 CLASS = {
@@ -134,6 +136,7 @@ def test_rerun_with_nothing_changed_grades_nothing(resumed):
     assert f"0 graded now, {len(CLASS)} unchanged" in third.stdout
 
 
+@pytest.mark.representative
 def test_gradebook_columns_and_statuses(resumed):
     with open(resumed["out"] / "gradebook.csv", newline="") as f:
         rows = {r["student"]: r for r in csv.DictReader(f)}
@@ -158,6 +161,7 @@ def test_gradebook_columns_and_statuses(resumed):
     assert float(rows["carol"]["score"]) < float(rows["carol"]["max_score"])
 
 
+@pytest.mark.representative
 def test_class_summary_written(resumed):
     out = resumed["out"]
     summary = (out / "summary.md").read_text()
@@ -240,6 +244,7 @@ def test_roster_adds_id_name_email_and_the_students_who_handed_in_nothing(resume
         assert f"LMS import: {out / name}" in run.stdout
 
 
+@pytest.mark.representative
 def test_unmatched_students_and_canvas_test_student_are_printed(resumed, tmp_path):
     out = tmp_path / "out"
     shutil.copytree(resumed["out"], out)

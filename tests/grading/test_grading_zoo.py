@@ -17,6 +17,7 @@ from grader.grade import GradeOptions, grade
 from grader.results import BUILD_ERROR, GRADED, TIMEOUT
 from grading_cache import grade_once
 from project_paths import PROJECT_ROOT, SUBMISSIONS
+from cases import cases
 
 HERE = SUBMISSIONS
 CORRECT = sorted((HERE / "correct").glob("*.cpp")) + sorted((HERE / "correct_lead").glob("*.cpp"))
@@ -80,7 +81,7 @@ def test_every_zoo_file_has_an_expectation():
     assert {p.stem for p in (HERE / "wrong").glob("*.cpp")} == set(ZOO)
 
 
-@pytest.mark.parametrize("path", CORRECT, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", cases(CORRECT, ids=lambda p: p.stem, representative={"if_chain", "float_math"}))
 def test_correct_submissions_get_full_marks_and_no_diagnosis(path, tmp_path):
     result = grade_once(path, tmp_path, GradeOptions(quick=True))
     assert result.status == GRADED
@@ -88,7 +89,8 @@ def test_correct_submissions_get_full_marks_and_no_diagnosis(path, tmp_path):
     assert result.score == result.max_score == 100, [(c.name, c.score, c.output[:300]) for c in result.checks if c.score < c.max_score]
 
 
-@pytest.mark.parametrize("name", sorted(ZOO))
+@pytest.mark.parametrize("name", cases(sorted(ZOO), representative={"v-flipped-pos-z", "half-texel-offset", "crash-null",
+                                                                   "syntax-error"}))
 def test_wrong_submission_is_diagnosed(name, tmp_path):
     diagnoses, loses, keeps, status = ZOO[name]
     result = grade_once(HERE / "wrong" / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
@@ -126,6 +128,7 @@ def test_grading_twice_gives_the_same_score_and_reports(tmp_path):
         assert a == b, name
 
 
+@pytest.mark.representative
 def test_the_untouched_template_scores_little_and_says_why(tmp_path):
     """Returning black earns no fetchColor, arrow, robustness, render or speed points:
     it never crashes, but robustness needs a lookup that works, as speed does."""

@@ -129,6 +129,9 @@ def test_kit_holds_no_lookup_code(kit):
         assert "em_fetch" not in text and "em_filter" not in text
 
 
+# slow: the kit unpacked alone and built from nothing (3-4 s), then make run or a self-check in it (2-8 s each); test-fast keeps the kit's contents tests
+@pytest.mark.representative
+@pytest.mark.slow
 def test_built_binaries_have_no_lookup_symbols(alone):
     run, summary = selfcheck(alone, CORRECT[0])
     assert summary is not None, run.stdout + run.stderr
@@ -196,6 +199,8 @@ def test_kit_header_cut_is_exact():
     assert cut.count("#ifdef __cplusplus") == 2
 
 
+# slow: the kit zipped twice (4-5 s)
+@pytest.mark.slow
 def test_zip_is_reproducible(kit, tmp_path):
     time.sleep(2)       # zip members carry times to 2 s: a build in the same second would prove nothing
     again = build_kit(tmp_path / "student-kit")
@@ -214,6 +219,8 @@ def test_template_is_the_kit_starting_point(kit):
 # ---- the kit alone: make run, make selfcheck ------------------------------------------
 
 
+# slow: the kit unpacked alone and built from nothing (3-4 s), then make run or a self-check in it (2-8 s each); test-fast keeps the kit's contents tests
+@pytest.mark.slow
 def test_make_run_writes_a_compressed_png(alone):
     shutil.copyfile(TEMPLATE_SOURCE, alone / "EnvironmentMap.cpp")     # black: other tests leave their file
     run = subprocess.run(["make", "-s", "run"], cwd=alone, capture_output=True, text=True, timeout=300)
@@ -226,6 +233,8 @@ def test_make_run_writes_a_compressed_png(alone):
     assert (alone / "out.hdr").is_file()
 
 
+# slow: the kit unpacked alone and built from nothing (3-4 s), then make run or a self-check in it (2-8 s each); test-fast keeps the kit's contents tests
+@pytest.mark.slow
 def test_selfcheck_of_the_template_in_the_kit_alone(alone, environment):
     run, summary = selfcheck(alone, TEMPLATE_SOURCE, env=environment)
     assert run.returncode == 0, run.stdout + run.stderr
@@ -249,6 +258,8 @@ def test_selfcheck_of_the_template_in_the_kit_alone(alone, environment):
                          else "privilege-drop" if os.geteuid() == 0 else "unsafe-none"), isolation
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.slow
 def test_fail_under_is_a_percentage_of_the_visible_points(alone):
     run, summary = selfcheck(alone, CORRECT[0], "FAIL_UNDER=100")
     assert run.returncode == 0, run.stdout + run.stderr
@@ -262,6 +273,8 @@ def test_fail_under_is_a_percentage_of_the_visible_points(alone):
     assert below.returncode != 0 and f"FAIL_UNDER={int(percent) + 1}%" in below.stdout
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.slow
 def test_the_kit_reports_in_japanese_with_its_compiled_catalogue(alone):
     # The kit carries grader.mo, not the .po: its Japanese must be whole without Babel.
     from test_i18n import english_sentences
@@ -277,6 +290,9 @@ def test_the_kit_reports_in_japanese_with_its_compiled_catalogue(alone):
     assert english_sentences(md, "EnvironmentMap") == []
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.representative
+@pytest.mark.slow
 def test_selfcheck_names_a_crash(alone, tmp_path):
     source = tmp_path / "crash.cpp"
     source.write_text(TEMPLATE_SOURCE.read_text().replace(
@@ -287,6 +303,9 @@ def test_selfcheck_names_a_crash(alone, tmp_path):
     assert "crash" in ids(summary)
 
 
+# slow: the kit unpacked alone and built from nothing (3-4 s), then make run or a self-check in it (2-8 s each); test-fast keeps the kit's contents tests
+@pytest.mark.representative
+@pytest.mark.slow
 def test_a_submission_calling_the_reference_lookup_is_refused_as_the_grader_refuses_it(alone, tmp_path):
     source = tmp_path / "cheat.cpp"
     source.write_text(TEMPLATE_SOURCE.read_text().replace(
@@ -300,6 +319,8 @@ def test_a_submission_calling_the_reference_lookup_is_refused_as_the_grader_refu
     assert "envmap.h" in (alone / "build" / "selfcheck" / "report.md").read_text()
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.slow
 def test_selfcheck_html_escapes_what_the_submission_prints(alone, tmp_path):
     source = tmp_path / "hostile.cpp"
     source.write_text(TEMPLATE_SOURCE.read_text().replace(
@@ -313,6 +334,8 @@ def test_selfcheck_html_escapes_what_the_submission_prints(alone, tmp_path):
     assert "<script>" not in page and "&lt;script&gt;" in page
 
 
+# slow: the kit unpacked alone and built from nothing (3-4 s), then make run or a self-check in it (2-8 s each); test-fast keeps the kit's contents tests
+@pytest.mark.slow
 def test_a_submission_that_does_not_compile_gets_a_report(alone):
     run, summary = selfcheck(alone, TESTS / "submissions" / "build" / "syntax_error.cpp")
     assert run.returncode != 0
@@ -321,6 +344,8 @@ def test_a_submission_that_does_not_compile_gets_a_report(alone):
     assert "error" in report
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.slow
 @pytest.mark.slow
 @pytest.mark.parametrize("compiler", [("gcc", "g++"), ("clang", "clang++")])
 def test_cmake_build_and_selfcheck(kit, tmp_path, compiler):
@@ -386,6 +411,8 @@ struct Rewriter {
 '''
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.slow
 @pytest.mark.slow
 def test_the_students_code_cannot_reach_the_reports(alone, tmp_path, environment):
     folder = tmp_path / "kit"
@@ -476,6 +503,8 @@ def run_workflow(repo: Path) -> dict:
     return {"outputs": outputs, "points": points, "summary": summary.read_text()}
 
 
+# slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
+@pytest.mark.slow
 @pytest.mark.parametrize("layout", ["kit-is-the-root", pytest.param("kit-in-a-folder", marks=pytest.mark.slow)])
 def test_the_workflow_runs_in_a_repository_made_from_the_kit(alone, tmp_path, layout):
     workflow()   # skips here, not half-way, without PyYAML

@@ -26,6 +26,8 @@ from fake_bwrap import write_failing_bwrap
 from grader import PROJECT_ROOT
 from project_paths import SUBMISSIONS
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # builds the kit, grades each submission twice
+
 ZOOS = sorted(p for p in SUBMISSIONS.iterdir() if p.is_dir())
 EVERY = sorted(SUBMISSIONS.rglob("*.cpp"))
 # Deterministic and fast: per zoo, one file that grades in seconds (a hang

@@ -22,6 +22,8 @@ import pytest
 from test_kit_agreement import agree, assert_agree, clean_environment, environment, kit_alone, per_check  # noqa: F401
 from project_paths import SUBMISSIONS
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades each attack in the kit and in the grader
+
 ZOO = SUBMISSIONS / "kit_redteam"
 AGREES = ["bom_crlf.cpp", "stateful_call_count.cpp", "nan_inf_denormal.cpp", "crash_some_batches.cpp",
           "sees_the_kit.cpp"]

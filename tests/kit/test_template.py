@@ -78,6 +78,8 @@ def srgb8(linear: np.ndarray) -> np.ndarray:
     return np.floor(c * 255 + 0.5).astype(np.uint8)
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 def test_untouched_template_builds_without_warnings_and_renders_black(kit_copy):
     output = make_run(kit_copy)
     assert "warning" not in output
@@ -88,6 +90,8 @@ def test_untouched_template_builds_without_warnings_and_renders_black(kit_copy):
     assert not hdr.any() and not png.any()
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 def test_make_run_with_a_solution_renders_the_reference_image(kit_copy):
     shutil.copyfile(CORRECT_SOLUTION, kit_copy / "EnvironmentMap.cpp")
     make_run(kit_copy)

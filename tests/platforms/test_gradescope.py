@@ -26,6 +26,8 @@ from grader import PROJECT_ROOT
 from grader.platforms.gradescope import build_bundle
 from grader.reports.gradescope_json import load_schema
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # unpacks and runs the autograder
+
 SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
 
 
@@ -89,6 +91,7 @@ def test_zip_is_reproducible(bundle, tmp_path):
     assert build_bundle(tmp_path / "again.zip").read_bytes() == bundle.read_bytes()
 
 
+@pytest.mark.representative
 def test_correct_submission_scores_full_marks(autograder):
     data = run_autograder(autograder, SUBMISSIONS / "correct" / "switch_on_face.cpp", "--quick")
     assert data["extra_data"]["status"] == "graded" and data["output_format"] == "html"
@@ -98,6 +101,7 @@ def test_correct_submission_scores_full_marks(autograder):
     assert (autograder / "results" / "images" / "speed_accuracy_chart.png").is_file()
 
 
+@pytest.mark.representative
 def test_build_error_gives_valid_results_and_no_check_passes(autograder):
     """Nothing ran, so nothing is "passed", not even the check worth no points."""
     data = run_autograder(autograder, SUBMISSIONS / "build" / "syntax_error.cpp", "--quick")
@@ -107,6 +111,7 @@ def test_build_error_gives_valid_results_and_no_check_passes(autograder):
     assert "expected" in data["output"]                          # the compiler's message, for the student
 
 
+@pytest.mark.representative
 def test_students_see_no_instructor_notes_and_instructors_get_them_on_stdout(autograder):
     """Uploaded as mine.cpp: the note on which file was graded and the
     isolation mode are the instructor's (stdout, hidden; extra_data), never

@@ -129,6 +129,7 @@ def test_the_image_venv_path_is_the_one_the_entrypoint_and_docs_use():
     assert '"serverFilesCourse": ["envmap/"]' in docs
 
 
+@pytest.mark.representative
 @pytest.mark.slow
 def test_entrypoint_grades_a_wrong_submission_in_the_documented_layout(grade_root):
     """A course copy without .venv or build/, the venv where the image puts

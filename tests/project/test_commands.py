@@ -19,6 +19,8 @@ import pytest
 from grader import PROJECT_ROOT
 from grader.reports.gradescope_json import load_schema
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades through the command line
+
 CORRECT = PROJECT_ROOT / "tests" / "submissions" / "correct" / "if_chain.cpp"
 BROKEN = PROJECT_ROOT / "tests" / "submissions" / "build" / "syntax_error.cpp"
 TEMPLATE = PROJECT_ROOT / "student_template"
@@ -48,6 +50,7 @@ def test_top_level_help_lists_every_command():
         assert re.search(rf"^\s+{re.escape(name)}\b", run.stdout, re.M), f"{name} missing from --help"
 
 
+@pytest.mark.representative
 @pytest.mark.parametrize("command", SUBCOMMANDS)
 def test_each_subcommand_has_help(command):
     run = grader(command, "--help")
@@ -72,6 +75,7 @@ def graded_correct() -> tuple[subprocess.CompletedProcess, Path]:
         grader("grade", str(CORRECT), "--quick", "--out", str(folder / "reports")), folder / "reports"))
 
 
+@pytest.mark.representative
 def test_grade_correct_writes_every_report_and_exits_0(graded_correct):
     run, out = graded_correct
     assert run.returncode == 0, run.stdout + run.stderr

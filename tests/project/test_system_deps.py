@@ -267,6 +267,8 @@ def listed_packages() -> set[str]:
     return names
 
 
+# slow: a mutant built and its truth decided per case (5-12 s); crashing0, wrong and not-compiling stay fast
+@pytest.mark.slow
 def test_the_scan_finds_what_the_code_is_known_to_run():
     """Not vacuous: the compilers, the sandbox, the browser and unzip are all found."""
     found = programs_run()

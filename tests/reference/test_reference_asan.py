@@ -9,6 +9,8 @@ import pytest
 
 from grader import PROJECT_ROOT
 
+pytestmark = [pytest.mark.sanitizer, pytest.mark.slow]   # AddressSanitizer builds
+
 ASAN_LIBRARY = PROJECT_ROOT / "build" / "asan" / "libenvmap.so"
 SUITES = ["tests/reference/test_lookup.py", "tests/reference/test_scene.py", "tests/reference/test_render.py", "tests/reference/test_rgbe.py", "tests/reference/test_cross.py"]
 REPORT_MARKERS = ("ERROR: AddressSanitizer", "runtime error:")

@@ -18,6 +18,8 @@ import pytest
 from grader import PROBES as PROBE_DIR
 from grader import PROJECT_ROOT
 
+pytestmark = [pytest.mark.sanitizer, pytest.mark.slow]   # AddressSanitizer builds and fuzzing
+
 FUZZ = PROJECT_ROOT / "reference" / "fuzz"
 DRIVER = PROJECT_ROOT / "build" / "asan" / "rgbe_corpus_driver"
 PROBES = sorted(PROBE_DIR.glob("*.hdr"))

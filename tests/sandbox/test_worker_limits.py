@@ -48,6 +48,8 @@ def test_a_spinning_call_is_stopped_at_its_cpu_limit_not_the_wall_bound(stand_in
     assert took < wall_bound(0.3)
 
 
+# slow: wait out wall-clock bounds on purpose (4-6 s, a core idle)
+@pytest.mark.slow
 def test_a_batch_asleep_past_the_wall_bound_is_tried_once_more_then_narrowed(stand_in):
     """2.4 s asleep in one call, bound 4 x 0.1 s + 1 s: the wall bound stops
     it (tried once more, as the machine could have been the cause), then

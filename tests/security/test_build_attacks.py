@@ -25,6 +25,7 @@ from grader import PROJECT_ROOT, build, submissions
 from grader.build import _dependencies, _outside_files, build_submission, inspect_object, refused_directives
 from fake_bwrap import write_failing_bwrap
 from project_paths import SUBMISSIONS
+from cases import cases
 
 ATTACKS = sorted((SUBMISSIONS / "attacks").glob("*.cpp"))
 GOOD = (SUBMISSIONS / "correct" / "idiomatic.cpp").read_bytes()
@@ -162,6 +163,8 @@ def test_link_runs_in_the_sandbox(cache, tmp_path, monkeypatch):
     assert any("-MD" in cmd for cmd in wrapped)         # with the list of files it read
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
 def test_privilege_drop_builds_as_an_unprivileged_uid(cache, tmp_path, monkeypatch):
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
@@ -504,6 +507,8 @@ def test_without_bubblewrap_and_not_root_builds_as_ourselves(failing_bwrap, monk
     assert build.build_isolation() == "none"
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 def test_unsandboxed_build_still_checks_everything(cache, tmp_path, monkeypatch):
     # Non-root without bubblewrap: the compilers run as ourselves, and every
     # refusal still happens (they do not depend on the sandbox).
@@ -519,7 +524,8 @@ def test_unsandboxed_build_still_checks_everything(cache, tmp_path, monkeypatch)
         assert refused.diagnosis_id == expected_id, refused.log
 
 
-@pytest.mark.parametrize("sanitize", [False, True])
+# slow: every standard header compiled (12 s), and again under AddressSanitizer
+@pytest.mark.parametrize("sanitize", cases([False, True], slow={"False", "True"}, sanitizer={"True"}))
 def test_the_whole_standard_library_is_allowed(sanitize, cache):
     # No false refusals: threads, regex, filesystem, exceptions, RTTI,
     # thread_local, guarded statics, <random>, <complex> ... all link.
@@ -528,6 +534,8 @@ def test_the_whole_standard_library_is_allowed(sanitize, cache):
     assert result.ok, result.log
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 def test_refusals_stay_short_whatever_the_object_holds(tmp_path, monkeypatch):
     # 91 undefined symbols of 190 characters: the message names a few, shortened.
     # (Their asm labels are refused first by the source policy, switched off
@@ -554,6 +562,8 @@ def test_the_linked_library_is_checked_too(cache):
     assert inspect_library(b"not an ELF file", allowed, sanitize=False)[0] == "forbidden-object"
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 def test_no_scratch_folder_outlives_its_build(cache, tmp_path, monkeypatch):
     # Also when the compile is killed at the deadline, and on a refusal.
     import shutil

@@ -18,6 +18,8 @@ from grader.reference import CubeMap
 from grader.worker import Limits, SubmissionRunner, sandbox_problem
 from project_paths import SUBMISSIONS
 
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole submissions
+
 HOSTILE = SUBMISSIONS / "hostile"
 CORRECT = SUBMISSIONS / "correct" / "axis_table.cpp"
 PROBLEM = sandbox_problem()
@@ -82,6 +84,7 @@ def test_zoo_covers_every_case():
                                   "minus_one_x"} == names
 
 
+@pytest.mark.representative
 @needs_sandbox
 @pytest.mark.parametrize("name", sorted(FETCH_VERDICTS))
 def test_hostile_act_in_fetch_color_gets_its_verdict_at_its_input(libraries, name):
@@ -121,6 +124,7 @@ def test_reading_x_minus_one_is_caught_before_a_face_placed_at_a_page_start(libr
     assert outcome.failures[0].hint.startswith("reading x = -1")
 
 
+@pytest.mark.representative
 @needs_sandbox
 def test_files_outside_the_sandbox_are_not_visible(libraries):
     # The same submission prints "LEAK <path>" for every file it can read.

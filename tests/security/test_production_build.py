@@ -172,6 +172,7 @@ def test_prairielearn_refuses_the_attack_and_shows_nothing_of_ours(layout, name,
     assert_nothing_leaked(layout, seen)
 
 
+@pytest.mark.representative
 def test_in_privilege_drop_mode_the_build_uid_reads_nothing_of_ours(layout):
     # Listed as the build uid sees it: before grading, the layout is open
     # (so the listing can find files); after one privilege-drop grading,
@@ -186,6 +187,7 @@ def test_in_privilege_drop_mode_the_build_uid_reads_nothing_of_ours(layout):
     assert [p for p in after if p not in (layout, layout / "fake-bin", layout / "fake-bin" / "bwrap")] == []
 
 
+@pytest.mark.representative
 def test_a_pasted_has_include_finds_no_course_file(layout):
     # Built by the bundle's own grader, as root with the failing bwrap, in
     # the Gradescope layout: the log (the student's, when the build fails)

@@ -86,6 +86,8 @@ def test_every_redteam_submission_has_a_test():
 
 # ---- build: compiler messages are capped ------------------------------------------
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 @pytest.mark.sandbox
 def test_a_flood_of_warnings_stops_the_compiler_and_is_a_build_error(tmp_path):
     result = build_submission(REDTEAM / "warning_flood.cpp", cache_dir=tmp_path)
@@ -98,6 +100,8 @@ def test_a_flood_of_warnings_stops_the_compiler_and_is_a_build_error(tmp_path):
     assert records and all(r.stat().st_size < CAP_BYTES * 1.5 for r in records)
 
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 @pytest.mark.sandbox
 def test_a_huge_library_is_refused_and_not_cached(tmp_path):
     result = build_submission(REDTEAM / "ballast.cpp", cache_dir=tmp_path)
@@ -206,6 +210,8 @@ def test_a_worker_that_hangs_at_exit_or_is_interrupted_gives_correct_values(libr
     np.testing.assert_allclose(outcome.values, CubeMap(FACES).fetch(DIRS), rtol=1e-12, atol=1e-12)
 
 
+# slow: waits out wall-clock bounds on purpose (7-10 s)
+@pytest.mark.slow
 @pytest.mark.sandbox
 def test_a_worker_that_stops_itself_times_out_at_that_input(libraries):
     with runner(libraries["stop_itself"]) as r:
@@ -216,6 +222,8 @@ def test_a_worker_that_stops_itself_times_out_at_that_input(libraries):
     np.testing.assert_allclose(outcome.values[keep], CubeMap(FACES).fetch(DIRS)[keep], rtol=1e-12, atol=1e-12)
 
 
+# slow: waits out wall-clock bounds on purpose (7-10 s)
+@pytest.mark.slow
 @pytest.mark.sandbox
 def test_a_lookup_asleep_everywhere_uses_up_the_gradings_budget_and_stops(libraries):
     from grader.worker.lookups import BudgetedRunner

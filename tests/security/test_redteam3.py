@@ -32,6 +32,7 @@ from grader.grade import GradeOptions, grade
 from grader.results import FAILED, GRADED
 from test_redteam2 import ISOLATION, mode  # noqa: F401  (mode: both production modes, a fixture)
 from project_paths import SUBMISSIONS
+from cases import cases
 
 REDTEAM3 = SUBMISSIONS / "redteam3"
 
@@ -58,7 +59,7 @@ def speed_of(name: str, out: Path, mode: str):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.parametrize("name", CONTROLS)
+@pytest.mark.parametrize("name", cases(CONTROLS, representative={"slow_control"}))   # in both modes
 def test_the_controls_are_slow(tmp_path, mode, name):
     """What the attacks are without their tricks: 15-20x on an AMD EPYC (the
     limit is 8x; a busy loop's share of the time differs by machine, so the
@@ -68,6 +69,7 @@ def test_the_controls_are_slow(tmp_path, mode, name):
     assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["slow"]
 
 
+@pytest.mark.representative
 @pytest.mark.slow
 @pytest.mark.sandbox
 def test_one_cheap_pass_echoed_untimed_does_not_buy_speed(tmp_path, mode):

@@ -88,6 +88,8 @@ def graded_class(tmp_path_factory) -> Path:
     return out
 
 
+# slow: a whole-class grading (grade-all)
+@pytest.mark.slow
 def test_grade_all_with_markup_and_mathtext_names(graded_class):
     page = Page((graded_class / "summary.html").read_text())
     extra = page.tags() - HTML_TAGS - {"a"}
@@ -102,6 +104,9 @@ def test_grade_all_with_markup_and_mathtext_names(graded_class):
     assert (graded_class / "summary_speed_accuracy.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+# slow: headless Chromium on a graded class
+@pytest.mark.browser
+@pytest.mark.slow
 @pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium is not installed")
 def test_no_name_runs_as_script_in_a_browser(graded_class, tmp_path):
     from test_report_html_browser import probe

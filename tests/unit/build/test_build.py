@@ -118,6 +118,8 @@ def marked_line(path: Path, marker: str) -> int:
 
 # ---- the template and correct solutions ---------------------------------------------
 
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
 def test_untouched_template_builds_black_and_nearest(cache, tmp_path):
     result = build_submission(TEMPLATE_SOURCE, cache_dir=cache)
     assert result.ok, result.log
@@ -184,6 +186,9 @@ def test_load_cross_reads_a_vertical_cross(cache, tmp_path):
     assert "nope.hdr" in str(missing["load_message"])
 
 
+# slow: AddressSanitizer builds and runs (the sanitizer marker's own business)
+@pytest.mark.sanitizer
+@pytest.mark.slow
 def test_sanitized_build_loads_under_asan(cache, tmp_path):
     result = build_submission(SUBMISSIONS / "correct" / "idiomatic.cpp", cache_dir=cache, sanitize=True)
     assert result.ok, result.log
@@ -242,6 +247,8 @@ def test_extra_symbols_build_and_warnings_are_reported(cache):
                      "sub_fetch_batch", "sub_read_texture_batch", "sub_load_cross"}
 
 
+# slow: wait out wall-clock bounds on purpose (4-6 s, a core idle)
+@pytest.mark.slow
 def test_compile_timeout_is_reported_and_not_cached(cache, tmp_path):
     source = BUILD_CASES / "slow_compile.cpp"
     result = build_submission(source, cache_dir=cache, timeout_s=2)

@@ -18,6 +18,7 @@ from grader.checks import CheckDefinitionError, Needs, all_checks, check, run_ch
 from grader.checks.context import CheckContext
 from grader.results import ERROR, FAILED, PASSED, SKIPPED, CheckResult, Diagnosis
 from project_paths import SUBMISSIONS
+from cases import cases
 
 CHECKS = all_checks()
 
@@ -50,14 +51,15 @@ def test_a_correct_read_texture_passes(tmp_path):
     assert (r.status, r.fraction, ids(r)) == (PASSED, 1.0, set())
 
 
-@pytest.mark.parametrize("mistake, diagnosis", [
+@pytest.mark.parametrize("mistake, diagnosis", cases([
     ("nearest", "nearest-neighbor"),
     ("half-texel", "half-texel-offset"),
     ("size-minus-one", "scaled-by-size-minus-one"),
     ("u-flipped", "texture-u-flipped"),
     ("v-flipped", "texture-v-flipped"),
     ("uv-swapped", "texture-uv-swapped"),
-])
+], slow={"v-flipped-texture-v-flipped", "uv-swapped-texture-uv-swapped", "u-flipped-texture-u-flipped",
+         "size-minus-one-scaled-by-size-minus-one"}))   # slow: a long fit each (6-28 s); the cheaper cases stay fast
 def test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points(tmp_path, mistake, diagnosis):
     results = run(FakeLookups(texture=mistake), tmp_path, "fetch_sweep", "diagnosis")
     texture = results["read_texture"]
@@ -69,6 +71,8 @@ def test_read_texture_names_its_mistake_and_fetch_color_keeps_its_points(tmp_pat
         assert results["diagnosis"].status == PASSED, results["diagnosis"].output
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_an_out_of_bounds_read_is_attributed_to_read_texture(tmp_path):
     r = run(FakeLookups(texture="out-of-bounds"), tmp_path, "read_texture")["read_texture"]
     assert r.status == FAILED
@@ -113,6 +117,8 @@ def test_arrows_point_the_right_way_only_when_fetch_color_is_right(tmp_path):
 
 # ---- one strict judge, whatever readTexture does (issue 18) -------------------
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_being_hard_to_model_buys_no_fetch_color_points(tmp_path):
     """readTexture wrong at one point only (no model fits it) and fetchColor
     half a texel off: fetchColor scores what it scores over the handout's
@@ -125,6 +131,8 @@ def test_being_hard_to_model_buys_no_fetch_color_points(tmp_path):
         assert attack[name].fraction <= control[name].fraction, name
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_a_read_texture_that_crashes_everywhere_earns_fetch_color_nothing(tmp_path):
     """fetchColor reads its texels itself (correctly) while readTexture,
     called alone, always crashes: a correct fetchColor over that readTexture
@@ -165,6 +173,8 @@ class _PaysToBeBelieved(FakeLookups):
     (_PaysToBeBelieved(fetch={f: "v-flipped" for f in reference.FACE_NAMES}),
      FakeLookups(fetch={f: "v-flipped" for f in reference.FACE_NAMES})),
 ], ids=["acts-on-faces-the-check-never-read", "pays-a-little-readtexture"])
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_a_read_texture_answering_the_judge_otherwise_buys_no_fetch_color_points(tmp_path, attack, control):
     """What readTexture answers the judge on a face it is judged by there: a
     face the check never read, or a few black answers paid in the check, no
@@ -176,6 +186,8 @@ def test_a_read_texture_answering_the_judge_otherwise_buys_no_fetch_color_points
     assert "texture-context-dependent" in {d.id for d in a["fetch_sweep"].diagnoses}
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_an_honest_read_texture_differs_alike_on_every_face(tmp_path):
     """readTexture sees an address, not a face: the check's per-face shares
     of differing answers agree for honest code (own_read.FACE_SPREAD)."""
@@ -196,6 +208,8 @@ def test_robustness_needs_a_working_lookup(tmp_path):
 
 # ---- fetchColor read back without a model of readTexture (issue 19) -----------
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_fetch_color_is_analysed_when_read_texture_is_almost_right(tmp_path):
     """readTexture wrong at one point only: no model fits, and fetchColor's
     flip is still named, read back through readTexture itself."""

@@ -33,6 +33,8 @@ class UnclampedLookups(FakeLookups):
         return tm.evaluate_in_buffer(UNCLAMPED, self.faces, faces, uv)
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the_faces(tmp_path):
     """A correct fetchColor over an unclamped readTexture earns every direction
     except those where that readTexture, called alone at the handout's face
@@ -59,6 +61,8 @@ def test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the
     assert "not earned because your readTexture itself crashes" in sweep.output
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_a_fetch_color_mistake_still_shows_through_an_unclamped_read_texture(tmp_path):
     sweep = run(UnclampedLookups(fetch={"+X": "u-flipped"}), tmp_path, "fetch_sweep")["fetch_sweep"]
     assert sweep.status == FAILED
@@ -91,6 +95,8 @@ def test_an_edge_read_into_the_next_face_is_told_from_a_tie_sent_astray():
     assert _edge_read(faces, px, py, touched, column).tolist() == [True, False, True, False, False]
 
 
+# slow: a mutant built and its truth decided per case (5-12 s); crashing0, wrong and not-compiling stay fast
+@pytest.mark.slow
 def test_reads_past_the_face_at_ties_are_not_blamed_on_the_tie_rule(tmp_path):
     """A correct fetchColor (>= at ties) over an unclamped readTexture no model
     fits: no tie is said to be sent to an untouched face (a guard on the
@@ -148,6 +154,8 @@ def test_nan_detail_does_not_blame_a_squared_length(tmp_path):
     assert "squared" not in nan[0].detail and "finite and not zero" in nan[0].detail
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 @pytest.mark.sandbox
 def test_honestly_wrong_everywhere_is_not_timed_output_wrong(tmp_path):
     """+Y and -Y swapped over a nearest readTexture: wrong the same way timed

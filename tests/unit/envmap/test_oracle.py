@@ -47,10 +47,11 @@ def _refuse_live(monkeypatch):
         monkeypatch.setattr(owner, name, refusing(getattr(owner, name)))
 
 
+# slow: a kit recording graded per mistake (5-21 s each); the first case stays fast
 @pytest.mark.parametrize("mistakes", [
     {},
-    {"texture": "half-texel", "fetch": {"+X": "u-flipped"}},
-    {"fetch": {"+X": "wrong-face:-X", "-X": "wrong-face:+X"}},
+    pytest.param({"texture": "half-texel", "fetch": {"+X": "u-flipped"}}, marks=pytest.mark.slow),
+    pytest.param({"fetch": {"+X": "wrong-face:-X", "-X": "wrong-face:+X"}}, marks=pytest.mark.slow),
 ])
 def test_recorded_answers_grade_as_the_live_reference(tmp_path, monkeypatch, mistakes):
     geometry.face_frames.cache_clear()       # its probes are questions too: ask them in the recording
@@ -104,12 +105,14 @@ def kit_answers():
 
 # Mistakes the kit's recording never ran (it runs only a handout-like
 # submission and a silent readTexture): their questions must all be there.
+# slow: a kit recording graded per mistake (5-21 s each); not-normalized stays fast
 @pytest.mark.parametrize("mistakes", [
-    {"texture": "nearest"},
-    {"texture": "scrambled"},                       # no model fits: the worked case and the read-back
-    {"texture": "out-of-bounds", "fetch": {"+X": "u-flipped"}},
+    pytest.param({"texture": "nearest"}, marks=pytest.mark.slow),
+    pytest.param({"texture": "scrambled"}, marks=pytest.mark.slow),    # no model fits: the worked case and the read-back
+    pytest.param({"texture": "out-of-bounds", "fetch": {"+X": "u-flipped"}}, marks=pytest.mark.slow),
     {"fetch": "not-normalized"},
-    {"texture": "half-texel", "fetch": {"+X": "wrong-face:-X", "-X": "wrong-face:+X"}},
+    pytest.param({"texture": "half-texel", "fetch": {"+X": "wrong-face:-X", "-X": "wrong-face:+X"}},
+                 marks=pytest.mark.slow),
 ])
 def test_the_kits_recording_answers_submissions_it_never_saw(tmp_path, monkeypatch, kit_answers, mistakes):
     live = _grade(FakeLookups(**mistakes), tmp_path / "live")

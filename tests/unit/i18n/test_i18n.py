@@ -237,6 +237,7 @@ def privilege_drop(tmp_path, monkeypatch):
     sandbox.sandbox_problem.cache_clear()
 
 
+@pytest.mark.representative
 @pytest.mark.slow
 def test_a_crash_reads_in_japanese_in_privilege_drop_mode(privilege_drop, tmp_path):
     """The worker's failure words come from the grader's side of the pipe,

@@ -113,6 +113,8 @@ def test_pareto_front_keeps_only_undominated_points():
     assert chart.pareto_front(points) == [(10, 1.0), (20, 0.5), (40, 0.1)]
 
 
+# slow: a mutant built and its truth decided per case (5-12 s); crashing0, wrong and not-compiling stay fast
+@pytest.mark.slow
 def test_quick_study_writes_its_csv_chart_and_failure_map(tmp_path, monkeypatch):
     from grader.cli import main
     from grader.study import run

@@ -113,9 +113,12 @@ def test_a_constant_lookup_is_reported_as_such():
 
 @pytest.mark.parametrize("model", [
     tm.TextureModel(A(offset=-0.5), A(flip="index")),
-    tm.TextureModel(A(edge="none", scale="N-1"), A(rounding="trunc", offset=-1.0)),
-    tm.TextureModel(A(weights="nearest", source="other"), A(edge="wrap", flip="coordinate")),
-    tm.TextureModel(A(weights="half", size="other"), A(weights="swapped", scale="N+1", rounding="round")),
+    # slow: 2 s each; the first model stays fast
+    pytest.param(tm.TextureModel(A(edge="none", scale="N-1"), A(rounding="trunc", offset=-1.0)), marks=pytest.mark.slow),
+    pytest.param(tm.TextureModel(A(weights="nearest", source="other"), A(edge="wrap", flip="coordinate")),
+                 marks=pytest.mark.slow),
+    pytest.param(tm.TextureModel(A(weights="half", size="other"), A(weights="swapped", scale="N+1", rounding="round")),
+                 marks=pytest.mark.slow),
 ], ids=["half-texel_rows", "unclamped-w-1_trunc-1", "nearest-swapped_wrap-1-v", "half-wh_swapped-round"])
 def test_the_fits_batched_axis_judge_equals_judging_each_axis(model):
     """The fit ranks all 6,480 axis models with all_mismatches; it must count
@@ -158,6 +161,8 @@ def fetch_mistakes():
 TEXTURE_MISTAKES = sorted(n for n in MEMBERS if n != "handout")
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_a_correct_fetch_color_over_a_correct_read_texture_gets_no_diagnosis():
     lookups = ModelLookups()
     analysis = face_recovery.analyse(lookups, tm.fit(lookups), quick=True)
@@ -173,6 +178,8 @@ def test_a_constant_read_texture_leaves_fetch_color_unanalysed_and_says_why():
     assert ids == ["fetch-not-analysed"]
 
 
+# slow: a hypothesis property test of about 76 s
+@pytest.mark.slow
 @settings(max_examples=14, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(fetch=fetch_mistakes(), texture=st.sampled_from(TEXTURE_MISTAKES))
 def test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_other(fetch, texture):
@@ -210,6 +217,8 @@ def test_a_read_texture_mistake_costs_read_texture_points_only(texture, tmp_path
         assert (r.status, r.fraction, r.diagnoses) == (PASSED, 1.0, []), (name, r.output[:600])
 
 
+# slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
+@pytest.mark.slow
 def test_a_fetch_color_mistake_over_a_wrong_read_texture_costs_fetch_color_points(tmp_path):
     model, _ = MEMBERS["texel-offset-clamped"]
     results = run_mapping_checks(ModelLookups(texture=model, fetch={"+X": "u-flipped"}), tmp_path)
