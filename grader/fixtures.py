@@ -2,9 +2,11 @@
 with one command (`make fixtures`), and a manifest that says when they are stale.
 
 fixtures/manifest.json records the SHA-256 of every fixture file and of
-everything that produced it (reference sources, scene files, maps, this
-generator's version). The grader checks it at start and refuses stale
-fixtures with a message naming what changed (`--allow-stale` overrides).
+everything that determines their content (reference sources, scene files,
+maps), with the render settings and GENERATOR_VERSION. Not this module's text:
+moving or re-wording it must not stale the fixtures. The grader checks the
+manifest at start and refuses stale fixtures with a message naming what
+changed (`--allow-stale` overrides).
 Everything here is deterministic: two runs write identical bytes.
 
 The manifest also records the environment that made the fixtures: the
@@ -32,7 +34,7 @@ from . import PROJECT_ROOT, reference
 
 FIXTURES = PROJECT_ROOT / "fixtures"
 MANIFEST = FIXTURES / "manifest.json"
-# Bump when what this module writes changes meaning.
+# Bump when what this module writes changes meaning (its text is not hashed).
 GENERATOR_VERSION = 2
 
 # Full renders: small enough to keep in git, large enough that every mistake
@@ -99,10 +101,15 @@ def prepared_scene(fixture: RenderFixture) -> reference.Scene:
 
 
 def inputs(project: Path = PROJECT_ROOT) -> list[Path]:
-    """Everything the fixtures depend on."""
+    """The files the fixtures' content depends on (with render_settings()
+    and GENERATOR_VERSION, which the manifest records beside them)."""
     ref = sorted((project / "reference").glob("src/*.[ch]")) + [project / "reference" / "include" / "envmap.h"]
     scenes = [project / MAIN_SCENE.name] + sorted((project / "scenes").glob("*.cfg"))
-    return ref + scenes + sorted((project / "Cubemap").glob("*.hdr")) + [project / "grader" / "fixtures.py"]
+    return ref + scenes + sorted((project / "Cubemap").glob("*.hdr"))
+
+
+def render_settings() -> dict:
+    return {"width": RENDER_SIZE[0], "height": RENDER_SIZE[1], "samples_per_pixel": RENDER_SPP}
 
 
 def _sha256(path: Path) -> str:
@@ -140,7 +147,7 @@ def generate(progress=print) -> dict:
         "environment": environment(),
         "inputs": {_rel(p): _sha256(p) for p in inputs()},
         "files": {_rel(p): _sha256(p) for p in files},
-        "render": {"width": RENDER_SIZE[0], "height": RENDER_SIZE[1], "samples_per_pixel": RENDER_SPP},
+        "render": render_settings(),
     }
     _write_atomic(MANIFEST, (json.dumps(manifest, indent=2, sort_keys=True) + "\n").encode())
     return manifest
@@ -176,6 +183,8 @@ def check_stale(project: Path = PROJECT_ROOT) -> None:
     problems = []
     if manifest.get("generator_version") != GENERATOR_VERSION:
         problems.append("the fixture generator changed")
+    if manifest.get("render") != render_settings():
+        problems.append("the render size or samples per pixel changed")
     recorded = manifest.get("inputs", {})
     current = {_rel(p, project): _sha256(p) for p in inputs(project)}
     for name in sorted(set(recorded) | set(current)):

@@ -62,6 +62,20 @@ def test_a_new_scene_makes_fixtures_stale(project_copy):
         fixtures.check_stale(project_copy)
 
 
+def test_changed_render_settings_make_fixtures_stale(project_copy, monkeypatch):
+    monkeypatch.setattr(fixtures, "RENDER_SPP", fixtures.RENDER_SPP + 1)
+    with pytest.raises(fixtures.StaleFixtures, match="samples per pixel changed"):
+        fixtures.check_stale(project_copy)
+
+
+def test_the_generators_own_text_is_not_an_input():
+    """Moving or re-wording grader's Python must not stale the fixtures: what
+    determines them is the reference, the scenes, the maps and the recorded
+    settings and GENERATOR_VERSION."""
+    assert [p for p in fixtures.inputs() if not p.is_relative_to(PROJECT_ROOT / "reference")
+            and p.suffix not in (".cfg", ".hdr")] == []
+
+
 def test_fixtures_check_command_reports_up_to_date():
     done = subprocess.run([sys.executable, "-m", "grader", "fixtures", "--check"], cwd=PROJECT_ROOT,
                           capture_output=True, text=True)
