@@ -28,8 +28,8 @@ $(BUILD)/asan/libenvmap.so: $(REF_SRC) $(REF_HDR)
 	$(CC) $(CFLAGS_REF) -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -Ireference/include -shared -o $@ $(REF_SRC) -lm
 
 # The reference behind the submission ABI: the speed check's baseline.
-$(BUILD)/reference_submission.so: grader/shim/reference_submission.c grader/shim/submission_abi.h $(REF_SRC) $(REF_HDR) | $(BUILD) core-deps
-	$(CC) $(CFLAGS_REF) -Ireference/include -Igrader/shim -shared -o $@.tmp grader/shim/reference_submission.c $(REF_SRC) -lm && mv $@.tmp $@
+$(BUILD)/reference_submission.so: grader/build/shim/reference_submission.c grader/build/shim/submission_abi.h $(REF_SRC) $(REF_HDR) | $(BUILD) core-deps
+	$(CC) $(CFLAGS_REF) -Ireference/include -Igrader/build/shim -shared -o $@.tmp grader/build/shim/reference_submission.c $(REF_SRC) -lm && mv $@.tmp $@
 
 $(BUILD):
 	@mkdir -p $@
@@ -90,11 +90,11 @@ bundle: student-kit
 
 # The Japanese catalogue after English words changed (docs/glossary_ja.md):
 # new entries come out empty, changed ones fuzzy; translate them, then
-# tests/unit/i18n/test_i18n.py passes again. No .mo: grader/i18n.py compiles the .po.
+# tests/unit/i18n/test_i18n.py passes again. No .mo: grader/i18n/__init__.py compiles the .po.
 translations: venv
 	PYTHONPATH=. $(VENV)/bin/pybabel extract -F babel.cfg --no-default-keywords -k _ -k N_ -k ngettext:1,2 \
-	    --add-location=file --sort-output --project=envmap-grader -o grader/locale/grader.pot .
-	$(VENV)/bin/pybabel update -i grader/locale/grader.pot -d grader/locale -D grader --width=100
+	    --add-location=file --sort-output --project=envmap-grader -o grader/i18n/locale/grader.pot .
+	$(VENV)/bin/pybabel update -i grader/i18n/locale/grader.pot -d grader/i18n/locale -D grader --width=100
 
 # `make grade` grades the examples in examples/; `make grade SUBMISSION=path
 # [OUT=dir]` grades one submission (reports in out/<submission name>/).

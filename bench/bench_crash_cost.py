@@ -24,7 +24,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from grader.grade import GradeOptions, grade  # noqa: E402
+from grader.grading.grade import GradeOptions, grade  # noqa: E402
 from grader.worker import process  # noqa: E402
 
 SUBMISSIONS = ROOT / "tests" / "submissions"

@@ -123,7 +123,7 @@ def breakdown(repeats: int, work: Path) -> dict[str, dict[str, list[float]]]:
     """In-process phases of a warm and a new grading."""
     import grader.build as build
     import grader.reports as reports
-    from grader.grade import grade
+    from grader.grading.grade import grade
     cache = work / "cache-breakdown"
     build.DEFAULT_CACHE = cache
     result: dict[str, dict[str, list[float]]] = {"new": defaultdict(list), "warm": defaultdict(list)}

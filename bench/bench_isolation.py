@@ -14,7 +14,7 @@ Three parts, each a ratio against the way it was done before, medians:
   3. privilege-drop against plain (the old fallback) and bubblewrap.
 
 Workload: a correct C++ solution (tests/submissions/correct/axis_table.cpp,
-built by grader/build.py) looks up a fixed set of random directions in a
+built by grader/build/__init__.py) looks up a fixed set of random directions in a
 64x64-per-face cube map, in batches of 10000, through
   - a worker in the bubblewrap sandbox (seccomp filter, limits, guard pages),
   - a plain worker (the same, without bubblewrap),
@@ -38,7 +38,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from grader.build import build_submission  # noqa: E402
-from grader.reference import CubeMap  # noqa: E402
+from grader.envmap.library import CubeMap  # noqa: E402
 from grader.worker import Worker, privilege_drop_problem, sandbox_problem  # noqa: E402
 from grader.worker.native import null_library  # noqa: E402
 

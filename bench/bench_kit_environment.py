@@ -37,7 +37,7 @@ if os.environ.get("BENCH_EMPTY"):
     sys.exit(0)
 start = time.monotonic()
 import numpy, cffi, OpenImageIO, flip_evaluator, markdown_it, rich.console, rich.table, rich.panel
-import grader.grade, grader.checks, grader.reports, grader.reports.terminal
+import grader.grading.grade, grader.checks, grader.reports, grader.reports.terminal
 from grader.checks.instruments import image_metrics, readback
 print("imports %.2f s" % (time.monotonic() - start))
 '''

@@ -22,7 +22,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
-from grader import fixtures  # noqa: E402
+from grader.grading import fixtures  # noqa: E402
 from grader.checks.instruments import readback  # noqa: E402
 from grader.checks.instruments.directions import fibonacci_sphere  # noqa: E402
 from grader.checks.instruments.image_metrics import display, ssim  # noqa: E402

@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 import assignment_model as model  # noqa: E402
-from grader.reference import FILTERS as FILTER_CODES, CubeMap, library  # noqa: E402
+from grader.envmap.library import FILTERS as FILTER_CODES, CubeMap, library  # noqa: E402
 
 # A real probe when ../shared/probes is beside the checkout (it is not in the
 # repository), else the project's own sky.

@@ -6,7 +6,7 @@
         [--threads 1] [--maps CROSS.hdr ...] [--pictures docs/study] [--no-rotation]
 
 For each map, renders the scene (camera, spheres, max_depth from the .cfg;
-the map replaced) with our reference renderer (grader.reference.Scene.render,
+the map replaced) with our reference renderer (grader.envmap.library.Scene.render,
 the handout's bilinear lookup, all in C, one thread) and with Mitsuba 3's
 scalar_rgb `path` integrator, then prints:
   - agreement: SSIM and mean FLIP (grader.checks.instruments.image_metrics, on the
@@ -60,8 +60,8 @@ sys.path.insert(0, str(ROOT))
 
 from grader.checks.instruments import image_metrics  # noqa: E402
 from grader.cubemap.projections import latlong_to_direction  # noqa: E402
-from grader.imaging import write_image  # noqa: E402
-from grader.reference import CubeMap, Scene  # noqa: E402
+from grader.envmap.imaging import write_image  # noqa: E402
+from grader.envmap.library import CubeMap, Scene  # noqa: E402
 
 from bench_render import median_seconds  # noqa: E402  (this folder: the same timing as the render bench)
 

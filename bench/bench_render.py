@@ -24,7 +24,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from grader.reference import CubeMap, Scene  # noqa: E402
+from grader.envmap.library import CubeMap, Scene  # noqa: E402
 
 
 def median_seconds(fn, repeats: int):

@@ -23,7 +23,7 @@ BUSY = [sys.executable, "-c", "import time\nend = time.monotonic() + 900\nwhile 
 
 
 def ratios(submission: Path, runs: int, load: int) -> list[float]:
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     busy = [subprocess.Popen(BUSY) for _ in range(load)]
     found = []
     try:

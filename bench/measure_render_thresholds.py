@@ -2,7 +2,7 @@
 
     .venv/bin/python bench/measure_render_thresholds.py [--out build/thresholds]
 
-Renders every fixture scene (grader.fixtures.render_fixtures()) with the
+Renders every fixture scene (grader.grading.fixtures.render_fixtures()) with the
 lookup of
   - every correct solution in tests/submissions/correct/, each built four
     ways: -O0, -O2 (the grader's default), -O3 and -O3 -ffast-math (one of
@@ -55,7 +55,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from grader import fixtures, reference  # noqa: E402
+from grader.grading import fixtures  # noqa: E402
+from grader.envmap import library as reference
 from grader.build import build_submission  # noqa: E402
 from grader.checks import renders  # noqa: E402
 from grader.checks.instruments.image_metrics import display, flip, flip_pixels, ssim  # noqa: E402

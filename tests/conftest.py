@@ -92,7 +92,7 @@ def student_kit(session_folder):
 @pytest.fixture(scope="session")
 def reference_library() -> Path:
     """build/libenvmap.so, built once per test run (make reference)."""
-    from grader import reference
+    from grader.envmap import library as reference
     path = reference.ensure_built()
     reference.library()
     return path

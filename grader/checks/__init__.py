@@ -26,7 +26,7 @@ A check is a function registered with @check, check50 style:
       this dependent is concerned), e.g. speed needs fetchColor to be right on
       half the sweep: timing a lookup that returns black means nothing.
   There are no default findings: a dependent never runs without its inputs.
-- Points, partial credit and visibility live in grader/rubric.toml. The run
+- Points, partial credit and visibility live in grader/grading/rubric.toml. The run
   order is the rubric's order (score.load_rubric refuses unknown or missing
   check names, and a check listed before one it requires). MODULES only says
   which modules to import.
@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
 
 from ..i18n import N_, _
-from ..results import ERROR, SKIPPED, CheckResult
+from ..grading.results import ERROR, SKIPPED, CheckResult
 
 log = logging.getLogger("grader.checks")
 
@@ -55,7 +55,7 @@ log = logging.getLogger("grader.checks")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 # Modules holding checks (import order only: the rubric orders the run).
-MODULES = ("read_texture", "sweeps", "diagnosis", "arrows", "stability", "renders", "speed")
+MODULES = ("read_texture", "fetch_sweep", "fetch_faces", "arrows", "stability", "renders", "speed")
 
 # What a student reads when the harness failed on a check. The traceback goes
 # to CheckResult.error_log and the "grader.checks" log, for the instructor.
@@ -184,13 +184,13 @@ def _blocked(c: Check, done: dict[str, Ran]) -> str | None:
 
 
 def _refuse_unknown_ids(c: Check, result: CheckResult) -> None:
-    """A diagnosis id missing from grader/diagnoses.py is the grader's bug:
+    """A diagnosis id missing from grader/grading/catalogue.py is the grader's bug:
     the check becomes a harness error (ungradable, not the student's zero)."""
-    from ..diagnoses import CATALOGUE
+    from ..grading.catalogue import CATALOGUE
     unknown = sorted({d.id for d in result.diagnoses if d.id not in CATALOGUE})
     if unknown:
         result.status, result.fraction, result.output, result.diagnoses = ERROR, 0.0, _(HARNESS_ERROR_OUTPUT), []
-        result.error_log += f"check {c.name} emitted diagnosis ids missing from grader/diagnoses.py: {', '.join(unknown)}\n"
+        result.error_log += f"check {c.name} emitted diagnosis ids missing from grader/grading/catalogue.py: {', '.join(unknown)}\n"
         log.error(result.error_log)
 
 

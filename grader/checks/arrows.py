@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import PROJECT_ROOT, oracle
+from .. import PROJECT_ROOT
+from ..envmap import oracle
 from ..i18n import N_, _, and_list, language
-from ..results import FAILED, CheckResult, Diagnosis
+from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import axes, fibonacci_sphere
@@ -156,7 +157,7 @@ def draw(ctx: CheckContext, texels: np.ndarray, verdicts: list[str]):
     """The large mirror ball of scenes/mirror_ball_test_map.cfg (every face in
     view) with the reference's and the submission's lookup, side by side,
     captioned with the verdicts."""
-    from ..imaging import tone_map, write_image
+    from ..envmap.imaging import tone_map, write_image
     ref = oracle.current()
     escapes = ref.trace(ARROW_SCENE, (200, 200), 2)
     sub = ctx.lookups.fetch(escapes.dirs)

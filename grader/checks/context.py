@@ -16,7 +16,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..i18n import _
-from ..results import Diagnosis
+from ..grading.results import Diagnosis
 
 
 class SubmissionLookups(Protocol):
@@ -42,7 +42,7 @@ class CheckContext:
 def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
     """One diagnosis per distinct failure kind (grader.worker.Failure), with
     the input that caused it. A failure's kind (grader.worker.failures.KINDS)
-    is its diagnosis id: each has its own words in grader/diagnoses.py."""
+    is its diagnosis id: each has its own words in grader/grading/catalogue.py."""
     out, seen = [], set()
     for failure in failures:
         kind = failure.kind

@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import oracle, reference
+from ..envmap import oracle, library as reference
 from ..i18n import N_, _, and_list
-from ..results import FAILED, CheckResult, Diagnosis
+from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check
 from .instruments import texture_model as tm
 from .instruments.compare import compare, explain, tolerance
@@ -177,7 +177,7 @@ def worked_case(lookups, face: int, u: float, v: float, among: np.ndarray | None
     """One readTexture call in numbers: which texels the handout reads at
     (u, v) and which the student's does, with their weights. `among`: the
     (m, 2) points (u, v) was drawn from; the handout is asked at all of them,
-    so the question (grader.oracle) is the same whichever point failed."""
+    so the question (grader.envmap.oracle) is the same whichever point failed."""
     w, h = WORKED_SIZE
     points = np.array([[u, v]]) if among is None else np.asarray(among, np.float64)
     at = int(np.flatnonzero((points == [u, v]).all(axis=1))[0])

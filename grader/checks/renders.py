@@ -7,9 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import fixtures, oracle
+from ..grading import fixtures
+from ..envmap import oracle
 from ..i18n import _
-from ..results import FAILED, CheckResult, Diagnosis
+from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
@@ -95,7 +96,7 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
 @check()
 def renders(ctx: CheckContext, result: CheckResult) -> None:
     """Full renders of the mirror and glass spheres with your lookup look like the reference renders."""
-    from ..imaging import write_image
+    from ..envmap.imaging import write_image
     rows, diagnoses, passed, earned = [], [], 0, 0.0
     items = fixtures.render_fixtures()
     if ctx.quick:

@@ -15,15 +15,16 @@ own cost (reading directions, writing colours) is measured on a library
 whose lookups do nothing and taken off both sides."""
 from __future__ import annotations
 
-from .. import PROJECT_ROOT, reference
+from .. import PROJECT_ROOT
+from ..envmap import library as reference
 from ..i18n import _
-from ..results import FAILED, CheckResult, Diagnosis
+from ..grading.results import FAILED, CheckResult, Diagnosis
 from ..worker.failures import CRASH, OUT_OF_BOUNDS_READ
 from . import Needs, check
 from .context import CheckContext, failure_diagnoses
 from .instruments.directions import random_directions
 from .read_texture import ReadTextureFinding, read_texture
-from .sweeps import WORKING, SweepFinding, fetch_sweep
+from .fetch_sweep import WORKING, SweepFinding, fetch_sweep
 
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
 ROUNDS = 5          # interleaved rounds: student, reference, null library; fresh directions each

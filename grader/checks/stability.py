@@ -5,16 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 from ..i18n import N_, _
-from ..results import FAILED, CheckResult, Diagnosis
+from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check
 from .instruments.compare import describe_direction, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import corners, edges
 from .instruments import own_read
 from .read_texture import ReadTextureFinding, read_texture
-from .sweeps import WORKING, SweepFinding, fetch_sweep
+from .fetch_sweep import WORKING, SweepFinding, fetch_sweep
 from ..cubemap.directions import texel_directions
-from ..geometry import face_uv_to_direction
+from ..envmap.geometry import face_uv_to_direction
 from .instruments.textures import coordinate_faces
 
 FACE_SIZE = 16

@@ -37,7 +37,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0, help="which mutants are drawn (default 0)")
     p.add_argument("--jobs", type=int, default=None, help="mutants judged and graded at once (default: one per core)")
     p.add_argument("--out", type=Path, help="results folder (default: out/audit/)")
-    p.add_argument("--rubric", type=Path, help="the rubric to audit (default: grader/rubric.toml)")
+    p.add_argument("--rubric", type=Path, help="the rubric to audit (default: grader/grading/rubric.toml)")
     p.add_argument("--quick", action="store_true", help="grade with the smaller direction sets")
     p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
                    help="do not use bubblewrap (privilege-drop mode as root; otherwise needs --unsafe-no-sandbox)")
@@ -50,8 +50,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args) -> int:
     from ..course.audit import run_audit
     from ..course.audit.report import summarise, terminal_text
-    from ..fixtures import StaleFixtures
-    from ..score import RubricError
+    from ..grading.fixtures import StaleFixtures
+    from ..grading.score import RubricError
     from ..worker.lookups import MODES
     from ..worker.sandbox import SandboxUnavailable, resolve_mode
     if args.mutants < 0 or (args.jobs is not None and args.jobs < 1):

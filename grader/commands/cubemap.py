@@ -45,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..cubemap import convert
-    from ..reference import EnvmapError
+    from ..envmap.library import EnvmapError
 
     try:
         if args.action == "generate":
@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
             convert.write_cross(args.output, to_faces(image, args.face))
             print(f"{args.output}: vertical cross, face {args.face}")
         elif args.action == "cross-to-latlong":
-            from ..imaging import write_image
+            from ..envmap.imaging import write_image
             latlong = convert.faces_to_latlong(convert.read_cross(args.input), args.width)
             write_image(args.output, latlong, exposure=args.exposure)
             print(f"{args.output}: lat-long {latlong.shape[1]} x {latlong.shape[0]}")

@@ -12,7 +12,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args) -> int:
-    from .. import fixtures
+    from ..grading import fixtures
     if args.check:
         try:
             fixtures.check_stale()

@@ -68,7 +68,7 @@ def example_submissions() -> list[Path]:
 
 
 def output_folders(submissions: list[Path], out: Path | None) -> list[Path]:
-    from ..submissions import student_name
+    from ..intake import student_name
     names = [student_name(s) for s in submissions]
     if len(set(names)) < len(names):   # e.g. a/EnvironmentMap.cpp and b/EnvironmentMap.cpp
         names = [s.name if names.count(student_name(s)) == 1 else f"{s.parent.name}-{s.name}" for s in submissions]
@@ -79,13 +79,13 @@ def output_folders(submissions: list[Path], out: Path | None) -> list[Path]:
 
 
 def visible_checks(rubric_path: Path) -> tuple[str, ...]:
-    from ..score import load_rubric
+    from ..grading.score import load_rubric
     entries = load_rubric(rubric_path).get("checks", {})
     return tuple(name for name, e in entries.items() if e.get("visibility", "visible") == "visible")
 
 
 def run(args) -> int:
-    from ..grade import GradeOptions
+    from ..grading.grade import GradeOptions
     from ..worker.sandbox import SandboxUnavailable
     submissions = args.submissions or example_submissions()
     missing = [s for s in submissions if not s.exists()]
@@ -120,23 +120,23 @@ def run(args) -> int:
     except SandboxUnavailable as e:
         print(f"grade: {e}", file=sys.stderr)
         return 3
-    from .. import oracle
+    from ..envmap import oracle
     with oracle.using(oracle.Replay(args.kit_answers)) if args.kit_answers else contextlib.nullcontext():
         return _grade_each(args, submissions, options, student_view)
 
 
 def _grade_each(args, submissions, options, student_view) -> int:
-    from ..grade import grade
+    from ..grading.grade import grade
     from ..worker.sandbox import SandboxUnavailable
     from ..reports.terminal import print_summary
-    from ..results import UNGRADABLE
+    from ..grading.results import UNGRADABLE
     status, written = 0, []
-    from ..fixtures import StaleFixtures
-    from ..score import RubricError
+    from ..grading.fixtures import StaleFixtures
+    from ..grading.score import RubricError
     for submission, out in zip(submissions, output_folders(submissions, args.out)):
         try:
             if args.strict:   # EnvironmentMismatch is a StaleFixtures
-                from ..fixtures import check_environment
+                from ..grading.fixtures import check_environment
                 check_environment()
             result = grade(submission, out, options)
         except (StaleFixtures, RubricError, SandboxUnavailable) as e:   # the instructor's to fix, before anything is graded

@@ -62,7 +62,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args) -> int:
-    from ..fixtures import StaleFixtures
+    from ..grading.fixtures import StaleFixtures
     from ..course.grade_all import DISTURBED, Interrupted, find_submissions, grade_all, skipped_entries
     from ..reports.class_summary import entry_text
     from ..reports.text import clean

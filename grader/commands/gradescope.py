@@ -4,7 +4,7 @@ Upload the zip as a "Zip file upload" autograder (base image Ubuntu 24.04,
 which has Python 3.12; on 22.04 setup.sh installs python3.11). Gradescope
 runs setup.sh once to build the image, then run_autograder for every
 submission, each in its own container. Set the course secret in
-grader/rubric.toml ([grading] secret) before building: the zip carries it
+grader/grading/rubric.toml ([grading] secret) before building: the zip carries it
 to Gradescope, whose students never see the autograder's files.
 
 With --grade, it is what run_autograder calls for each submission: `grade
@@ -59,11 +59,11 @@ def run(args) -> int:
 
 def grade_for_gradescope(submission: Path, results: Path, quick: bool = False, allow_unsafe: bool = False,
                          lang: str | None = None) -> int:
-    from ..grade import GradeOptions, grade
+    from ..grading.grade import GradeOptions, grade
     from ..platforms.gradescope import add_leaderboard, leaderboard, leaderboard_enabled
     from ..reports import gradescope_json
-    from ..results import UNGRADABLE
-    from ..score import load_rubric
+    from ..grading.results import UNGRADABLE
+    from ..grading.score import load_rubric
     options = GradeOptions(quick=quick, include_hidden=False, allow_unsafe=allow_unsafe, lang=lang)
     try:
         result = grade(submission, results, options)

@@ -41,7 +41,7 @@ def parse_directions(lines) -> np.ndarray:
 
 
 def run(args: argparse.Namespace) -> int:
-    from grader.reference import CubeMap, EnvmapError
+    from grader.envmap.library import CubeMap, EnvmapError
 
     try:
         cube = CubeMap.load_cross(args.map)

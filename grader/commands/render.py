@@ -3,7 +3,7 @@ reference renderer and the reference lookup (reference/src/render.c).
 
 The environment is the vertical cross named by the scene's environment_light
 (or --map). .exr and .hdr get linear radiance; .png gets tone-mapped sRGB
-(grader.imaging.tone_map).
+(grader.envmap.imaging.tone_map).
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ HELP = "render a scene file with the reference renderer"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from ..reference import FILTERS
+    from ..envmap.library import FILTERS
     parser.add_argument("scene", type=Path, help="scene file, e.g. envmap_test.cfg")
     parser.add_argument("--out", type=Path, required=True, help="output image: .exr, .hdr or .png")
     parser.add_argument("--map", type=Path, help="vertical-cross .hdr to use instead of the scene's")
@@ -29,8 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..imaging import write_image
-    from ..reference import CubeMap, EnvmapError, Scene
+    from ..envmap.imaging import write_image
+    from ..envmap.library import CubeMap, EnvmapError, Scene
     try:
         scene = Scene.load(args.scene)
         width, height = scene.width, scene.height

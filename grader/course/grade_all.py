@@ -36,8 +36,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from ..results import TIMEOUT, UNGRADABLE
-from ..submissions import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
+from ..grading.results import TIMEOUT, UNGRADABLE
+from ..intake import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
 from .lms_csv import FILES as LMS_FILES
 
 # grade() imports this module for student_name: what only a class needs
@@ -116,7 +116,7 @@ def find_submissions(folder: Path, exclude: Path | None = None) -> dict[str, Pat
 def _hash_tree(path: Path) -> str:
     # Links and special files are never followed or read (one link to
     # /proc/self/mem in one folder stopped the whole class); bounded in files.
-    from ..submissions import hash_submission
+    from ..intake import hash_submission
     return hash_submission(path)
 
 
@@ -172,7 +172,7 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
     The record is written inside the new folder before it is renamed, so a
     folder with a record is always complete; an interruption leaves at most
     a .tmp- folder, which the next run removes."""
-    from ..grade import GradeOptions, grade
+    from ..grading.grade import GradeOptions, grade
     final = Path(out)
     work = Path(tempfile.mkdtemp(prefix=f".tmp-{student[:TMP_NAME_CHARS]}-", dir=final.parent))
     try:
@@ -271,7 +271,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         from .roster import load_roster
         class_roster = load_roster(roster)
     if not options.get("allow_stale"):
-        from ..fixtures import check_stale
+        from ..grading.fixtures import check_stale
         check_stale()   # once, here: raises StaleFixtures for the instructor to read
     options["allow_stale"] = True
     jobs = max(1, jobs or os.cpu_count() or 1)

@@ -25,7 +25,7 @@ import csv
 import io
 from pathlib import Path
 
-from ..results import UNGRADABLE
+from ..grading.results import UNGRADABLE
 
 # grade_all imports FILES from here (they are class files): what this module
 # needs of grade_all is imported where used.

@@ -129,10 +129,10 @@ def _rel(path: Path) -> str:
 
 def class_similarity(submissions: dict[str, Path], out: Path | None = None) -> dict:
     """Read each submission's EnvironmentMap.cpp the way grading does
-    (grader/submissions.py: archives, caps, no links followed) and compare
+    (grader/intake.py: archives, caps, no links followed) and compare
     them all. A submission whose source cannot be found is not compared
     (its own report says why)."""
-    from ..submissions import SubmissionError, select_source
+    from ..intake import SubmissionError, select_source
     sources, unread = {}, []
     for student, path in submissions.items():
         try:

@@ -7,7 +7,7 @@ are at most about 2/3 of a source pixel apart: a box filter over the
 texel's footprint, however many source pixels it covers.
 
 Out of a cube map (for viewing): every lat-long pixel is the mean of the
-reference's bilinear lookups (grader.reference.CubeMap.fetch, the one
+reference's bilinear lookups (grader.envmap.library.CubeMap.fetch, the one
 implementation of the lookup) on a k x k grid inside the pixel, weighted by
 cos(latitude), the solid angle each sub-sample stands for.
 """
@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import reference
-from ..imaging import read_image
+from ..envmap import library as reference
+from ..envmap.imaging import read_image
 from .directions import average_over_texels
 from .projections import (direction_to_angular, direction_to_latlong, latlong_to_direction)
 

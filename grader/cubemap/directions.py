@@ -1,6 +1,6 @@
 """Texel averages weighted by solid angle, for the map generators.
 
-Directions, (u, v) and solid angles are grader/geometry.py's (the face table
+Directions, (u, v) and solid angles are grader/envmap/geometry.py's (the face table
 of docs/assignment.md, read off the reference library): with a = 2u - 1 and
 b = 2v - 1 the point (u, v) of a face is the direction below (major
 component +-1), as tests/unit/cubemap/test_cubemap.py checks against the handout.
@@ -15,10 +15,10 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-# The geometry lives in grader/geometry.py (on the reference library); these
+# The geometry lives in grader/envmap/geometry.py (on the reference library); these
 # names are re-exported for the map generators and figures.
-from ..geometry import (FACE_NAMES, face_uv_to_direction, solid_angle_density, texel_centre_uv,  # noqa: F401
-                        texel_directions, texel_solid_angles)
+from ..envmap.geometry import (FACE_NAMES, face_uv_to_direction, solid_angle_density, texel_centre_uv,
+                               texel_directions, texel_solid_angles)  # noqa: F401
 
 
 DirectionFunction = Callable[[np.ndarray], np.ndarray]

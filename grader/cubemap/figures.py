@@ -19,10 +19,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .. import PROJECT_ROOT, reference  # noqa: E402
-from ..imaging import tone_map  # noqa: E402
+from .. import PROJECT_ROOT  # noqa: E402
+from ..envmap import library as reference
+from ..envmap.imaging import tone_map  # noqa: E402
 from .convert import faces_to_latlong  # noqa: E402
-from ..geometry import FACE_NAMES, cross_cells, face_frames, face_uv_to_direction  # noqa: E402
+from ..envmap.geometry import FACE_NAMES, cross_cells, face_frames, face_uv_to_direction  # noqa: E402
 
 FIGURES_DIR = PROJECT_ROOT / "docs" / "figures"
 CUBEMAP_DIR = PROJECT_ROOT / "Cubemap"

@@ -8,10 +8,10 @@ fixtures that hash it stay valid). Its self-check is the grader itself: the
 `grader` modules the self-check's entry point (selfcheck.py) imports, copied
 into the kit's selfcheck/ folder with the files they read, laid out as in
 the checkout. It grades the student's EnvironmentMap.cpp with
-grader.grade.grade(): the same build, worker, checks, scoring and reports.
+grader.grading.grade.grade(): the same build, worker, checks, scoring and reports.
 What differs is only where the lookup's answers come from: recorded at
 kit-build time on the kit's fixed public inputs (answers.py,
-grader.oracle.Replay) instead of the live C reference. No hidden check, no
+grader.envmap.oracle.Replay) instead of the live C reference. No hidden check, no
 secret, no secret-seeded input; speed is left out (it times the reference).
 """
 

@@ -1,7 +1,7 @@
 """The kit's reference answers: what the lookup answers on the kit's fixed
-public inputs, recorded at kit-build time (grader.oracle.Recorder) by running
+public inputs, recorded at kit-build time (grader.envmap.oracle.Recorder) by running
 the grader's own checks with the kit's seed, so that the kit can run those
-same checks (grader.oracle.Replay) without the lookup.
+same checks (grader.envmap.oracle.Replay) without the lookup.
 
 Almost every question a check asks depends on the seed alone (directions,
 (u, v) points, textures), not on the submission's answers, so one run down
@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import oracle, score
+from ..envmap import oracle
+from ..grading import score
 from ..checks import all_checks, run_checks
 from ..checks.context import CheckContext
 from ..checks.read_texture import FACES, WORKED_SIZE, sample_points, worked_case
@@ -62,13 +63,13 @@ def kit_checks() -> list:
 def record(path: Path, artifacts: Path, seed: int = KIT_SEED, quick: bool = False) -> int:
     """Record the answers into `path` (.npz); returns how many questions.
     `quick`: the checks' smaller sets (tests)."""
-    from ..geometry import face_frames
+    from ..envmap.geometry import face_frames
     face_frames.cache_clear()            # its probes are questions too
     recorder = oracle.Recorder(oracle.LiveReference())
     checks = kit_checks()
     with oracle.using(recorder):
         ctx = CheckContext(lookups=_AsTheHandout(recorder), seed=seed, artifacts=artifacts, quick=quick,
-                           settings=score.load_rubric().get("checks", {}))   # as grader.grade passes them
+                           settings=score.load_rubric().get("checks", {}))   # as grader.grading.grade passes them
         run_checks(checks, ctx, [c.name for c in checks])
         points = sample_points(*WORKED_SIZE, seed)
         for face in FACES:

@@ -74,7 +74,7 @@ NOT_FOLLOWED = ("grader.study",)
 # Files beside the modules that they read (grader-relative): the build's
 # shim (grader.build._shim_files), the worker's source (grader.worker.native).
 # The null submission and reference_submission.c serve only speed.
-GRADER_FILES = ("shim/shim.cpp", "shim/submission_abi.h", "worker/worker.c")
+GRADER_FILES = ("build/shim/shim.cpp", "build/shim/submission_abi.h", "worker/worker.c")
 # What the kit's rubric keeps of [grading] (never the secret); [checks] whole.
 GRADING_KEYS = ("language",)
 
@@ -161,7 +161,7 @@ def _toml_value(value) -> str:
         return json.dumps(value, ensure_ascii=False)   # a TOML basic string
     if isinstance(value, list):
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    raise KitError(f"grader/rubric.toml: the kit cannot write the value {value!r}")
+    raise KitError(f"grader/grading/rubric.toml: the kit cannot write the value {value!r}")
 
 
 def visible_rubric(rubric: dict) -> str:
@@ -170,7 +170,7 @@ def visible_rubric(rubric: dict) -> str:
     visible cannot ship (its code would): KitError."""
     hidden = [n for n, e in rubric.get("checks", {}).items() if e.get("visibility", "visible") != "visible"]
     if hidden:
-        raise KitError(f"grader/rubric.toml: {', '.join(hidden)} {'is' if len(hidden) == 1 else 'are'} not visible; "
+        raise KitError(f"grader/grading/rubric.toml: {', '.join(hidden)} {'is' if len(hidden) == 1 else 'are'} not visible; "
                        "the kit runs the grader's own check code and cannot leave one out: make them visible "
                        "for the kit, or build it from a rubric without them")
     lines = ["# The course's rubric as the self-check uses it (written by grader/kit/build.py):",
@@ -191,14 +191,15 @@ def write_selfcheck(root: Path, artifacts: Path) -> None:
     """The kit's copy of the checkout under `root` (selfcheck/): the grader's
     modules and files, the renderer, the template's API, the render inputs
     and reference renders, the recorded answers."""
-    from .. import fixtures, i18n
+    from ..grading import fixtures
+    from .. import i18n
     from ..build import API_HEADERS
-    from ..score import load_rubric
+    from ..grading.score import load_rubric
     from . import answers, environment
     package = PROJECT_ROOT / "grader"
     for rel in grader_modules() + list(GRADER_FILES):
         _copy(package / rel, root / "grader" / rel)
-    (root / "grader" / "rubric.toml").write_text(visible_rubric(load_rubric()))
+    (root / "grader" / "grading" / "rubric.toml").write_text(visible_rubric(load_rubric()))
     i18n.compile_catalogues(root / i18n.LOCALE_DIR.relative_to(PROJECT_ROOT))   # .mo only: the kit has no Babel
     (root / "reference" / "include").mkdir(parents=True)
     (root / "reference" / "include" / "envmap.h").write_text(kit_header((REFERENCE / "include" / "envmap.h").read_text()))
@@ -232,7 +233,7 @@ def _copy_template(dest: Path) -> list[Path]:
 
 def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
     """Write the kit into `out` (replaced) and `out`.zip; returns both."""
-    from .. import reference
+    from ..envmap import library as reference
 
     out = Path(out)
     zip_path = Path(zip_path) if zip_path else out.with_suffix(".zip")

@@ -33,8 +33,8 @@ REQUIREMENTS_NAME = "requirements-kit.txt"
 # requirements.txt); their dependencies follow from the lock.
 KIT_PACKAGES = (
     "numpy",            # everything
-    "cffi",             # grader.reference, which grader.oracle and the checks import
-    "OpenImageIO",      # grader.imaging: images in and out; the arrows picture's resizing and text
+    "cffi",             # grader.envmap.library, which grader.envmap.oracle and the checks import
+    "OpenImageIO",      # grader.envmap.imaging: images in and out; the arrows picture's resizing and text
     "flip-evaluator",   # the render check's FLIP
     "markdown-it-py",   # report.html's tables and summary
     "rich",             # the terminal summary (grader.reports.terminal); with pygments, 6.5 MB

@@ -4,12 +4,12 @@
 
 run from the kit's root (`make selfcheck` does, through selfcheck/bootstrap.py,
 with the kit's copy of the grader, selfcheck/grader/, on PYTHONPATH). It
-grades the kit's EnvironmentMap.cpp with grader.grade.grade(), the grader's
+grades the kit's EnvironmentMap.cpp with grader.grading.grade.grade(), the grader's
 own path: the same build (a refused source is refused the same way), the
 worker, the checks the rubric makes visible (speed left out), the rubric's
 points and the grader's report writers. Two things differ from grading on
 submission, and only these: the lookup's answers come from the recording
-made when the kit was built (grader.oracle.Replay; the kit holds no lookup),
+made when the kit was built (grader.envmap.oracle.Replay; the kit holds no lookup),
 so the inputs are the kit's public ones (seed KIT_SEED, no secret); and the
 worker runs without a sandbox where this machine has none (the student's
 own code on the student's own machine), in bubblewrap where it has one.
@@ -41,8 +41,8 @@ REPORTS = ("results.json", "report.html", "report.md", "junit.xml")
 def kit_options(rubric: Path | None = None, lang: str | None = None):
     """The GradeOptions of the self-check: those of `grade --kit-inputs`, and
     a worker that may run unconfined where no isolation is possible."""
-    from ..grade import GradeOptions
-    from ..score import load_rubric
+    from ..grading.grade import GradeOptions
+    from ..grading.score import load_rubric
     options = GradeOptions(sandbox=None, allow_unsafe=True, include_hidden=False, seed=KIT_SEED, lang=lang)
     if rubric is not None:
         options.rubric = rubric
@@ -87,10 +87,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"selfcheck: {', '.join(edited)} here {'is' if len(edited) == 1 else 'are'} not the course's: the "
               "self-check, like grading, compiles EnvironmentMap.cpp with the course's copies "
               "(selfcheck/student_template/).", file=sys.stderr)
-    from .. import oracle
-    from ..grade import grade
+    from ..envmap import oracle
+    from ..grading.grade import grade
     from ..reports.terminal import print_summary
-    from ..results import BUILD_ERROR, UNGRADABLE
+    from ..grading.results import BUILD_ERROR, UNGRADABLE
     with oracle.using(oracle.Replay(PROJECT_ROOT / ANSWERS)):
         result = grade(args.source, args.out, kit_options(lang=args.lang))
     shutil.copyfile(args.out / "results.json", args.out / SUMMARY)

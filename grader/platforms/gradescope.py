@@ -123,8 +123,8 @@ def _add(z: zipfile.ZipFile, arcname: str, data: bytes, executable: bool = False
     z.writestr(info, data)
 
 
-DEFAULT_SECRET = "change-me-per-course"   # grader/rubric.toml as shipped
-RUBRIC = "grader/rubric.toml"
+DEFAULT_SECRET = "change-me-per-course"   # grader/grading/rubric.toml as shipped
+RUBRIC = "grader/grading/rubric.toml"
 
 
 def course_secret_problem() -> str | None:
@@ -138,7 +138,7 @@ def course_secret_problem() -> str | None:
     secret = tomllib.loads((PROJECT_ROOT / RUBRIC).read_text()).get("grading", {}).get("secret", "")
     if secret in ("", DEFAULT_SECRET):
         return ("the course secret is the public default: set GRADER_SECRET (it is written into the "
-                "bundle's rubric) or [grading] secret in grader/rubric.toml before uploading")
+                "bundle's rubric) or [grading] secret in grader/grading/rubric.toml before uploading")
     return None
 
 

@@ -39,7 +39,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from ..results import GradeResult
+from ..grading.results import GradeResult
 from . import gradescope_json, html, junit, markdown
 from .view import build_view
 

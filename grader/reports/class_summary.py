@@ -22,7 +22,7 @@ from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
-from ..results import GRADED, UNGRADABLE
+from ..grading.results import GRADED, UNGRADABLE
 from .text import clean, md_code, md_escape, md_fence, points
 
 HISTOGRAM = "summary_histogram.png"
@@ -153,7 +153,7 @@ def first_diagnosis(row) -> str:
 
 
 def _diagnosis_title(d: str) -> str:
-    from ..diagnoses import describe
+    from ..grading.catalogue import describe
     try:
         return describe(d).title
     except KeyError:   # an id from an older grader's results.json

@@ -39,7 +39,7 @@ import math
 from pathlib import Path
 
 from ..i18n import N_, _
-from ..results import BUILD_ERROR, ERROR, PASSED, SKIPPED, CheckResult, GradeResult
+from ..grading.results import BUILD_ERROR, ERROR, PASSED, SKIPPED, CheckResult, GradeResult
 from . import markdown
 from .text import clean, inert_markdown, md_escape, truncate_middle
 from .view import (ISOLATION_TEXT, ReportView, build_view, check_label, check_output, group_diagnoses,

@@ -18,7 +18,7 @@ from pathlib import Path
 from markdown_it import MarkdownIt
 
 from ..i18n import N_, Translated, _, language, ngettext
-from ..results import BUILD_ERROR, UNGRADABLE, CheckResult
+from ..grading.results import BUILD_ERROR, UNGRADABLE, CheckResult
 from .markdown import FINDINGS_SHOWN, all_correct, check_points, mistake_counts, mistake_heading
 from .text import clean, figure, inert_markdown, points, seconds, truncate_middle
 from .view import (GLOSSARY, STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,

@@ -16,8 +16,8 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 from ..i18n import _
-from ..results import BUILD_ERROR
-from ..diagnoses import describe
+from ..grading.results import BUILD_ERROR
+from ..grading.catalogue import describe
 from .text import clean, points, truncate_middle
 from .view import (STATE_ERROR, STATE_INFO, STATE_PASSED, STATE_SKIPPED, TEXT_LIMIT,
                    ReportView, check_output, check_state, mismatch_groups)

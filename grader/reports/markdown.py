@@ -14,7 +14,7 @@ from __future__ import annotations
 from html import escape
 
 from ..i18n import _, ngettext
-from ..results import BUILD_ERROR, GRADED, CheckResult
+from ..grading.results import BUILD_ERROR, GRADED, CheckResult
 from .text import clean, inert_markdown, md_code, md_escape, md_fence, points, truncate_middle
 from .view import (GLOSSARY, STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
                    STATE_PASSED, STATE_SKIPPED, TEXT_LIMIT, DiagnosisGroup, ReportView,

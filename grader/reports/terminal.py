@@ -14,7 +14,7 @@ from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
 
-from ..results import BUILD_ERROR, GradeResult
+from ..grading.results import BUILD_ERROR, GradeResult
 from .text import points, seconds
 from .markdown import check_points
 from .view import (STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,

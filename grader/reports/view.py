@@ -14,11 +14,10 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from .. import diagnoses as catalogue
+from ..grading import catalogue as catalogue
 from ..i18n import N_, Translated, _
-from ..results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED,
-                       TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult,
-                       TexelHit)
+from ..grading.results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED, TIMEOUT, UNGRADABLE,
+                               CheckResult, Diagnosis, GradeResult, TexelHit)
 from .text import clean, figure, tidy_numbers, truncate_middle
 
 VISIBLE = "visible"

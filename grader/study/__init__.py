@@ -9,7 +9,7 @@
     chart          error against time per lookup, the Pareto front, extra points
     run            the whole study: rows for the CSV and the chart
 
-Directions <-> (face, u, v) and solid angles come from grader/geometry.py
+Directions <-> (face, u, v) and solid angles come from grader/envmap/geometry.py
 (on the reference library), like everywhere else.
 `python -m grader study` (grader/commands/study.py) runs it; docs/study.md
 reads the result.

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry import face_uv_to_direction, normalize
+from ..envmap.geometry import face_uv_to_direction, normalize
 from .ground_truth import AnalyticEnvironment
 
 SMOOTH_MARGIN_TEXELS = 3

@@ -2,7 +2,7 @@
 averaged over the texel's solid angle (not a point sample at its centre).
 
 On a face plane at distance 1 the solid angle is dOmega = J(a, b) da db with
-J = 1 / (1 + a^2 + b^2)^(3/2) (grader.geometry.solid_angle_density, which is
+J = 1 / (1 + a^2 + b^2)^(3/2) (grader.envmap.geometry.solid_angle_density, which is
 dOmega / (du dv) = 4 J), so a texel's
 value is  sum w_i J_i L_i / sum w_i J_i  over quadrature points in the texel.
 
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import PROJECT_ROOT
-from ..geometry import face_plane_to_direction, normalize, solid_angle_density
+from ..envmap.geometry import face_plane_to_direction, normalize, solid_angle_density
 from .ground_truth import AnalyticEnvironment
 
 CACHE_DIR = PROJECT_ROOT / "build" / "study"

@@ -18,7 +18,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..geometry import FACE_NAMES
+from ..envmap.geometry import FACE_NAMES
 
 SIDE_OFFSET = 1e-9          # relative distance of the two sides from the edge
 SAMPLES_PER_TEXEL = 8       # points along each edge, per texel of its length
@@ -32,7 +32,7 @@ def _as_lookup(cube, method) -> Callable[[np.ndarray], np.ndarray]:
     """A lookup dirs -> rgb from a filter name over cube (faces or CubeMap), or a callable."""
     if callable(method):
         return method
-    from ..reference import CubeMap
+    from ..envmap.library import CubeMap
     cube = cube if isinstance(cube, CubeMap) else CubeMap(np.asarray(cube))
     return lambda dirs: cube.fetch(dirs, method)
 
@@ -77,7 +77,7 @@ def seam_jump(cube, method="bilinear", offset: float = SIDE_OFFSET) -> dict[str,
     """Largest colour jump across each of the 12 edges, {"+X/+Y": jump, ...}.
     `method` is a filter name of the reference ("nearest", "bilinear",
     "seamless") or a lookup callable dirs -> rgb; cube is faces (6, N, N, 3)
-    or a grader.reference.CubeMap."""
+    or a grader.envmap.library.CubeMap."""
     lookup = _as_lookup(cube, method)
     count = SAMPLES_PER_TEXEL * _face_size(cube)
     out = {}
@@ -131,7 +131,7 @@ def boundary_uv_behaviour(cube, filter_name: str) -> dict:
     """read_texture at u or v exactly 0 and 1 (reference filters only): the
     largest difference from the limit 1e-12 inside, and whether u = 1 and
     v = 1 read the last column/row (not past it)."""
-    from ..reference import CubeMap
+    from ..envmap.library import CubeMap
     cube = cube if isinstance(cube, CubeMap) else CubeMap(np.asarray(cube))
     size = cube.face_width
     t = (np.arange(4 * size) + 0.5) / (4 * size)

@@ -16,7 +16,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..geometry import normalize
+from ..envmap.geometry import normalize
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ interface; a submission enters the study the same way (submission_method),
 with an optional timer of its own when its calls cross a process boundary
 (the isolated worker) and the time should be measured on the far side.
 
-    nearest, bilinear, seamless   the reference C (grader.reference), batch API
+    nearest, bilinear, seamless   the reference C (grader.envmap.library), batch API
     numpy-bilinear                the handout's bilinear, vectorised numpy (peer)
     oiio-latlong                  OpenImageIO TextureSystem.environment on a
                                   lat-long conversion of the same map (peer)
@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..geometry import direction_to_face_uv, face_plane_to_direction
+from ..envmap.geometry import direction_to_face_uv, face_plane_to_direction
 from ..i18n import N_
 
 Lookup = Callable[[np.ndarray], np.ndarray]
@@ -45,7 +45,7 @@ class Method:
 
 def reference_method(filter_name: str) -> Method:
     def bind(faces):
-        from ..reference import CubeMap
+        from ..envmap.library import CubeMap
         cube = CubeMap(faces)
         return lambda dirs: cube.fetch(dirs, filter_name)
     # Marked: the chart shows a method's label in the student's language (grader/study/chart.py).
@@ -155,7 +155,7 @@ def oiio_method(work_dir: Path) -> Method:
     per lookup (run.py measures that overhead separately)."""
     def bind(faces):
         import OpenImageIO as oiio
-        from ..reference import CubeMap
+        from ..envmap.library import CubeMap
         size = faces.shape[1]
         dirs = latlong_directions(2 * size)
         latlong = CubeMap(faces).fetch(dirs.reshape(-1, 3), "seamless")

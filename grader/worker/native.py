@@ -16,10 +16,14 @@ from pathlib import Path
 
 from .. import PROJECT_ROOT
 
-SOURCES = [Path(__file__).with_name("worker.c"), PROJECT_ROOT / "grader" / "shim" / "submission_abi.h"]
+ABI_DIR = PROJECT_ROOT / "grader" / "build" / "shim"
+SOURCES = [Path(__file__).with_name("worker.c"), ABI_DIR / "submission_abi.h"]
 BINARY = PROJECT_ROOT / "build" / "worker"
 CC = os.environ.get("CC", "cc")
-CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"]
+# worker.c includes "../shim/submission_abi.h", written when shim/ sat beside
+# worker/; -iquote ABI_DIR finds it there (ABI_DIR/../shim) until that line
+# names ../build/shim/ (worker.c is being split on another branch).
+CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", f"-iquote{ABI_DIR}"]
 # Full RELRO: the worker's GOT is read-only before the submission is loaded,
 # and the seccomp filter keeps it so (a submission once redirected the
 # worker's clock_gettime through it).

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../shim/submission_abi.h"
+#include "../build/shim/submission_abi.h"
 
 int sub_abi_version(void) { return SUB_ABI_VERSION; }
 void *sub_create(char *message, size_t size) { (void)message; (void)size; return malloc(1); }

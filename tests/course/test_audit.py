@@ -276,7 +276,7 @@ def _wrong_m_mutants() -> list[Mutant]:
 def test_weakened_rubric_lets_mutants_through_and_the_audit_names_them(tmp_path, reference_library):
     from grader.course.audit import run_audit
     weak = tmp_path / "rubric-without-sweep-and-stability.toml"
-    text = (PROJECT_ROOT / "grader" / "rubric.toml").read_text()
+    text = (PROJECT_ROOT / "grader" / "grading" / "rubric.toml").read_text()
     for check in ("fetch_sweep", "stability"):
         text, n = re.subn(rf"(\[checks\.{check}\]\npoints = )\d+", r"\g<1>0", text)
         assert n == 1

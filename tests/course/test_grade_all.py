@@ -27,7 +27,7 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.course.grade_all import RECORD_FILE, Row, find_submissions, skipped_entries, write_gradebook
-from grader.score import RUBRIC, load_rubric
+from grader.grading.score import RUBRIC, load_rubric
 from grader.reports.gradescope_json import load_schema
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole classes

@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from grader import fixtures, reference
-from grader.grade import GradeOptions, grade
-from grader.results import BUILD_ERROR, GRADED, TIMEOUT
+from grader.grading import fixtures
+from grader.envmap import library as reference
+from grader.grading.grade import GradeOptions, grade
+from grader.grading.results import BUILD_ERROR, GRADED, TIMEOUT
 from grading_cache import grade_once
 from project_paths import PROJECT_ROOT, SUBMISSIONS
 from cases import cases

@@ -22,10 +22,10 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions
+from grader.grading.grade import GradeOptions
 from grading_cache import grade_once   # each (file, options) graded once a session
 from zoo_truth import Zoo
-from grader.results import GRADED
+from grader.grading.results import GRADED
 from project_paths import SUBMISSIONS
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # grades whole submissions

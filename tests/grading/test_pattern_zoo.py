@@ -29,7 +29,7 @@ from fake_lookups import FakeLookups
 from grader.checks.instruments import face_recovery
 from grader.checks.instruments.texture_model import HANDOUT, Fit
 from zoo_truth import Zoo
-from grader.results import GRADED, PASSED
+from grader.grading.results import GRADED, PASSED
 from project_paths import SUBMISSIONS
 
 HERE = SUBMISSIONS
@@ -155,7 +155,7 @@ def test_every_pattern_submission_has_its_truth():
 @pytest.mark.sandbox
 @pytest.mark.parametrize("name", NAMES)
 def test_pattern_submission_is_diagnosed_exactly(name, tmp_path):
-    from grader.grade import GradeOptions
+    from grader.grading.grade import GradeOptions
     from grading_cache import grade_once
     result = grade_once(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
     assert result.status == GRADED
@@ -170,7 +170,7 @@ def test_pattern_submission_is_diagnosed_exactly(name, tmp_path):
 @pytest.mark.sandbox
 @pytest.mark.parametrize("name", [n for n in NAMES if with_handout_read(n) is not None])
 def test_a_wrong_read_texture_costs_the_pattern_at_most_a_point(name, tmp_path):
-    from grader.grade import GradeOptions
+    from grader.grading.grade import GradeOptions
     from grading_cache import grade_once
     control = tmp_path / "control" / "EnvironmentMap.cpp"
     control.parent.mkdir()
@@ -188,7 +188,7 @@ def test_a_wrong_read_texture_costs_the_pattern_at_most_a_point(name, tmp_path):
 @pytest.mark.sandbox
 @pytest.mark.parametrize("path", CORRECT, ids=lambda p: p.stem)
 def test_no_correct_submission_gets_a_pattern(path, tmp_path):
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     result = grade(path, tmp_path, GradeOptions(quick=True, only=("diagnosis",)), write_reports=False)
     assert result.status == GRADED
     assert {d.id for d in result.diagnoses} & PATTERN_IDS == set()
@@ -218,7 +218,7 @@ def privilege_drop(tmp_path, monkeypatch):
 ])
 def test_a_pattern_reads_the_same_in_privilege_drop_mode_and_in_japanese(privilege_drop, tmp_path, name, title):
     from grader import i18n
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     before = i18n.language()
     try:
         result = grade(ZOO / f"{name}.cpp", tmp_path / "out", GradeOptions(quick=True, lang="ja"))

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions
+from grader.grading.grade import GradeOptions
 from grading_cache import grade_once
 from grader.platforms.prairielearn import results_from
 from grader.reports import render_all
@@ -127,7 +127,7 @@ def test_a_mistake_has_one_count_in_every_place(graded, name, check):
 
 
 def test_the_renamed_id_says_what_is_missing():
-    from grader import diagnoses
+    from grader.grading import catalogue as diagnoses
     info = diagnoses.describe("not-divided-by-m")
     assert "divide by m" in info.title
     assert diagnoses.describe("not-normalized") is info          # the kit's old id still reads

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader import reference
+from grader.envmap import library as reference
 from grader.worker.runner import Failure, Outcome
 
 FACES = reference.FACE_NAMES

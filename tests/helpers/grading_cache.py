@@ -3,7 +3,7 @@
 Many test files grade the same zoo submission with the same options (the
 zoo's verdicts, the word counts, the Japanese reports, a control beside an
 attack): each such grading takes seconds. `grade_once` has
-grader.grade.grade's signature and answers with the GradeResult of the first
+grader.grading.grade.grade's signature and answers with the GradeResult of the first
 such grading in this session, whichever xdist worker ran it: the grading is
 done once, under a file lock, in a folder all workers share
 (tests/helpers/session_once.py; outside a test session every call grades).
@@ -29,10 +29,11 @@ import os
 import shutil
 from pathlib import Path
 
-from grader import i18n, score
-from grader.grade import GradeOptions, grade
-from grader.results import GradeResult
-from grader.submissions import student_name
+from grader import i18n
+from grader.grading import score
+from grader.grading.grade import GradeOptions, grade
+from grader.grading.results import GradeResult
+from grader.intake import student_name
 from grader.worker import sandbox
 
 import session_once
@@ -68,7 +69,7 @@ def grading_key(submission: Path, options: GradeOptions) -> str:
 
 def grade_once(submission: Path, out_dir: Path, options: GradeOptions | None = None,
                write_reports: bool = True) -> GradeResult:
-    """grader.grade.grade, done once per key in this session (see above)."""
+    """grader.grading.grade.grade, done once per key in this session (see above)."""
     if session_once.FOLDER is None:
         return grade(submission, out_dir, options, write_reports)
     submission, out_dir = Path(submission), Path(out_dir)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader import reference
+from grader.envmap import library as reference
 from grader.checks.instruments import texture_model as tm
 from grader.worker.runner import Failure, Outcome
 

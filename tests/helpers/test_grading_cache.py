@@ -10,8 +10,8 @@ from pathlib import Path
 import grading_cache
 import session_once
 from fake_bwrap import write_failing_bwrap
-from grader.grade import GradeOptions, grade
-from grader.results import BUILD_ERROR
+from grader.grading.grade import GradeOptions, grade
+from grader.grading.results import BUILD_ERROR
 from grader.worker import sandbox
 from grading_cache import grade_once, grading_key
 from project_paths import SUBMISSIONS

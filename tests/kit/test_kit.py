@@ -23,7 +23,7 @@ from fake_bwrap import write_failing_bwrap
 from grader import PROJECT_ROOT
 from grader.kit import NOT_IN_KIT
 from grader.kit.build import KitError, build_kit, grader_modules, kit_header, lookup_names, visible_rubric
-from grader.score import load_rubric
+from grader.grading.score import load_rubric
 
 from project_paths import TESTS
 CORRECT = sorted((TESTS / "submissions" / "correct").glob("*.cpp"))
@@ -105,10 +105,10 @@ def kit_files(folder: Path):
 # its library does not define (test_built_binaries_have_no_lookup_symbols);
 # two variable names of the face frames probed through the oracle (geometry).
 NAMED_NOT_HELD = {
-    "selfcheck/grader/reference.py": {"EM_FILTER_NEAREST", "em_cubemap_lookup", "em_cubemap_lookup_fn",
+    "selfcheck/grader/envmap/library.py": {"EM_FILTER_NEAREST", "em_cubemap_lookup", "em_cubemap_lookup_fn",
                                       "em_direction_to_face_batch", "em_fetch_batch", "em_filter",
                                       "em_read_texture_batch"},
-    "selfcheck/grader/geometry.py": {"u_axis", "v_axis"},
+    "selfcheck/grader/envmap/geometry.py": {"u_axis", "v_axis"},
 }
 
 
@@ -155,8 +155,8 @@ def test_the_kit_ships_the_graders_own_modules_and_nothing_more(kit):
     for rel in shipped:     # byte copies: the kit runs the grader's code, not a restatement of it
         assert (package / rel).read_bytes() == (PROJECT_ROOT / "grader" / rel).read_bytes(), rel
     # What the self-check runs is there, what it never runs is not.
-    for rel in ("kit/selfcheck.py", "grade.py", "build.py", "worker/runner.py", "reports/html.py", "diagnoses.py",
-                "checks/read_texture.py", "checks/renders.py", "oracle.py"):
+    for rel in ("kit/selfcheck.py", "grading/grade.py", "build/__init__.py", "worker/runner.py", "reports/html.py",
+                "grading/catalogue.py", "checks/read_texture.py", "checks/renders.py", "envmap/oracle.py"):
         assert rel in shipped, rel
     for rel in ("kit/build.py", "kit/answers.py", "cli.py", "commands/grade.py", "course/grade_all.py",
                 "platforms/gradescope.py", "study/chart.py", "kit/data.py"):
@@ -177,7 +177,7 @@ def test_kit_holds_no_secret_no_hidden_check_and_nothing_from_tests_or_examples(
         data = path.read_bytes()
         assert secret not in data, path
         assert hashlib.sha256(data).hexdigest() not in ours, f"{path} is a copy of {ours.get(hashlib.sha256(data).hexdigest())}"
-    shipped = tomllib.loads((kit.folder / "selfcheck" / "grader" / "rubric.toml").read_text())
+    shipped = tomllib.loads((kit.folder / "selfcheck" / "grader" / "grading" / "rubric.toml").read_text())
     assert "secret" not in json.dumps(shipped) and set(shipped) == {"grading", "checks"}
     assert shipped["checks"] == rubric["checks"]      # every check is visible today, with its points and settings
     assert shipped["grading"] == {"language": rubric["grading"]["language"]}

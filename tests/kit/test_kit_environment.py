@@ -101,11 +101,11 @@ def kit_site_packages(dest: Path) -> Path:
 CLOSURE_SCRIPT = """
 import sys
 sys.path[:0] = [{tests!r}, {root!r}]
-import grader.grade, grader.checks, grader.reports
-from grader import score
+import grader.grading.grade, grader.checks, grader.reports
+from grader.grading import score
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
-from grader.results import GradeResult
+from grader.grading.results import GradeResult
 from fake_lookups import FakeLookups
 from pathlib import Path
 out = Path({out!r})
@@ -172,11 +172,13 @@ def test_the_same_python_without_the_kit_links_cannot_import_the_grader(tmp_path
 def test_a_copy_of_the_grader_reads_its_compiled_catalogue_without_babel(tmp_path):
     copy = tmp_path / "kit" / "grader"
     copy.mkdir(parents=True)
-    for name in ("__init__.py", "i18n.py"):
+    for name in ("__init__.py", "i18n/__init__.py"):
+        (copy / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(PROJECT_ROOT / "grader" / name, copy / name)
-    written = i18n.compile_catalogues(copy / "locale")
-    assert written == [copy / "locale" / "ja" / "LC_MESSAGES" / "grader.mo"]
-    from grader.diagnoses import CATALOGUE
+    locale = copy / "i18n" / "locale"
+    written = i18n.compile_catalogues(locale)
+    assert written == [locale / "ja" / "LC_MESSAGES" / "grader.mo"]
+    from grader.grading.catalogue import CATALOGUE
     ids = [e.title_id for e in list(CATALOGUE.values())[:20]]
     babel = [i18n.translations("ja").gettext(i) for i in ids]
     assert sum(b != i for b, i in zip(babel, ids)) >= 15       # really translated
@@ -189,7 +191,7 @@ def test_a_copy_of_the_grader_reads_its_compiled_catalogue_without_babel(tmp_pat
         sys.meta_path.insert(0, NoBabel())
         sys.path.insert(0, {str(copy.parent)!r})
         from grader import i18n
-        assert i18n.LOCALE_DIR == __import__("pathlib").Path({str(copy / "locale")!r})
+        assert i18n.LOCALE_DIR == __import__("pathlib").Path({str(locale)!r})
         i18n.set_language("ja")
         print(json.dumps([i18n._(i) for i in {ids!r}]))
     """)

@@ -82,7 +82,7 @@ def test_an_edited_kit_gives_no_score(kit_alone, tmp_path):
     out = folder / "build" / "selfcheck"
     out.mkdir(parents=True)
     (out / "selfcheck.json").write_text(json.dumps({"score": 95}))      # an earlier run's
-    rubric = folder / "selfcheck" / "grader" / "rubric.toml"
+    rubric = folder / "selfcheck" / "grader" / "grading" / "rubric.toml"
     hidden = 0
     lines = rubric.read_text().splitlines()
     for i, line in enumerate(lines):
@@ -92,11 +92,11 @@ def test_an_edited_kit_gives_no_score(kit_alone, tmp_path):
                     lines[j], hidden = 'visibility = "hidden"', hidden + 1
     assert hidden >= 4
     rubric.write_text("\n".join(lines) + "\n")
-    score = folder / "selfcheck" / "grader" / "score.py"
+    score = folder / "selfcheck" / "grader" / "grading" / "score.py"
     score.write_bytes(score.read_bytes().replace(b"\n", b"\r\n"))
     done = selfcheck(folder)
     assert done.returncode != 0, done.stdout
-    assert "grader/rubric.toml" in done.stderr and "no score" in done.stderr, done.stderr
+    assert "grader/grading/rubric.toml" in done.stderr and "no score" in done.stderr, done.stderr
     assert "score.py" not in done.stderr, done.stderr
     assert not (out / "selfcheck.json").exists()
     assert "25 / 25" not in done.stdout

@@ -14,7 +14,7 @@ import pytest
 from skimage.io import imread
 
 from grader import PROJECT_ROOT
-from grader.reference import CubeMap, Scene, read_hdr
+from grader.envmap.library import CubeMap, Scene, read_hdr
 from project_paths import SUBMISSIONS
 
 TEMPLATE = PROJECT_ROOT / "student_template"
@@ -30,7 +30,7 @@ def test_template_holds_no_copy_of_the_reference():
 
 
 def test_the_interface_the_grader_compiles_against_is_there():
-    # grader/build.py compiles the student's file with student_template/*.h
+    # grader/build/__init__.py compiles the student's file with student_template/*.h
     # and EnvironmentMapLoader.cpp.
     for name in ("EnvironmentMap.h", "Vector3.h", "Color.h", "EnvironmentMapLoader.cpp", "EnvironmentMap.cpp"):
         assert (TEMPLATE / name).is_file(), name

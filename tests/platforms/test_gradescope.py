@@ -80,7 +80,7 @@ def test_zip_has_the_scripts_at_the_top_and_no_build_outputs(bundle):
     for script in ("setup.sh", "run_autograder"):
         assert script in infos
         assert (infos[script].external_attr >> 16) & 0o111, f"{script} is not executable"
-    for needed in ("grader/__main__.py", "grader/rubric.toml", "reference/include/envmap.h", "Makefile",
+    for needed in ("grader/__main__.py", "grader/grading/rubric.toml", "reference/include/envmap.h", "Makefile",
                    "requirements.txt", "fixtures/manifest.json", "student_template/EnvironmentMap.h"):
         assert needed in infos, needed
     parts = {p for name in infos for p in Path(name).parts}
@@ -215,8 +215,8 @@ def test_grader_that_cannot_start_still_leaves_valid_results(autograder, tmp_pat
 
 def test_leaderboard_is_off_in_the_shipped_rubric():
     from grader.platforms.gradescope import leaderboard_enabled
-    from grader.score import load_rubric
-    assert leaderboard_enabled(load_rubric(PROJECT_ROOT / "grader" / "rubric.toml")) is False
+    from grader.grading.score import load_rubric
+    assert leaderboard_enabled(load_rubric(PROJECT_ROOT / "grader" / "grading" / "rubric.toml")) is False
     assert leaderboard_enabled({"gradescope": {"leaderboard": True}}) is True
     assert leaderboard_enabled({"gradescope": {"leaderboard": "yes"}}) is False   # only a real true
 
@@ -238,7 +238,7 @@ def test_leaderboard_entries_need_both_axes():
 def test_leaderboard_in_results_when_the_rubric_turns_it_on(autograder, tmp_path):
     on = tmp_path / "on"
     shutil.copytree(autograder, on, symlinks=True)
-    rubric = on / "source" / "grader" / "rubric.toml"
+    rubric = on / "source" / "grader" / "grading" / "rubric.toml"
     text = rubric.read_text()
     assert "leaderboard = false" in text
     rubric.write_text(text.replace("leaderboard = false", "leaderboard = true"))
@@ -281,12 +281,12 @@ def test_the_bundle_carries_grader_secret_and_warns_about_the_public_default(tmp
     monkeypatch.setenv("GRADER_SECRET", 'per-course "quoted" secret')
     assert course_secret_problem() is None
     with zipfile.ZipFile(build_bundle(tmp_path / "secret.zip")) as z:
-        rubric = tomllib.loads(z.read("grader/rubric.toml").decode())
+        rubric = tomllib.loads(z.read("grader/grading/rubric.toml").decode())
     assert rubric["grading"]["secret"] == 'per-course "quoted" secret'
     assert rubric["checks"]          # the rest of the rubric is intact
     monkeypatch.delenv("GRADER_SECRET")
     with zipfile.ZipFile(build_bundle(tmp_path / "default.zip")) as z:
-        assert tomllib.loads(z.read("grader/rubric.toml").decode())["grading"]["secret"] == DEFAULT_SECRET
+        assert tomllib.loads(z.read("grader/grading/rubric.toml").decode())["grading"]["secret"] == DEFAULT_SECRET
     assert "GRADER_SECRET" in course_secret_problem()
     warned = subprocess.run([sys.executable, "-m", "grader", "gradescope", "--out", str(tmp_path / "cli.zip")],
                             cwd=PROJECT_ROOT, capture_output=True, text=True,
@@ -297,7 +297,7 @@ def test_the_bundle_carries_grader_secret_and_warns_about_the_public_default(tmp
 # ---- the student view, on hand-made results (no grading) -----------------------------------
 
 def made_result(**fields):
-    from grader.results import CheckResult, GradeResult
+    from grader.grading.results import CheckResult, GradeResult
     checks = [CheckResult("sweeps", "fetchColor picks the right face.", status="failed", fraction=0.5,
                           output="half of them", score=15, max_score=30),
               CheckResult("face_recovery", "fetchColor samples the face it exits through.", status="skipped",

@@ -192,12 +192,12 @@ def test_the_install_script_the_image_runs_parses():
 # ---- results.json in-process ----------------------------------------------------------------
 
 def test_the_graders_own_failure_is_not_gradable_and_shows_no_traceback(tmp_path, monkeypatch, capsys):
-    import grader.grade
+    import grader.grading.grade
     from grader.platforms.prairielearn import grade_prairielearn
 
     def broken(*args, **kwargs):
         raise RuntimeError("fixtures unreadable\n  File \"/secret/path.py\", line 1")
-    monkeypatch.setattr(grader.grade, "grade", broken)
+    monkeypatch.setattr(grader.grading.grade, "grade", broken)
     (tmp_path / "student").mkdir()
     (tmp_path / "student" / "EnvironmentMap.cpp").write_text("// anything\n")
     data = grade_prairielearn(tmp_path)
@@ -222,7 +222,7 @@ def test_pictures_are_budgeted_to_keep_the_file_under_one_megabyte(tmp_path):
     from PIL import Image
 
     from grader.platforms.prairielearn import MAX_IMAGE_BYTES, RESULTS_BUDGET, results_from
-    from grader.results import CheckResult, GradeResult
+    from grader.grading.results import CheckResult, GradeResult
     checks = []
     for i in range(7):
         noise = np.random.default_rng(i).integers(0, 256, (400, 400, 3), dtype=np.uint8)

@@ -13,7 +13,8 @@ from importlib import metadata
 from packaging.requirements import Requirement
 from packaging.utils import canonicalize_name
 
-from grader import PROJECT_ROOT, fixtures
+from grader import PROJECT_ROOT
+from grader.grading import fixtures
 
 LOCK = PROJECT_ROOT / "requirements.lock"
 

@@ -12,7 +12,7 @@ import OpenImageIO as oiio
 import pytest
 
 from grader import PROBES
-from grader.reference import EnvmapError, cross_to_faces, faces_to_cross, library, write_hdr
+from grader.envmap.library import EnvmapError, cross_to_faces, faces_to_cross, library, write_hdr
 
 PROBE_CROSSES = sorted(PROBES.glob("*_cross.hdr"))
 

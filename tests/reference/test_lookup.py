@@ -16,7 +16,7 @@ import pytest
 
 import assignment_model as model
 from grader import PROJECT_ROOT
-from grader.reference import FILTERS, CubeMap, direction_to_face, library
+from grader.envmap.library import FILTERS, CubeMap, direction_to_face, library
 
 SIDE = 16                     # face size of the random test maps: small, so seams matter
 RTOL = ATOL = 1e-12           # both sides compute in double from float texels
@@ -320,7 +320,7 @@ GUARDED_GARBAGE = textwrap.dedent("""
     # between two inaccessible pages: a read outside it is a crash.
     import ctypes, mmap, sys
     import numpy as np
-    from grader.reference import CubeMap, FILTERS
+    from grader.envmap.library import CubeMap, FILTERS
 
     page = mmap.PAGESIZE
     side = 32                                   # 6*32*32*3 floats = 18 pages of 4 KiB
@@ -375,7 +375,7 @@ def run_lookup_command(args, stdin: str) -> subprocess.CompletedProcess:
 
 @pytest.fixture
 def cross_file(tmp_path, cube):
-    from grader.reference import faces_to_cross, write_hdr
+    from grader.envmap.library import faces_to_cross, write_hdr
     path = tmp_path / "cube_cross.hdr"
     write_hdr(path, faces_to_cross(cube))
     return path

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.reference import EnvmapError, Escapes, CubeMap, Scene
+from grader.envmap.library import EnvmapError, Escapes, CubeMap, Scene
 
 # Distinct colours for faces +X -X +Y -Y +Z -Z.
 FACE_COLOURS = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1],
@@ -288,17 +288,17 @@ def test_glass_conserves_energy_in_a_white_environment(max_depth, bound):
     assert 1 - image.min() < bound
 
 
-# ---- writing renders: `python -m grader render` and grader.imaging ----------------------
+# ---- writing renders: `python -m grader render` and grader.envmap.imaging ----------------------
 
 def write_constant_cross(path, colours):
     """A vertical cross whose faces are constant colours (exact in RGBE)."""
-    from grader.reference import faces_to_cross, write_hdr
+    from grader.envmap.library import faces_to_cross, write_hdr
     write_hdr(path, faces_to_cross(constant_faces(colours).faces))
 
 
 def test_the_render_command_writes_what_the_reference_renders(tmp_path, capsys):
     from grader.cli import main
-    from grader.imaging import read_image, to_8bit, tone_map
+    from grader.envmap.imaging import read_image, to_8bit, tone_map
     colours = np.array([[0.5, 0.25, 1], [1, 2, 4], [0.125, 0.5, 0.5], [3, 1, 0.5], [0.75, 0.75, 0.25], [2, 0.5, 1]])
     (tmp_path / "maps").mkdir()
     write_constant_cross(tmp_path / "maps" / "m_cross.hdr", colours)
@@ -332,7 +332,7 @@ def test_the_render_command_reports_errors(tmp_path, capsys):
 
 
 def test_tone_map_is_reinhard_then_srgb():
-    from grader.imaging import tone_map
+    from grader.envmap.imaging import tone_map
     linear = np.array([[[0.0, 1.0, 3.0], [-1.0, np.nan, np.inf], [0.5, 0.002, 1e9]]], np.float32)
     # Worked by hand: 1 -> 1/2 -> 1.055 * 0.5^(1/2.4) - 0.055 = 0.73536;
     # 3 -> 3/4 -> 0.88083; 0.002 -> 0.001996 -> 12.92 * 0.001996 = 0.025790.
@@ -345,7 +345,7 @@ def test_tone_map_is_reinhard_then_srgb():
 
 
 def test_images_round_trip_through_their_files(tmp_path):
-    from grader.imaging import read_image, to_8bit, write_image
+    from grader.envmap.imaging import read_image, to_8bit, write_image
     image = np.random.default_rng(3).random((5, 7, 3), dtype=np.float32) * 8
     write_image(tmp_path / "a.exr", image)
     assert read_image(tmp_path / "a.exr").tobytes() == image.tobytes()

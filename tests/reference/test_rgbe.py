@@ -12,7 +12,7 @@ import OpenImageIO as oiio
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.reference import EnvmapError, read_hdr, read_hdr_bytes, write_hdr
+from grader.envmap.library import EnvmapError, read_hdr, read_hdr_bytes, write_hdr
 
 from grader import PROBES
 REAL_HDR_FILES = sorted(PROBES.glob("*.hdr")) + sorted((PROJECT_ROOT / "Cubemap").glob("*.hdr"))

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.reference import EnvmapError, Scene
+from grader.envmap.library import EnvmapError, Scene
 
 ENV = 'environment_light { filename = "map.hdr"; }\n'
 EM_ERR_IO, EM_ERR_TOO_LARGE, EM_ERR_SCENE = -1, -4, -8

@@ -1,4 +1,4 @@
-"""Privilege-drop mode's confinement of the compiler (grader/build_confinement.py):
+"""Privilege-drop mode's confinement of the compiler (grader/build/compiler.py):
 the build uid's view is asked of the kernel (a shell and find running as
 that uid), the folders we own are closed, and when they cannot be nothing
 is built. Layouts live in a folder of /tmp made 0755: mkdtemp's 0700
@@ -12,9 +12,10 @@ from pathlib import Path
 
 import pytest
 
-from grader import build, build_confinement
+from grader import build
+from grader.build import compiler as build_confinement
 from grader.build import BUILD_GID, BUILD_UID, HarnessBuildError, build_submission
-from grader.build_confinement import BuildConfinementError, ensure_confined, readable_by, readable_tree
+from grader.build.compiler import BuildConfinementError, ensure_confined, readable_by, readable_tree
 from project_paths import SUBMISSIONS
 
 pytestmark = pytest.mark.skipif(os.geteuid() != 0, reason="needs root (to run as the build uid)")
@@ -26,9 +27,9 @@ def layout(monkeypatch):
     """An /autograder-like root, world-readable as an image's files are."""
     top = Path(tempfile.mkdtemp(prefix="confinement-"))
     root = top / "autograder"
-    for folder in ("source/grader", "submission", "results"):
+    for folder in ("source/grader/grading", "submission", "results"):
         (root / folder).mkdir(parents=True)
-    (root / "source" / "grader" / "rubric.toml").write_text('secret = "s3cret"\n')
+    (root / "source" / "grader" / "grading" / "rubric.toml").write_text('secret = "s3cret"\n')
     (root / "submission" / "EnvironmentMap.cpp").write_bytes(GOOD)
     (root / "submission_metadata.json").write_text("{}")
     for path in [top, *top.rglob("*")]:
@@ -42,19 +43,19 @@ def layout(monkeypatch):
 
 def test_the_probe_asks_the_kernel(layout):
     private = layout / "submission_metadata.json"
-    public = layout / "source" / "grader" / "rubric.toml"
+    public = layout / "source" / "grader" / "grading" / "rubric.toml"
     private.chmod(0o600)
     assert readable_by(BUILD_UID, BUILD_GID, [private, public, layout]) == [public, layout]
 
 
 def test_a_readable_layout_is_closed_before_a_build(layout, tmp_path):
     before = readable_tree(BUILD_UID, BUILD_GID, [layout])
-    assert {layout / "source" / "grader" / "rubric.toml", layout / "submission" / "EnvironmentMap.cpp",
+    assert {layout / "source" / "grader" / "grading" / "rubric.toml", layout / "submission" / "EnvironmentMap.cpp",
             layout / "submission_metadata.json"} <= set(before)
     ensure_confined(layout / "submission", tmp_path / "cache")
     assert readable_tree(BUILD_UID, BUILD_GID, [layout]) == []
     assert os.stat(layout).st_mode & 0o777 == 0o750     # only "other" lost access
-    assert (layout / "source" / "grader" / "rubric.toml").read_text()   # root still reads it
+    assert (layout / "source" / "grader" / "grading" / "rubric.toml").read_text()   # root still reads it
 
 
 def test_when_our_files_cannot_be_closed_nothing_is_built(layout, tmp_path, monkeypatch):
@@ -74,7 +75,7 @@ def test_when_our_files_cannot_be_closed_nothing_is_built(layout, tmp_path, monk
 
 def test_a_grading_that_cannot_confine_is_ungradable_and_says_why(layout, tmp_path, monkeypatch):
     # The instructor reads what to close, not "could not build its own files".
-    from grader import grade as grading
+    from grader.grading import grade as grading
     monkeypatch.setattr(build_confinement, "_close", lambda root: None)
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
     source = layout / "submission" / "EnvironmentMap.cpp"

@@ -23,7 +23,7 @@ def test_headers_and_build_folder_are_visible_and_the_folder_writable(tmp_path):
     assert (tmp_path / "out.txt").read_text() == "ok\n"
 
 
-@pytest.mark.parametrize("secret", ["fixtures/manifest.json", "grader/rubric.toml", "reference/src/lookup.c"])
+@pytest.mark.parametrize("secret", ["fixtures/manifest.json", "grader/grading/rubric.toml", "reference/src/lookup.c"])
 def test_the_rest_of_the_project_is_not_there(tmp_path, secret):
     assert (PROJECT_ROOT / secret).exists()
     assert inside(tmp_path, f"test -e {PROJECT_ROOT / secret}").returncode != 0

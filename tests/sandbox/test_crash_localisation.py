@@ -16,7 +16,7 @@ import pytest
 from grader import PROJECT_ROOT
 from grader.worker import SubmissionRunner, sandbox
 
-ABI_DIR = PROJECT_ROOT / "grader" / "shim"
+ABI_DIR = PROJECT_ROOT / "grader" / "build" / "shim"
 SANDBOX_PROBLEM = sandbox.sandbox_problem()
 MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(
     SANDBOX_PROBLEM is not None, reason=f"no sandbox here: {SANDBOX_PROBLEM}"))]
@@ -310,7 +310,7 @@ def test_a_submission_crashing_only_at_u_or_v_one_loses_only_those_inputs(tmp_pa
     """Issue 19: a crash at the face's edge cost a worker start per input and,
     past the failed-run budget, the rest of each batch (20,000 inputs)."""
     from grader.build import build_submission
-    from grader.reference import CubeMap
+    from grader.envmap.library import CubeMap
     source = tmp_path / "EnvironmentMap.cpp"
     source.write_text(EDGE_CRASH)
     built = build_submission(source, cache_dir=tmp_path / "cache")

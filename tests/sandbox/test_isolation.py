@@ -25,14 +25,14 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.build import build_submission
-from grader.reference import CubeMap
+from grader.envmap.library import CubeMap
 from grader.worker import sandbox
 from grader.worker.lookups import open_lookups
 from project_paths import SUBMISSIONS
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
 
-ABI_DIR = PROJECT_ROOT / "grader" / "shim"
+ABI_DIR = PROJECT_ROOT / "grader" / "build" / "shim"
 CORRECT = SUBMISSIONS / "correct" / "axis_table.cpp"
 PYTHON = sys.executable
 root_only = pytest.mark.skipif(os.geteuid() != 0, reason="privilege-drop mode needs root")

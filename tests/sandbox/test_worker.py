@@ -1,7 +1,7 @@
 """grader/worker: the worker process, its protocol, guard pages, limits and
 sandbox, driven by a small stand-in library written in C right here (it
-implements grader/shim/submission_abi.h directly, so these tests do not depend
-on the C++ build) and by the correct C++ solution built by grader/build.py.
+implements grader/build/shim/submission_abi.h directly, so these tests do not depend
+on the C++ build) and by the correct C++ solution built by grader/build/__init__.py.
 
 The stand-in's lookups do what (u, v) or the direction tell them to:
 readTexture returns addr[int(u)] (so u picks any float offset, in bounds or
@@ -19,12 +19,12 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.build import build_submission
-from grader.reference import CubeMap
+from grader.envmap.library import CubeMap
 from grader.worker import (SubmissionFailure, SubmissionRunner, Worker, WorkerHarnessError,
                            describe_fetch, describe_read_texture, protocol, sandbox)
 from project_paths import SUBMISSIONS
 
-ABI_DIR = PROJECT_ROOT / "grader" / "shim"
+ABI_DIR = PROJECT_ROOT / "grader" / "build" / "shim"
 CORRECT = SUBMISSIONS / "correct" / "axis_table.cpp"
 SANDBOX_PROBLEM = sandbox.sandbox_problem()
 MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(

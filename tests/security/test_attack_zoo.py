@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions, grade
-from grader.results import UNGRADABLE
+from grader.grading.grade import GradeOptions, grade
+from grader.grading.results import UNGRADABLE
 from fake_bwrap import write_failing_bwrap
 from project_paths import SUBMISSIONS
 from cases import cases

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from grader.build import build_submission
-from grader.reference import CubeMap
+from grader.envmap.library import CubeMap
 from grader.worker import Limits, SubmissionRunner, sandbox_problem
 from project_paths import SUBMISSIONS
 

@@ -26,8 +26,8 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.build import BUILD_GID, BUILD_UID
-from grader.build_confinement import readable_tree
-from grader.diagnoses import CATALOGUE
+from grader.build.compiler import readable_tree
+from grader.grading.catalogue import CATALOGUE
 from grader.platforms.gradescope import build_bundle
 
 pytestmark = [pytest.mark.slow,

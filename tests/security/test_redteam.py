@@ -6,7 +6,7 @@ Attacks that worked before (and the fix):
 - warning_flood: a macro repeating `#pragma GCC warning` made the compiler
   print gigabytes, all held in the grader's memory (4.8 GB RSS for 1 GB) and
   written to the build cache, and the submission still scored 100. Now the
-  compiler is stopped at 4 MiB of messages (grader/build.py `_read_capped`).
+  compiler is stopped at 4 MiB of messages (grader/build/__init__.py `_read_capped`).
 - ballast: 240 MiB of zeros in .data (a 4 KiB source) made a 240 MiB
   library, stored in the build cache and copied into every worker's folder;
   it scored 100. Now a library over 64 MiB is refused (forbidden-object).
@@ -17,7 +17,7 @@ Attacks that worked before (and the fix):
   live (grader/checks/speed.py, timing-faces-wrong).
 - black_on_axes: wrong on 6 of ~127,000 sweep directions scored 30 / 30 on
   a *failed* check (rounding to 0.01 point). Now a failed check never shows
-  full points (grader/score.py).
+  full points (grader/grading/score.py).
 - terminal_escapes: an exception's text reached the terminal summary with
   its ANSI escapes (cursor up, erase line: the score line can be
   overwritten), and right-to-left overrides reached every report. Now
@@ -56,13 +56,13 @@ import numpy as np
 import pytest
 
 from grader.build import build_submission
-from grader.grade import GradeOptions, grade
-from grader.reference import CubeMap
-from grader.results import FAILED, GRADED, PASSED, UNGRADABLE, CheckResult, GradeResult
+from grader.grading.grade import GradeOptions, grade
+from grader.envmap.library import CubeMap
+from grader.grading.results import FAILED, GRADED, PASSED, UNGRADABLE, CheckResult, GradeResult
 from grader.worker import Limits, SubmissionRunner, WorkerHarnessError, sandbox, sandbox_problem
 from project_paths import SUBMISSIONS
 
-CAP_BYTES = 4 << 20    # grader.build_messages.MAX_COMPILER_OUTPUT_BYTES
+CAP_BYTES = 4 << 20    # grader.build.messages.MAX_COMPILER_OUTPUT_BYTES
 REDTEAM = SUBMISSIONS / "redteam"
 SYNTAX_ERROR = SUBMISSIONS / "wrong" / "syntax-error.cpp"
 PROBLEM = sandbox_problem()
@@ -116,7 +116,7 @@ def test_a_huge_library_is_refused_and_not_cached(tmp_path):
 # ---- score: a failed check never shows full points --------------------------------
 
 def test_a_failed_check_never_rounds_up_to_full_points():
-    from grader import score
+    from grader.grading import score
     rubric = {"checks": {"sweep": {"points": 30, "partial": "fraction"}, "speed": {"points": 5, "partial": "all"},
                          "ok": {"points": 10, "partial": "fraction"}}}
     result = GradeResult("x", checks=[CheckResult("sweep", "S", FAILED, fraction=1 - 6 / 126_662),

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions
-from grader.results import FAILED, GRADED
+from grader.grading.grade import GradeOptions
+from grader.grading.results import FAILED, GRADED
 from grader.worker import sandbox
 from fake_bwrap import write_failing_bwrap
 from grading_cache import grade_once

@@ -28,8 +28,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions, grade
-from grader.results import FAILED, GRADED
+from grader.grading.grade import GradeOptions, grade
+from grader.grading.results import FAILED, GRADED
 from test_redteam2 import ISOLATION, mode  # noqa: F401  (mode: both production modes, a fixture)
 from project_paths import SUBMISSIONS
 from cases import cases

@@ -4,7 +4,7 @@ has fresh directions, and timed colours are compared with the reference.
 Slow lookups that skip work while timed, or replay earlier answers, fail;
 a correct lookup keeps its verdict on a loaded machine.
 
-The submissions here are the reference lookups (grader/shim/
+The submissions here are the reference lookups (grader/build/shim/
 reference_submission.c, with its sub_* functions renamed ref_*) behind a
 wrapper that cheats or is slow; they need no C++ build.
 """
@@ -18,8 +18,8 @@ import pytest
 from grader import PROJECT_ROOT
 from grader.checks.context import CheckContext
 from grader.checks.speed import WITHIN, speed
-from grader.checks.sweeps import SweepFinding
-from grader.results import FAILED, PASSED, CheckResult
+from grader.checks.fetch_sweep import SweepFinding
+from grader.grading.results import FAILED, PASSED, CheckResult
 from grader.worker.lookups import open_lookups
 from fake_bwrap import write_failing_bwrap
 
@@ -121,17 +121,17 @@ MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3, "thrash": 4
 
 @pytest.fixture(scope="module")
 def libraries(tmp_path_factory) -> dict:
-    from grader import reference
+    from grader.envmap import library as reference
     reference.ensure_built()
     folder = tmp_path_factory.mktemp("speed_wrappers")
     (folder / "wrapper.c").write_text(WRAPPER)
     ref_sources = [str(PROJECT_ROOT / "reference" / "src" / f) for f in
                    ("cross.c", "error.c", "lookup.c", "render.c", "rgbe.c", "scene.c")]
     flags = ["-std=c11", "-O2", "-fPIC", "-D_POSIX_C_SOURCE=200809L", f"-I{PROJECT_ROOT / 'reference' / 'include'}",
-             f"-I{PROJECT_ROOT / 'grader' / 'shim'}"]
+             f"-I{PROJECT_ROOT / 'grader' / 'build' / 'shim'}"]
     ref_object = folder / "reference_submission.o"
     subprocess.run(["cc", *flags, *RENAMES, "-c", "-o", str(ref_object),
-                    str(PROJECT_ROOT / "grader" / "shim" / "reference_submission.c")], check=True)
+                    str(PROJECT_ROOT / "grader" / "build" / "shim" / "reference_submission.c")], check=True)
     out = {}
     for name, mode in MODES.items():
         library = folder / f"{name}.so"

@@ -3,7 +3,7 @@ forged replies, switching guard pages off, patching the grader's code,
 signalling the grader. Each gets a verdict charged to the submission; none
 gets correct values or a harness error.
 
-The attacker is a small C library implementing grader/shim/submission_abi.h
+The attacker is a small C library implementing grader/build/shim/submission_abi.h
 directly: fetchColor's x picks an attack on the reply pipe, readTexture's v
 an attack on the memory around the face before it reads addr[int(u)]
 (u = the face's float count reads one float past its end).
@@ -22,7 +22,7 @@ from grader.worker import SubmissionFailure, SubmissionRunner, Worker, WorkerHar
 
 pytestmark = [pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
 
-ABI_DIR = PROJECT_ROOT / "grader" / "shim"
+ABI_DIR = PROJECT_ROOT / "grader" / "build" / "shim"
 BWRAP = sandbox.sandbox_problem()
 DROP = sandbox.privilege_drop_problem()
 MODES = ["plain",

@@ -3,7 +3,7 @@ way of signalling a victim worker started beside it, in the same mode; the
 victim is unharmed (alive, not stopped, still answering) and the attacker's
 call is refused. A thread bomb stops at the worker's own limit.
 
-The attacker implements grader/shim/submission_abi.h directly: fetchColor's
+The attacker implements grader/build/shim/submission_abi.h directly: fetchColor's
 direction (pid, path, 0) tries signal path `path` on `pid` and answers 1 in
 red when the kernel accepted the call, 0 when it refused it.
 """
@@ -118,7 +118,7 @@ def attacker(tmp_path_factory) -> Path:
     folder.chmod(0o755)
     (folder / "attacker.c").write_text(ATTACKER)
     library = folder / "attacker.so"
-    subprocess.run(["cc", "-std=c11", "-O1", "-shared", "-fPIC", f"-I{PROJECT_ROOT / 'grader' / 'shim'}",
+    subprocess.run(["cc", "-std=c11", "-O1", "-shared", "-fPIC", f"-I{PROJECT_ROOT / 'grader' / 'build' / 'shim'}",
                     "-o", str(library), str(folder / "attacker.c"), "-pthread"], check=True)
     library.chmod(0o755)
     return library

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import oracle, reference
+from ...envmap import oracle, library as reference
 from ...i18n import _
 from .directions import tied_axes
 
@@ -147,11 +147,11 @@ def describe_direction(d) -> str:
 
 def worst_cases(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.ndarray, group: str = "",
                 limit: int = 3, face_size: tuple[int, int] | None = None) -> list:
-    """The worst mismatches as data (grader.results.Mismatch; reports word
+    """The worst mismatches as data (grader.grading.results.Mismatch; reports word
     them). With face_size (W, H), the colours came from a texture that
     encodes texel positions (textures.coordinate_faces): each case also says
     where the reference and the submission sampled."""
-    from ...results import Mismatch, TexelHit
+    from ...grading.results import Mismatch, TexelHit
     from .textures import decode_sample_coordinates
 
     def hit(rgb, w, h):

@@ -22,10 +22,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ... import oracle, reference
+from ...envmap import oracle, library as reference
 from ...i18n import N_, _, and_list
-from ...results import Diagnosis
-from ...geometry import uv_on_face
+from ...grading.results import Diagnosis
+from ...envmap.geometry import uv_on_face
 
 # Every id a candidate can give (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",

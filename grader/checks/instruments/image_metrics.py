@@ -1,7 +1,7 @@
 """How alike two renders look: SSIM (Wang et al. 2004) and NVIDIA FLIP.
 
 Both compare display images: linear renders are tone-mapped first with
-grader.imaging.tone_map, so the metrics see what a person would.
+grader.envmap.imaging.tone_map, so the metrics see what a person would.
 """
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 
 
 def display(linear: np.ndarray) -> np.ndarray:
-    from ...imaging import tone_map
+    from ...envmap.imaging import tone_map
     return np.clip(tone_map(np.nan_to_num(linear, nan=0.0, posinf=0.0, neginf=0.0)), 0.0, 1.0).astype(np.float32)
 
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import oracle
+from ...envmap import oracle
 from ...worker.runner import Outcome
 from .compare import Mismatches, compare, tied_face_uv
 

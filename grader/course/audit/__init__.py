@@ -20,7 +20,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ... import PROJECT_ROOT, score
+from ... import PROJECT_ROOT
+from ...grading import score
 from .grading import Graded, check_points, grade_folder
 from .mutants import Mutant, all_mutants, sample, solution_name, solution_source
 from .truth import NOT_COMPILING, UNJUDGED, Truth, truth_of
@@ -78,11 +79,11 @@ def run_audit(solutions: list[Path] | None = None, *, mutants: int | None = 200,
     correct ones): `mutants` of them drawn with `seed` (None: all), or exactly
     `chosen`. Everything is written under `out` (mutant sources, the grading
     of each, audit.json, audit.html). Raises score.RubricError for a bad
-    rubric and grader.fixtures.StaleFixtures, before any work."""
+    rubric and grader.grading.fixtures.StaleFixtures, before any work."""
     rubric = Path(rubric or score.RUBRIC).resolve()
     checks = check_points(rubric)                     # raises RubricError, before any work
     if not allow_stale:
-        from ...fixtures import check_stale
+        from ...grading.fixtures import check_stale
         check_stale()
     solutions = [Path(s) for s in (solutions or DEFAULT_SOLUTIONS)]
     for s in solutions:

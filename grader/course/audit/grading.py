@@ -7,7 +7,7 @@ import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ... import score
+from ...grading import score
 
 
 @dataclass

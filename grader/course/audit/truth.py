@@ -5,7 +5,7 @@ The mutant is built as the grader builds a submission (grader.build) and run
 in the grader's isolated worker (grader.worker.runner), which places the faces
 against guard pages, so a read outside a face is reported (as a crash) and
 not silently answered. Its answers are compared with the C reference
-(grader.reference) on random textures, where every texel differs from its
+(grader.envmap.library) on random textures, where every texel differs from its
 neighbours, so that any wrong index, weight or face shows:
 
     ordinary     fetchColor over the whole sphere, a dense (u, v) grid and every
@@ -20,7 +20,7 @@ neighbours, so that any wrong index, weight or face shows:
 Wherever components tie (or are within NEAR_TIE of the largest, where float
 rounding may pick either) every touching face's colour is accepted
 (docs/assignment.md); that colour is the reference's readTexture at the point
-where the direction meets that face (grader.geometry's face frames).
+where the direction meets that face (grader.envmap.geometry's face frames).
 """
 from __future__ import annotations
 
@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ... import reference
-from ...geometry import face_frames, face_uv_to_direction
+from ...envmap import library as reference
+from ...envmap.geometry import face_frames, face_uv_to_direction
 
 # Classes, in the order reports list them.
 EQUIVALENT = "equivalent"

@@ -42,7 +42,7 @@ import traceback
 from pathlib import Path
 
 from ...i18n import N_, Translated, _, ngettext
-from ...results import BUILD_ERROR, UNGRADABLE
+from ...grading.results import BUILD_ERROR, UNGRADABLE
 
 DEFAULT_ROOT = Path("/grade")
 # PNGs the checks leave beside the reports (CheckResult.artifacts): shown
@@ -168,7 +168,7 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
     no sandbox, a bug) as gradable: false with the reason's first line, the
     traceback on stderr for the instructor. The grader's warnings and the
     isolation mode go to stderr too (PrairieLearn's job log)."""
-    from ...grade import GradeOptions, grade
+    from ...grading.grade import GradeOptions, grade
     from ...reports.gradescope_json import instructor_notes
     root = Path(root)
     results_path = root / "results" / "results.json"

@@ -1,4 +1,4 @@
-"""grader/build.py: submissions become libraries that expose submission_abi.h.
+"""grader/build/__init__.py: submissions become libraries that expose submission_abi.h.
 
 Student code is never loaded into the pytest process: a small script run in
 a subprocess loads the built library with cffi and calls the sub_* entry
@@ -19,13 +19,13 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.build import build_submission
-from grader.reference import CubeMap, faces_to_cross, write_hdr
+from grader.envmap.library import CubeMap, faces_to_cross, write_hdr
 from project_paths import SUBMISSIONS
 
 CORRECT = sorted((SUBMISSIONS / "correct").glob("*.cpp"))
 BUILD_CASES = SUBMISSIONS / "build"
 TEMPLATE_SOURCE = PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp"
-ABI_HEADER = PROJECT_ROOT / "grader" / "shim" / "submission_abi.h"
+ABI_HEADER = PROJECT_ROOT / "grader" / "build" / "shim" / "submission_abi.h"
 
 # Loads a built submission and calls it; arguments: library, ABI header,
 # input .npz, output .npz. Inputs (all optional but texels): texels

@@ -1,4 +1,4 @@
-"""The source policy (grader/source_policy.py) on the compiler's own -E
+"""The source policy (grader/build/source_policy.py) on the compiler's own -E
 output, each wall on its own: the text half (build.refused_constructs), the
 token half (source_policy.refusals on real g++ -E output, without the text
 half in front of it) and the assembly as a second wall (the token half
@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from grader import build, source_policy
+from grader import build
+from grader.build import source_policy
 from grader.build import build_submission, refused_constructs
 from project_paths import SUBMISSIONS
 

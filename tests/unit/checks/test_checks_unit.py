@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
-from grader import reference
+from grader.envmap import library as reference
 from grader.checks import CheckDefinitionError, Needs, all_checks, check, run_checks
 from grader.checks.context import CheckContext
-from grader.results import ERROR, FAILED, PASSED, SKIPPED, CheckResult, Diagnosis
+from grader.grading.results import ERROR, FAILED, PASSED, SKIPPED, CheckResult, Diagnosis
 from project_paths import SUBMISSIONS
 from cases import cases
 
@@ -340,7 +340,7 @@ def test_a_requirement_that_is_not_a_check_is_refused_at_definition():
 @pytest.mark.parametrize("kind", ["crash", "exited", "protocol", "load-error", "out-of-bounds-read", "timeout"])
 def test_a_worker_failure_reaches_the_student_under_its_own_id(kind):
     from grader.checks.context import failure_diagnoses
-    from grader.diagnoses import CATALOGUE
+    from grader.grading.catalogue import CATALOGUE
     from grader.worker.runner import Failure
     failure = Failure(kind, "fetchColor", 3, "fetchColor(Vector3(1, 0, 0))", "it happened", "do this")
     [d] = failure_diagnoses([failure])
@@ -351,7 +351,7 @@ def test_grade_reports_the_runner_isolation_and_warnings(tmp_path, monkeypatch, 
     """grade() copies what the runner says about isolation; the checks see only the lookups."""
     import contextlib
 
-    from grader import grade as grade_module
+    from grader.grading import grade as grade_module
     fake = FakeLookups(fetch={"+X": "u-flipped"})
     fake.isolation, fake.warnings = "privilege-drop", ["no bubblewrap here: ran as an unprivileged user"]
     monkeypatch.setattr(grade_module, "_open_lookups", lambda library, options: contextlib.nullcontext(fake))
@@ -365,8 +365,8 @@ def test_grade_reports_the_runner_isolation_and_warnings(tmp_path, monkeypatch, 
 
 
 def test_grade_refuses_a_check_name_the_rubric_does_not_have(tmp_path):
-    from grader.grade import GradeOptions, grade
-    from grader.score import RubricError
+    from grader.grading.grade import GradeOptions, grade
+    from grader.grading.score import RubricError
     with pytest.raises(RubricError, match="no such check: fetch_swep"):
         grade(Path("nowhere.cpp"), tmp_path, GradeOptions(only=("fetch_swep",), allow_stale=True))
 
@@ -402,7 +402,7 @@ def test_worst_cases_say_where_the_lookup_landed(tmp_path):
 def test_a_harness_error_leaves_its_traceback_for_the_instructor_only(tmp_path, monkeypatch, correct_build):
     import contextlib
 
-    from grader import grade as grade_module
+    from grader.grading import grade as grade_module
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("the grader's own bug")   # the real runner reports student faults as Outcomes

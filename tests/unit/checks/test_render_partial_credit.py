@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from fake_lookups import FACES, FakeLookups
-from grader import fixtures, reference
+from grader.grading import fixtures
+from grader.envmap import library as reference
 from grader.checks.instruments.image_metrics import display
 from grader.checks.renders import PIXEL_FLIP_MAX, score_render
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from grader import fixtures
+from grader.grading import fixtures
 from grader.build import build_submission
 from grader.checks.instruments.image_metrics import display, flip, ssim
 from grader.checks.renders import FLIP_MAX, SSIM_MIN, render_with_submission

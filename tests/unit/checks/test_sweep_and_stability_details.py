@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from fake_lookups import FACES, FakeLookups
-from grader import reference
+from grader.envmap import library as reference
 from grader.checks.instruments import texture_model as tm
-from grader.results import FAILED, PASSED
+from grader.grading.results import FAILED, PASSED
 from test_checks_unit import ids, run
 
 # x1 = x0 + 1 and y1 = y0 + 1 never clamped: reads the next row, or past the
@@ -41,7 +41,7 @@ def test_sweep_does_not_credit_fetch_color_where_its_read_texture_reads_past_the
     and (u, v), reads past the face: there a correct fetchColor would crash
     too, so crashing never earns points (issue 18)."""
     from grader.checks.instruments.directions import sweep_sets
-    from grader.checks.sweeps import SWEEP_FACE_SIZE
+    from grader.checks.fetch_sweep import SWEEP_FACE_SIZE
     results = run(UnclampedLookups(), tmp_path, "fetch_sweep")
     texture, sweep = results["read_texture"], results["fetch_sweep"]
     assert texture.status == FAILED and ("unclamped-edge", None) in ids(texture)

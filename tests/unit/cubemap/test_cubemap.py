@@ -16,7 +16,8 @@ import OpenImageIO as oiio
 import pytest
 
 import assignment_model as model
-from grader import PROJECT_ROOT, reference
+from grader import PROJECT_ROOT
+from grader.envmap import library as reference
 from grader.cli import main
 from grader.cubemap import convert, directions, generate, projections, sky, test_map
 

@@ -1,10 +1,10 @@
-"""grader/geometry.py against the handout's face table (tests/helpers/assignment_model.py,
+"""grader/envmap/geometry.py against the handout's face table (tests/helpers/assignment_model.py,
 written from ASSIGNMENT.md independently of the C code it stands on)."""
 import numpy as np
 import pytest
 
 import assignment_model as model
-from grader import geometry, reference
+from grader.envmap import geometry, library as reference
 
 
 def test_face_names_and_filters_come_from_the_header():

@@ -1,4 +1,4 @@
-"""grader.oracle: the checks get the reference's answers through one interface,
+"""grader.envmap.oracle: the checks get the reference's answers through one interface,
 so answers recorded once (the kit's) grade exactly as the live reference does."""
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
-from grader import geometry, oracle, reference
+from grader.envmap import geometry, oracle, library as reference
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
 from project_paths import PROJECT_ROOT

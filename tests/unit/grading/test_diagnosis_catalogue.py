@@ -1,5 +1,5 @@
 """One catalogue of student text: every diagnosis id the grader can emit (a
-check, the worker, the build) has its words in grader/diagnoses.py, and every
+check, the worker, the build) has its words in grader/grading/catalogue.py, and every
 entry there can be emitted.
 
 Ids are collected from the sources: string literals passed to Diagnosis(...),
@@ -15,7 +15,8 @@ import importlib
 import re
 import pytest
 
-from grader import PROJECT_ROOT, diagnoses
+from grader import PROJECT_ROOT
+from grader.grading import catalogue as diagnoses
 
 SOURCES = sorted((PROJECT_ROOT / "grader").rglob("*.py"))
 LITERAL_CALL = re.compile(r"\b(?:Diagnosis|SubmissionError|_refusal)\(\s*([\"'])([^\"']+)\1")
@@ -29,7 +30,7 @@ def _read_texture_ids():
 
 
 def _mapping_ids():
-    from grader.checks import diagnosis
+    from grader.checks import fetch_faces as diagnosis
     return {i for ids, _ in diagnosis.TRANSFORMS for i in ids}
 
 
@@ -51,9 +52,9 @@ def _build_ids():
 # (file relative to grader/, the variable passed as the id) -> the ids it can hold.
 DYNAMIC = {
     ("checks/read_texture.py", "mistake"): _read_texture_ids,
-    ("checks/diagnosis.py", "mistake"): _mapping_ids,
+    ("checks/fetch_faces.py", "mistake"): _mapping_ids,
     ("checks/context.py", "kind"): _worker_ids,
-    ("grade.py", "diagnosis_id"): _build_ids,
+    ("grading/grade.py", "diagnosis_id"): _build_ids,
     ("checks/instruments/face_recovery.py", "mistake"): _face_recovery_ids,
 }
 
@@ -74,7 +75,7 @@ def emitted_ids() -> dict[str, set[str]]:
     found: dict[str, set[str]] = {}
     for path in SOURCES:
         rel = path.relative_to(PROJECT_ROOT / "grader").as_posix()
-        if rel in ("results.py", "diagnoses.py"):
+        if rel in ("grading/results.py", "grading/catalogue.py"):
             continue
         text = path.read_text()
         for pattern in (LITERAL_CALL, LITERAL_ASSIGN):
@@ -88,7 +89,7 @@ def emitted_ids() -> dict[str, set[str]]:
 
 def test_every_emitted_id_is_in_the_catalogue():
     missing = {i: sorted(where) for i, where in emitted_ids().items() if i not in diagnoses.CATALOGUE}
-    assert missing == {}, "add these ids to grader/diagnoses.py (then regenerate docs/diagnoses.md)"
+    assert missing == {}, "add these ids to grader/grading/catalogue.py (then regenerate docs/diagnoses.md)"
 
 
 def test_every_catalogue_entry_can_reach_a_student():
@@ -113,7 +114,7 @@ def test_an_unknown_id_is_an_error_not_made_up_words():
 
 def test_a_check_that_emits_an_unknown_id_is_a_harness_error_not_a_verdict():
     from grader.checks import check, run_checks
-    from grader.results import ERROR, Diagnosis
+    from grader.grading.results import ERROR, Diagnosis
 
     @check(registry={})
     def inventive(ctx, result):

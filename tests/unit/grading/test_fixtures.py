@@ -5,7 +5,8 @@ import sys
 
 import pytest
 
-from grader import PROJECT_ROOT, fixtures
+from grader import PROJECT_ROOT
+from grader.grading import fixtures
 
 
 def test_committed_fixtures_are_current():
@@ -20,7 +21,7 @@ def test_regenerating_gives_identical_bytes(tmp_path):
     shutil.copy(PROJECT_ROOT / "envmap_test.cfg", project)
     before = {p.relative_to(project): p.read_bytes() for p in (project / "fixtures").rglob("*") if p.is_file()}
     code = ("import grader, pathlib; grader.PROJECT_ROOT = pathlib.Path('.').resolve();"
-            "import grader.fixtures as f; f.generate(progress=lambda s: None)")
+            "import grader.grading.fixtures as f; f.generate(progress=lambda s: None)")
     subprocess.run([sys.executable, "-c", code], cwd=project, check=True,
                    env={"ENVMAP_LIBRARY": str(PROJECT_ROOT / "build" / "libenvmap.so"), "PYTHONPATH": str(project)})
     after = {p.relative_to(project): p.read_bytes() for p in (project / "fixtures").rglob("*") if p.is_file()}
@@ -83,7 +84,7 @@ def test_fixtures_check_command_reports_up_to_date():
 
 
 def test_grading_refuses_stale_fixtures_and_says_what_to_run(project_copy, tmp_path, monkeypatch):
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     with open(project_copy / "reference" / "src" / "lookup.c", "ab") as f:
         f.write(b"\n")
     real_check = fixtures.check_stale

@@ -1,8 +1,8 @@
 """The rubric turns check outcomes into points; mistakes in it are reported."""
 import pytest
 
-from grader import score
-from grader.results import ERROR, FAILED, GRADED, PASSED, UNGRADABLE, CheckResult, GradeResult
+from grader.grading import score
+from grader.grading.results import ERROR, FAILED, GRADED, PASSED, UNGRADABLE, CheckResult, GradeResult
 
 RUBRIC = {"checks": {
     "a": {"points": 10, "partial": "fraction", "visibility": "visible", "tags": ["x"]},

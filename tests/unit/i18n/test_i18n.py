@@ -3,7 +3,7 @@ complete and current, and a Japanese report says what the English one says.
 
 The catalogue checks read the code's marked words afresh (Babel's extraction
 with babel.cfg), so a new or changed English sentence fails here until
-grader/locale/ja/LC_MESSAGES/grader.po translates it (docs/glossary_ja.md:
+grader/i18n/locale/ja/LC_MESSAGES/grader.po translates it (docs/glossary_ja.md:
 `make translations`, then translate the entries that are new or fuzzy).
 """
 import json
@@ -16,7 +16,7 @@ from babel.messages.frontend import parse_mapping_cfg
 from babel.messages.pofile import read_po
 
 from grader import PROJECT_ROOT, i18n
-from grader.diagnoses import CATALOGUE, KINDS
+from grader.grading.catalogue import CATALOGUE, KINDS
 from fake_bwrap import write_failing_bwrap
 
 PO = i18n.po_path("ja")
@@ -92,7 +92,7 @@ def test_the_english_default_is_the_code_itself():
 
 
 def test_an_unknown_language_is_refused():
-    from grader.score import RubricError, load_rubric
+    from grader.grading.score import RubricError, load_rubric
     with pytest.raises(i18n.UnknownLanguage):
         i18n.set_language("fr")
     with pytest.raises(i18n.UnknownLanguage):
@@ -100,7 +100,7 @@ def test_an_unknown_language_is_refused():
 
 
 def test_the_rubric_chooses_and_lang_overrides(tmp_path, monkeypatch):
-    from grader.score import RUBRIC, RubricError, load_rubric
+    from grader.grading.score import RUBRIC, RubricError, load_rubric
     monkeypatch.delenv(i18n.ENV, raising=False)
     shipped = load_rubric(RUBRIC)
     assert shipped["grading"]["language"] == "en" and i18n.choose(None, shipped) == "en"
@@ -156,7 +156,7 @@ def test_the_scan_finds_english_left_in_a_japanese_report():
 @pytest.fixture(scope="module")
 def graded(tmp_path_factory):
     """Each submission graded in Japanese and English (and Japanese twice)."""
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     from grading_cache import grade_once
     out, before = {}, i18n.language()
     try:
@@ -242,7 +242,7 @@ def privilege_drop(tmp_path, monkeypatch):
 def test_a_crash_reads_in_japanese_in_privilege_drop_mode(privilege_drop, tmp_path):
     """The worker's failure words come from the grader's side of the pipe,
     whichever isolation runs the submission."""
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     before = i18n.language()
     try:
         result = grade(ZOO / "crash-null.cpp", tmp_path / "out", GradeOptions(quick=True, lang="ja"))
@@ -257,8 +257,8 @@ def test_a_crash_reads_in_japanese_in_privilege_drop_mode(privilege_drop, tmp_pa
 def test_the_bundles_ship_the_catalogue_and_need_no_build_step():
     from grader.platforms import gradescope
     shipped = {p.relative_to(PROJECT_ROOT).as_posix() for p in gradescope._files()}
-    assert "grader/locale/ja/LC_MESSAGES/grader.po" in shipped
-    assert not any(p.endswith(".mo") for p in shipped)   # compiled in memory (grader/i18n.py)
+    assert "grader/i18n/locale/ja/LC_MESSAGES/grader.po" in shipped
+    assert not any(p.endswith(".mo") for p in shipped)   # compiled in memory (grader/i18n/__init__.py)
     # PrairieLearn's image runs the course's copy of grader/, the same tree.
     lock = (PROJECT_ROOT / "requirements.lock").read_text()
     assert re.search(r"^babel==", lock, re.M)

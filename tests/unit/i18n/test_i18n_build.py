@@ -29,7 +29,7 @@ def japanese():
 
 
 def _grade(path: Path, out: Path, lang: str):
-    from grader.grade import GradeOptions, grade
+    from grader.grading.grade import GradeOptions, grade
     before = i18n.language()
     try:
         return grade(path, out, GradeOptions(quick=True, lang=lang))
@@ -125,7 +125,7 @@ def test_the_compilers_own_messages_follow_the_japanese_sentence(japanese):
     """describe(): the friendly sentence in Japanese, the compiler's own
     lines as it printed them, the grader's cut-off note in Japanese."""
     from grader.build import BuildResult
-    from grader.build_messages import OUTPUT_STOPPED, describe
+    from grader.build.messages import OUTPUT_STOPPED, describe
     output = ("EnvironmentMap.cpp:4:14: error: redefinition of 'const float* EnvironmentMap::faceAddress(int) "
               "const'\n" + OUTPUT_STOPPED + "\n")
     result = BuildResult(ok=False, library=None, source=Path("EnvironmentMap.cpp"))

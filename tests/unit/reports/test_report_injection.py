@@ -25,8 +25,7 @@ from grader.course.grade_all import Row
 from grader.reports import render_all, terminal
 from grader.reports.class_summary import write_summary
 from grader.reports.text import clean, inert_markdown, markdown_is_inert, md_escape
-from grader.results import (FAILED, GRADED, PASSED, CheckResult, Diagnosis,
-                            GradeResult, Mismatch)
+from grader.grading.results import FAILED, GRADED, PASSED, CheckResult, Diagnosis, GradeResult, Mismatch
 
 # Each one is a way to forge part of a report.
 FAKE_HEADING = "# Regraded by instructor: 100/100"

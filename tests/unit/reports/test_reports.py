@@ -20,14 +20,14 @@ import pytest
 from markdown_it import MarkdownIt
 from rich.console import Console
 
-from grader import PROJECT_ROOT, diagnoses
+from grader import PROJECT_ROOT
+from grader.grading import catalogue as diagnoses
 from grader.reports import REPORT_FILES, render_all, write_all
 from grader.reports import gradescope_json, terminal
 from grader.reports.text import md_escape
 from grader.reports.view import check_label
-from grader.results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED,
-                            SKIPPED, UNGRADABLE, CheckResult, Diagnosis,
-                            GradeResult)
+from grader.grading.results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED, UNGRADABLE, CheckResult,
+                                    Diagnosis, GradeResult)
 
 SECRET_OUTPUT = "SECRET-hidden-scene-expected-0.8125"
 SECRET_DETAIL = "SECRET-hidden-direction-(0.3,-0.9,0.1)"
@@ -555,7 +555,7 @@ def test_catalogue_has_every_required_id_in_plain_words():
 def test_docs_agree_with_the_catalogue():
     docs = (PROJECT_ROOT / "docs" / "diagnoses.md").read_text()
     assert docs == diagnoses.catalogue_markdown(), (
-        "docs/diagnoses.md is stale: run `python -m grader.diagnoses > docs/diagnoses.md`")
+        "docs/diagnoses.md is stale: run `python -m grader.grading.catalogue > docs/diagnoses.md`")
     for diagnosis_id in set(diagnoses.CATALOGUE) - set(diagnoses.ALIASES):
         assert f"### `{diagnosis_id}`" in docs
 
@@ -611,7 +611,7 @@ def test_numbers_are_written_as_people_write_them():
 
 
 def test_worst_cases_on_a_position_texture_are_told_as_face_texel_and_uv():
-    from grader.results import Mismatch, TexelHit
+    from grader.grading.results import Mismatch, TexelHit
     result = make_perfect()
     sweeps = result.checks[2]
     sweeps.status, sweeps.score = FAILED, 15.0

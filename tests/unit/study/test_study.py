@@ -6,10 +6,10 @@ import csv
 import numpy as np
 import pytest
 
-from grader.reference import CubeMap, direction_to_face
+from grader.envmap.library import CubeMap, direction_to_face
 from grader.study import chart, failure_map
 from grader.study.bake import bake, bake_error
-from grader.geometry import face_uv_to_direction, texel_centre_uv
+from grader.envmap.geometry import face_uv_to_direction, texel_centre_uv
 from grader.study.ground_truth import DEFAULT_ENVIRONMENT, SMOOTH_ENVIRONMENT
 from grader.study.methods import numpy_bilinear
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from skimage.metrics import structural_similarity
 
-from grader import fixtures
+from grader.grading import fixtures
 from grader.checks.instruments.image_metrics import display, ssim
 
 AGREE = 1e-6

@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from grader import reference
+from grader.envmap import library as reference
 from grader.checks.instruments import texture_model as tm
 from grader.checks.instruments.textures import coordinate_faces, random_faces
 
@@ -195,7 +195,7 @@ def test_one_mistake_in_each_function_is_named_and_neither_is_blamed_for_the_oth
 
 from grader.checks import all_checks, run_checks  # noqa: E402
 from grader.checks.context import CheckContext  # noqa: E402
-from grader.results import FAILED, PASSED  # noqa: E402
+from grader.grading.results import FAILED, PASSED  # noqa: E402
 
 
 def run_mapping_checks(lookups, tmp_path):

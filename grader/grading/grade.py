@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from . import score
-from .checks import Check, ordered_checks, run_checks
-from .checks.context import CheckContext
-from .diagnoses import CATALOGUE
+from ..checks import Check, ordered_checks, run_checks
+from ..checks.context import CheckContext
+from .catalogue import CATALOGUE
 from .results import BUILD_ERROR, FAILED, TIMEOUT, UNGRADABLE, CheckResult, Diagnosis, GradeResult
 
 
@@ -44,13 +44,13 @@ def run_seed(secret: str, source_sha256: str) -> int:
 
 
 def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, write_reports: bool = True) -> GradeResult:
-    from .build import HarnessBuildError, build_submission
-    from .submissions import student_name
+    from ..build import HarnessBuildError, build_submission
+    from ..intake import student_name
     options = options or GradeOptions()
     started = time.monotonic()
     submission = Path(submission)
     rubric = score.load_rubric(options.rubric)      # raises RubricError
-    from .i18n import choose, set_language
+    from ..i18n import choose, set_language
     set_language(choose(options.lang, rubric))
     result = GradeResult(submission=student_name(submission))
     checks = ordered_checks(rubric)                  # the rubric's order is the run order
@@ -69,14 +69,14 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
         build = build_submission(submission, sanitize=options.sanitize)
     except HarnessBuildError as e:   # our own sources failed to build: not the student's fault
         result.status = UNGRADABLE
-        from .build_confinement import BuildConfinementError
+        from ..build.compiler import BuildConfinementError
         # Confinement: our files are open to the compiler's uid, so nothing of
         # the student's was built; its message says what to close.
         result.warnings.append(str(e) if isinstance(e, BuildConfinementError)
                                else f"The grader could not build its own files: {e}")
         score.apply(result, rubric)
         if write_reports:
-            from .reports import write_all
+            from ..reports import write_all
             write_all(result, out_dir, include_hidden=options.include_hidden)
         return result
     result.build_log = build.log
@@ -84,17 +84,17 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     result.source_sha256 = build.sha256 or ""
     if not build.ok:
         result.status = BUILD_ERROR
-        from .i18n import _
+        from ..i18n import _
         first = build.log.strip().splitlines()[0] if build.log.strip() else _("the submission did not compile")
         for c in selected:
             cr = CheckResult(c.name, _(c.title), status=FAILED, fraction=0.0,
                              output=_("Not run: the submission did not build."))
             result.checks.append(cr)
-        # grader.build names the kind of build failure; its words are in grader/diagnoses.py.
+        # grader.build names the kind of build failure; its words are in grader/grading/catalogue.py.
         diagnosis_id = getattr(build, "diagnosis_id", "build-error")
         if diagnosis_id not in CATALOGUE:   # the grader's bug, like a check's unknown id: not the student's zero
             result.status = UNGRADABLE
-            result.warnings.append(f"The build named the problem {diagnosis_id!r}, which grader/diagnoses.py "
+            result.warnings.append(f"The build named the problem {diagnosis_id!r}, which grader/grading/catalogue.py "
                                    "does not describe: the grader's mistake, tell your instructor.")
         elif result.checks:
             result.checks[0].diagnoses.append(Diagnosis(diagnosis_id, first))
@@ -107,7 +107,7 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     score.apply(result, rubric)
     result.execution_time_s = time.monotonic() - started
     if write_reports:
-        from .reports import write_all
+        from ..reports import write_all
         write_all(result, out_dir, include_hidden=options.include_hidden)
         write_harness_log(result, out_dir)
     return result
@@ -130,7 +130,7 @@ def write_harness_log(result: GradeResult, out_dir: Path) -> Path | None:
 
 def drop_consequences(result: GradeResult) -> None:
     """Leave out symptoms (a render that differs, a seam) when their cause was found."""
-    from .diagnoses import CONSEQUENCES
+    from .catalogue import CONSEQUENCES
     if any(d.id not in CONSEQUENCES for d in result.diagnoses):
         for check in result.checks:
             check.diagnoses = [d for d in check.diagnoses if d.id not in CONSEQUENCES]
@@ -138,7 +138,7 @@ def drop_consequences(result: GradeResult) -> None:
 
 def _environment_warnings() -> list[str]:
     """Versions that differ from those the fixtures were made with
-    (grader.fixtures.environment_warnings)."""
+    (grader.grading.fixtures.environment_warnings)."""
     from . import fixtures
     return list(fixtures.environment_warnings())
 
@@ -146,7 +146,7 @@ def _environment_warnings() -> list[str]:
 def _open_lookups(library: Path, options: GradeOptions):
     """The submission's isolated lookups (grader.worker); raises
     SandboxUnavailable when no isolation is possible and unsafe is not allowed."""
-    from .worker.lookups import open_lookups
+    from ..worker.lookups import open_lookups
     return open_lookups(library, sandbox=options.sandbox, sanitize=options.sanitize, allow_unsafe=options.allow_unsafe)
 
 

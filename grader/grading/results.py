@@ -1,6 +1,6 @@
 """What grading produces: the values that flow from checks to score to reports.
 
-Checks return CheckResult; score.py fills in points from the rubric; reports/
+Checks return CheckResult; grading/score.py fills in points from the rubric; reports/
 turn a GradeResult into files. Nothing here runs a check or formats a report.
 """
 from __future__ import annotations

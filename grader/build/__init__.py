@@ -1,7 +1,7 @@
-"""A submission -> a shared library the worker can load (grader/shim/submission_abi.h).
+"""A submission -> a shared library the worker can load (grader/build/shim/submission_abi.h).
 
 build_submission() accepts a folder, a single .cpp file, or an archive of
-either (grader/submissions.py finds the student's EnvironmentMap.cpp
+either (grader/intake.py finds the student's EnvironmentMap.cpp
 without trusting the upload), then builds it in steps, each of which can
 refuse the submission with its own diagnosis id:
 
@@ -15,7 +15,7 @@ refuse the submission with its own diagnosis id:
    the reference's headers): the files it read (-MD) must be our API
    headers or under the compiler's own system include folders
    (refused-include), and the source policy judges GCC's own tokens
-   (grader/source_policy.py: no asm, no #line, no pragma or assembly
+   (grader/build/source_policy.py: no asm, no #line, no pragma or assembly
    attribute off the list: refused-source);
 3. it is compiled ALONE to assembly, no LTO; the assembly, read as raw
    text, may not read files or build directives (.incbin, .include,
@@ -31,7 +31,7 @@ refuse the submission with its own diagnosis id:
 Steps 2-5 run in a scratch folder outside the project holding copies of
 everything they read, under bubblewrap where it works; where it does not
 but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop"),
-once grader/build_confinement.py has made sure that uid can read none of
+once grader/build/compiler.py has made sure that uid can read none of
 the grader's, the course's or the uploads' files; otherwise as ourselves
 ("none"). Always with stdin /dev/null, a scrubbed environment, CPU/memory
 limits and a wall-clock deadline.
@@ -42,7 +42,7 @@ the flags, the compiler versions and the language (a refusal's message is
 stored in it). The cache stores the compiler's own
 output with paths made neutral; what the student reads (which file, in
 which order, friendly sentences) is worked out on every call
-(grader/build_messages.py), so the same source in a .zip and as a loose
+(grader/build/messages.py), so the same source in a .zip and as a loose
 file shares one library.
 
 A bad submission never raises: it gives BuildResult(ok=False) with the
@@ -71,15 +71,15 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import PROJECT_ROOT, source_policy
-from .i18n import _, language, ngettext
-from .build_messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED, describe
-from .submissions import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
-                          SubmissionError, select_source as _select_source)
+from .. import PROJECT_ROOT
+from . import source_policy
+from ..i18n import _, language, ngettext
+from .messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED, describe
+from ..intake import MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource, SubmissionError, select_source as _select_source  # noqa: F401 (re-exported)
 
 TEMPLATE = PROJECT_ROOT / "student_template"
 REFERENCE = PROJECT_ROOT / "reference"
-SHIM = PROJECT_ROOT / "grader" / "shim"
+SHIM = PROJECT_ROOT / "grader" / "build" / "shim"
 DEFAULT_CACHE = PROJECT_ROOT / "build" / "submissions"
 
 CXX, CC = "g++", "gcc"
@@ -118,7 +118,7 @@ MAX_ASSEMBLY_BYTES = 64 << 20
 # cache (240 MiB of zeros in .data compiled from a 4 KiB source scored 100).
 MAX_LIBRARY_BYTES = 64 << 20
 MAX_OUTPUT_FILE_BYTES = 256 << 20   # any file a compiler step writes (ulimit -f)
-# Every BuildResult.diagnosis_id a build can give (grader/diagnoses.py has each).
+# Every BuildResult.diagnosis_id a build can give (grader/grading/catalogue.py has each).
 DIAGNOSIS_IDS = ("build-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive",
                  "refused-include", "refused-source", "calls-reference", "forbidden-object")
 
@@ -144,7 +144,7 @@ class BuildResult:
     cached: bool = False
     source_name: str = SOURCE_NAME  # the source's path inside the submission, as messages show it
     timed_out: bool = False
-    # Why the build failed, an id of grader/diagnoses.py: "build-error" (the
+    # Why the build failed, an id of grader/grading/catalogue.py: "build-error" (the
     # compiler's), or a refusal: no-source, empty-submission, unknown-format,
     # unreadable-archive, refused-include, calls-reference, forbidden-object.
     diagnosis_id: str = "build-error"
@@ -261,7 +261,7 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
 
 
 # The directives a submission may use (an allow-list; the source policy's
-# text half, grader/source_policy.py): no #line or GNU linemarker ("# 12
+# text half, grader/build/source_policy.py): no #line or GNU linemarker ("# 12
 # "file" 1 3"), which would make the compiler quote or attribute lines to
 # another file, no #ident, #assert, #include_next, #import, #embed.
 _DIRECTIVES = frozenset({"", "include", "define", "undef", "if", "ifdef", "ifndef", "elif", "elifdef",
@@ -430,7 +430,7 @@ def build_isolation() -> str:
     """How the student's compile and link run here: "bubblewrap",
     "privilege-drop" (no bubblewrap, but we are root: uid/gid BUILD_UID) or
     "none" (no bubblewrap, not root: as ourselves, limits only)."""
-    from .worker.sandbox import sandbox_problem
+    from ..worker.sandbox import sandbox_problem
     if sandbox_problem() is None:
         return "bubblewrap"
     if hasattr(os, "geteuid") and os.geteuid() == 0:
@@ -460,7 +460,7 @@ def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted")
     env = dict(_COMPILER_ENVIRONMENT)
     drop: dict = {}
     if isolation == "bubblewrap":
-        from .worker.sandbox import compiler_command
+        from ..worker.sandbox import compiler_command
         cmd = compiler_command(cmd, [], cwd)
     elif isolation == "privilege-drop":
         # No bubblewrap, but root: the compiler runs as BUILD_UID, in a scratch
@@ -1125,7 +1125,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
     cxxflags = _flags(sanitize)[0]   # (`_` is the translation function here)
     here = Path(__file__).parent
     # The language too: a refusal's message is cached in the student's language.
-    key = _fingerprint([Path(__file__), here / "submissions.py", here / "source_policy.py"], sha, common.name, *cxxflags,
+    key = _fingerprint([Path(__file__), here.parent / "intake.py", here / "source_policy.py"], sha, common.name, *cxxflags,
                        *extra_flags, language())
     final = cache_dir / key[:32]
     record_path = final / "build.json"
@@ -1136,7 +1136,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
         isolation = result.isolation = build_isolation()
         if isolation == "privilege-drop":
             # Nothing of ours readable by the compiler's uid, or nothing built.
-            from .build_confinement import ensure_confined
+            from .compiler import ensure_confined
             ensure_confined(path, cache_dir)
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=cache_dir))
         (tmp / SOURCE_NAME).write_bytes(chosen.text)

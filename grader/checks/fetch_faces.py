@@ -9,7 +9,7 @@ readTexture is never blamed on fetchColor (grader.checks.instruments.face_recove
 from __future__ import annotations
 
 from ..i18n import N_, _
-from ..results import FAILED, CheckResult
+from ..grading.results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
 from .instruments.face_recovery import CANDIDATES, analyse

@@ -5,9 +5,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import reference
+from ..envmap import library as reference
 from ..i18n import _
-from ..results import FAILED, CheckResult, Diagnosis
+from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check
 from .instruments.compare import Comparison, describe_direction, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses

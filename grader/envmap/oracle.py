@@ -30,7 +30,7 @@ from typing import Iterator, Protocol
 
 import numpy as np
 
-from . import reference
+from . import library as reference
 
 
 class Oracle(Protocol):
@@ -59,7 +59,7 @@ class Renderer:
 
 
 class LiveReference(Renderer):
-    """The C reference (grader.reference), exactly as the checks called it before."""
+    """The C reference (grader.envmap.library), exactly as the checks called it before."""
 
     def direction_to_face(self, dirs):
         return reference.direction_to_face(dirs)

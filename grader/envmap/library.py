@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from cffi import FFI, CDefError
 
-from . import PROJECT_ROOT
+from .. import PROJECT_ROOT
 
 HEADER = PROJECT_ROOT / "reference" / "include" / "envmap.h"
 LIBRARY = Path(os.environ.get("ENVMAP_LIBRARY", PROJECT_ROOT / "build" / "libenvmap.so"))

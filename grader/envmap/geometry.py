@@ -1,7 +1,7 @@
 """Cube-map geometry, once: face names, direction <-> (face, u, v), solid angle.
 
 Everything here stands on the reference library (reference/src/lookup.c,
-through grader.reference): direction -> (face, u, v) *is* the C function, and
+through grader.envmap.library): direction -> (face, u, v) *is* the C function, and
 the inverse uses each face's frame read off that same function (`face_frames`),
 so the face table of docs/assignment.md is written down in one place, lookup.c.
 Faces are 0..5 = FACE_NAMES = +X -X +Y -Y +Z -Z (em_face). On a face, the
@@ -20,7 +20,7 @@ from functools import cache
 
 import numpy as np
 
-from . import oracle, reference
+from . import oracle, library as reference
 
 FACE_NAMES = reference.FACE_NAMES
 

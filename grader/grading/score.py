@@ -1,4 +1,4 @@
-"""Points from the rubric (grader/rubric.toml) for checks that have run."""
+"""Points from the rubric (grader/grading/rubric.toml) for checks that have run."""
 from __future__ import annotations
 
 import tomllib
@@ -24,7 +24,7 @@ def load_rubric(path: Path = RUBRIC, checks: dict | None = None) -> dict:
     except (OSError, tomllib.TOMLDecodeError) as e:
         raise RubricError(f"{path}: {e}") from e
     language = rubric.get("grading", {}).get("language", "en")
-    from .i18n import LANGUAGES
+    from ..i18n import LANGUAGES
     if language not in LANGUAGES:
         raise RubricError(f"{path}: grading.language must be one of {list(LANGUAGES)}")
     for name, entry in rubric.get("checks", {}).items():
@@ -35,7 +35,7 @@ def load_rubric(path: Path = RUBRIC, checks: dict | None = None) -> dict:
         if entry.get("visibility", "visible") not in VISIBILITIES:
             raise RubricError(f"{path}: checks.{name}.visibility must be one of {sorted(VISIBILITIES)}")
     if checks is None:
-        from .checks import all_checks
+        from ..checks import all_checks
         checks = all_checks()
     check_names(rubric, checks, path)
     return rubric

@@ -1,4 +1,4 @@
-"""Compiler messages -> what the student reads (grader/build.py's log).
+"""Compiler messages -> what the student reads (grader/build/__init__.py's log).
 
 The compiler's output is cached with paths made neutral; this module turns
 it, on every call, into friendly sentences for the common mistakes, then the
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from .i18n import N_, _
+from ..i18n import N_, _
 
 SOURCE_NAME = "EnvironmentMap.cpp"
 # The members of EnvironmentMap a submission defines; the rest are ours.

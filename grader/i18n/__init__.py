@@ -3,7 +3,7 @@
 Student-facing words are written in English in the code, marked with `_()`
 (translated where they are used) or `N_()` (marked only: tables built at
 import, translated where they are shown). The Japanese words are in
-grader/locale/ja/LC_MESSAGES/grader.po, kept in the repository; the grader
+grader/i18n/locale/ja/LC_MESSAGES/grader.po, kept in the repository; the grader
 reads it with Babel and compiles it in memory on first use, so a fresh
 clone and the Gradescope and PrairieLearn bundles need no build step and no
 committed .mo. The student kit's copy of the grader has no Babel: the kit's
@@ -13,7 +13,7 @@ gettext. Fuzzy and empty entries are not used (they fall back to English),
 and tests/unit/i18n/test_i18n.py fails while any remain.
 docs/glossary_ja.md says how to update the catalogue and which words to use.
 
-The language is process-wide, set by grader.grade.grade() for each
+The language is process-wide, set by grader.grading.grade.grade() for each
 submission from (first found) GradeOptions.lang, the GRADER_LANG environment
 variable (what `--lang` of grade-all, gradescope and prairielearn sets, so
 their worker processes see it) and the rubric's grading.language.

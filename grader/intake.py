@@ -55,7 +55,7 @@ _READ_SUFFIXES = (".cpp", ".h", ".hpp", ".cc", ".cxx")
 class SubmissionError(Exception):
     """The upload holds no usable EnvironmentMap.cpp; the message says why
     in words for the student, `diagnosis_id` names the kind of problem
-    (grader/diagnoses.py)."""
+    (grader/grading/catalogue.py)."""
 
     def __init__(self, diagnosis_id: str, message: str):
         super().__init__(message)

@@ -1,7 +1,7 @@
 """What a submission's code may say, decided on the compiler's own tokens.
 
 The build preprocesses the student's file with g++ -E (in the confined
-build, grader/build.py) and this module reads that output: every macro
+build, grader/build/__init__.py) and this module reads that output: every macro
 expanded, every string concatenated by nothing yet, every digraph, splice
 and trigraph already read by GCC itself, every `_Pragma` turned into a
 `#pragma` line. So splitting a word across strings or macros, digraphs
@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import re
 
-from .i18n import _
+from ..i18n import _
 
 ASM_KEYWORDS = frozenset({"asm", "__asm", "__asm__"})
 # Attribute names (without the __x__ spelling) whose argument reaches the

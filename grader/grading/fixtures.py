@@ -30,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import PROJECT_ROOT, reference
+from .. import PROJECT_ROOT
+from ..envmap import library as reference
 
 FIXTURES = PROJECT_ROOT / "fixtures"
 MANIFEST = FIXTURES / "manifest.json"
@@ -156,7 +157,7 @@ def generate(progress=print) -> dict:
 def write_sweeps() -> list[Path]:
     """The deterministic sweep directions with the reference's colours on the
     test map, as raw .npy (byte-stable): a regression net for the reference."""
-    from .checks.instruments.directions import sweep_sets
+    from ..checks.instruments.directions import sweep_sets
     test_map = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
     if not test_map.exists():
         return []

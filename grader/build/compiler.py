@@ -3,7 +3,7 @@
 Where bubblewrap cannot run (Gradescope, PrairieLearn: containers without
 user namespaces; mount namespaces need CAP_SYS_ADMIN), the student's
 preprocessor, compiler, assembler and linker run as BUILD_UID in a scratch
-folder of their own (grader/build.py). What keeps the grader's and the
+folder of their own (grader/build/__init__.py). What keeps the grader's and the
 course's files from them is the file permissions: before the first such
 build, a probe running as BUILD_UID tries each sentinel (the rubric, the
 reference's lookup.c and library, the fixtures, the upload, the build
@@ -27,8 +27,8 @@ import stat
 import subprocess
 from pathlib import Path
 
-from . import PROJECT_ROOT
-from .build import BUILD_GID, BUILD_UID, HarnessBuildError
+from .. import PROJECT_ROOT
+from . import BUILD_GID, BUILD_UID, HarnessBuildError
 
 # Gradescope's and PrairieLearn's roots (tests lay them out elsewhere and
 # say so in the variables run_autograder and prairielearn.sh read).
@@ -37,7 +37,7 @@ PLATFORM_ROOT_VARIABLES = ("AUTOGRADER_ROOT", "PL_GRADE_ROOT")
 # What each platform root holds that is not the student's to read.
 PLATFORM_SENTINELS = ("source", "submission", "submission_metadata.json", "results",
                       "tests", "serverFilesCourse", "student", "data")
-PROJECT_SENTINELS = ("grader/rubric.toml", "reference/src/lookup.c", "build/libenvmap.so",
+PROJECT_SENTINELS = ("grader/grading/rubric.toml", "reference/src/lookup.c", "build/libenvmap.so",
                      "fixtures/manifest.json", "grader", "reference", "build")
 
 # Prints each argument the calling uid can read, or enter if a folder.
