@@ -65,7 +65,7 @@ CLASS_MIX = {
 }
 
 # A `python -m grader` with the build cache moved (grade() has no option for it).
-CLI_WITH_CACHE = ("import sys; from pathlib import Path; import grader.build as b; "
+CLI_WITH_CACHE = ("import sys; from pathlib import Path; import grader.build.common as b; "
                   "b.DEFAULT_CACHE = Path(sys.argv[1]); from grader.cli import main; "
                   "raise SystemExit(main(sys.argv[2:]))")
 
@@ -121,11 +121,11 @@ def _timed(module, name: str, into: dict, label: str):
 
 def breakdown(repeats: int, work: Path) -> dict[str, dict[str, list[float]]]:
     """In-process phases of a warm and a new grading."""
-    import grader.build as build
+    import grader.build.common as build_common
     import grader.reports as reports
     from grader.grading.grade import grade
     cache = work / "cache-breakdown"
-    build.DEFAULT_CACHE = cache
+    build_common.DEFAULT_CACHE = cache
     result: dict[str, dict[str, list[float]]] = {"new": defaultdict(list), "warm": defaultdict(list)}
 
     for i in range(repeats + 1):

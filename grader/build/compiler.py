@@ -1,4 +1,10 @@
-"""Privilege-drop mode: the compiler's uid can read nothing of ours.
+"""The compiler, confined: every command of a student's build runs here,
+under bubblewrap where it works, else as the unprivileged BUILD_UID
+("privilege-drop"), else as ourselves ("none"); always with stdin /dev/null,
+a scrubbed environment, CPU, memory and output limits and a wall-clock
+deadline. The flags every build uses are here too.
+
+Privilege-drop mode: the compiler's uid can read nothing of ours.
 
 Where bubblewrap cannot run (Gradescope, PrairieLearn: containers without
 user namespaces; mount namespaces need CAP_SYS_ADMIN), the student's
@@ -23,12 +29,163 @@ from __future__ import annotations
 
 import functools
 import os
+import select
+import signal
 import stat
 import subprocess
+import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from . import BUILD_GID, BUILD_UID, HarnessBuildError
+from .messages import MAX_COMPILER_OUTPUT_BYTES, MEMORY_LIMIT_BYTES, OUTPUT_STOPPED
+
+CXX, CC = "g++", "gcc"
+# No LTO anywhere: an object carrying LTO bytecode would have code the
+# student never showed us compiled at link time, outside any check.
+CXXFLAGS = ["-std=c++17", "-O2", "-Wall", "-Wextra", "-fPIC", "-fno-lto"]
+CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-fPIC", "-fno-lto", "-D_POSIX_C_SOURCE=200809L"]
+SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-g"]
+# Plain messages: no colour, no line wrapping, a bounded number of errors.
+DIAGNOSTIC_FLAGS = ["-fdiagnostics-color=never", "-fmessage-length=0", "-fmax-errors=10"]
+LINK_FLAGS = ["-fno-lto", "-fno-use-linker-plugin", "-Wl,--no-undefined", "-Wl,-z,noexecstack",
+              "-Wl,-z,relro", "-Wl,-z,now"]
+
+# The uid/gid compilers run as without bubblewrap (root only). Not nobody
+# (65534): a privilege-dropped worker runs student code as nobody, and must
+# not reach another student's build folder. 65533 is reserved and unused on
+# Debian and Ubuntu (policy: 65000-65533 reserved).
+BUILD_UID = BUILD_GID = 65533
+MAX_OUTPUT_FILE_BYTES = 256 << 20   # any file a compiler step writes (ulimit -f)
+
+
+class HarnessBuildError(RuntimeError):
+    """Our own sources (template, shim, reference) did not compile, or (BuildConfinementError) the
+    compiler could not be confined: not the student's fault."""
+
+
+@functools.lru_cache(maxsize=None)
+def compiler_versions() -> str:
+    lines = []
+    for compiler in (CXX, CC):
+        out = subprocess.run([compiler, "--version"], capture_output=True, text=True, check=True,
+                             stdin=subprocess.DEVNULL)
+        lines.append(out.stdout.splitlines()[0])
+    return "\n".join(lines)
+
+
+def _flags(sanitize: bool) -> tuple[list[str], list[str]]:
+    extra = SANITIZE_FLAGS if sanitize else []
+    return CXXFLAGS + extra + DIAGNOSTIC_FLAGS, CFLAGS + extra + DIAGNOSTIC_FLAGS
+
+
+# ---- running the compiler: sandboxed, limited, stdin /dev/null ------------------
+
+@dataclass
+class _Step:
+    returncode: int
+    output: str
+    timed_out: bool = False
+
+
+# The compiler sees no secrets of ours (no GRADER_SECRET in
+# /proc/self/environ for a student's #include to print).
+_COMPILER_ENVIRONMENT = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "LC_ALL": "C",
+                         **{k: os.environ[k] for k in ("TMPDIR",) if k in os.environ}}
+
+
+def build_isolation() -> str:
+    """How the student's compile and link run here: "bubblewrap",
+    "privilege-drop" (no bubblewrap, but we are root: uid/gid BUILD_UID) or
+    "none" (no bubblewrap, not root: as ourselves, limits only)."""
+    from ..worker.sandbox import sandbox_problem
+    if sandbox_problem() is None:
+        return "bubblewrap"
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        return "privilege-drop"
+    return "none"
+
+
+def _limited(cmd: list[str], cpu_seconds: int) -> list[str]:
+    """cmd under an address-space and a CPU-time limit. The limits are set by
+    the shell's ulimit rather than setrlimit in a preexec_fn, which is unsafe
+    when threads run (the common objects are compiled in parallel)."""
+    # ulimit -f counts 512-byte blocks in dash (Debian's sh), 1 KiB in bash: at most 2x the cap.
+    script = (f'ulimit -v {MEMORY_LIMIT_BYTES >> 10} && ulimit -t {cpu_seconds} && '
+              f'ulimit -f {MAX_OUTPUT_FILE_BYTES >> 9} && exec "$@"')
+    return ["/bin/sh", "-c", script, "sh", *cmd]
+
+
+def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted") -> _Step:
+    """Run one compiler command in its own process group, killed at the
+    deadline. isolation: "trusted" (our own sources), or how a student's
+    file is built (build_isolation(); the scratch folder `cwd` is all of
+    ours it may see)."""
+    remaining = deadline - time.monotonic()
+    if remaining <= 0:
+        return _Step(-1, "", timed_out=True)
+    cpu = max(1, int(remaining) + 1)
+    env = dict(_COMPILER_ENVIRONMENT)
+    drop: dict = {}
+    if isolation == "bubblewrap":
+        from ..worker.sandbox import compiler_command
+        cmd = compiler_command(cmd, [], cwd)
+    elif isolation == "privilege-drop":
+        # No bubblewrap, but root: the compiler runs as BUILD_UID, in a scratch
+        # folder only it (and root) can enter; its temporary files go there too.
+        drop = {"user": BUILD_UID, "group": BUILD_GID, "extra_groups": []}
+        env = {"PATH": "/usr/bin:/bin", "LC_ALL": "C", "TMPDIR": str(cwd / "tmp"), "HOME": str(cwd)}
+    elif isolation == "none":
+        env["TMPDIR"] = str(cwd / "tmp")
+    proc = subprocess.Popen(_limited(cmd, cpu), cwd=cwd, stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            start_new_session=True, env=env, **drop)
+    out, ended = _read_capped(proc, remaining)
+    if ended != "exited":
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        proc.stdout.close()
+        text = out.decode("utf-8", "replace")
+        if ended == "timeout":
+            return _Step(-1, text, timed_out=True)
+        return _Step(-1, f"{text}\n{OUTPUT_STOPPED}\n")
+    # cc1plus stopped by the CPU-time limit: "Killed signal terminated program cc1plus".
+    text = out.decode("utf-8", "replace")
+    if proc.returncode != 0 and "signal terminated program" in text:
+        return _Step(proc.returncode, text, timed_out=True)
+    return _Step(proc.returncode, text)
+
+
+def _read_capped(proc: subprocess.Popen, timeout: float) -> tuple[bytes, str]:
+    """proc's output (at most MAX_COMPILER_OUTPUT_BYTES) and how reading
+    ended: "exited", "timeout" or "overflow" (it printed more; the caller
+    kills it). communicate() would hold all of it in our memory."""
+    end = time.monotonic() + timeout
+    fd = proc.stdout.fileno()
+    chunks, size = [], 0
+    while True:
+        left = end - time.monotonic()
+        if left <= 0:
+            return b"".join(chunks), "timeout"
+        ready, _, _ = select.select([fd], [], [], left)
+        if not ready:
+            continue
+        chunk = os.read(fd, 1 << 16)
+        if not chunk:
+            break
+        chunks.append(chunk)
+        size += len(chunk)
+        if size > MAX_COMPILER_OUTPUT_BYTES:
+            return b"".join(chunks)[:MAX_COMPILER_OUTPUT_BYTES], "overflow"
+    proc.stdout.close()
+    try:
+        proc.wait(timeout=max(0.0, end - time.monotonic()))
+    except subprocess.TimeoutExpired:
+        return b"".join(chunks), "timeout"
+    return b"".join(chunks), "exited"
+
+
+# ---- privilege-drop: what the build uid may read ----------------------------------------
 
 # Gradescope's and PrairieLearn's roots (tests lay them out elsewhere and
 # say so in the variables run_autograder and prairielearn.sh read).

@@ -15,7 +15,7 @@ that names another file is a `#line` (or a GNU linemarker) written by the
 student: it would make GCC quote a line of any file it can read in its
 diagnostics, and is refused. (A forged marker *with* flags, `# 1 "x" 1 3`,
 is refused from the text before the compiler runs:
-build.refused_directives.)
+include_policy.refused_directives.)
 
 Refused in the student's tokens (an allow-list: a lookup needs none of it):
 - inline assembly: `asm`, `__asm`, `__asm__` (with volatile, goto, labels);
@@ -33,7 +33,10 @@ from __future__ import annotations
 
 import re
 
+from bisect import bisect_right
+
 from ..i18n import _
+from .include_policy import _DIRECTIVE, _TOKEN, _TRIGRAPHS, _blank, _logical
 
 ASM_KEYWORDS = frozenset({"asm", "__asm", "__asm__"})
 # Attribute names (without the __x__ spelling) whose argument reaches the
@@ -162,3 +165,61 @@ def refusals(preprocessed: str, main: str) -> list[tuple[int, str]]:
             attribute = None
         previous = token
     return found
+
+
+# ---- the text half: directives and _Pragma, read before the compiler runs -------------
+
+# The directives a submission may use (an allow-list; the source policy's
+# text half, grader/build/source_policy.py): no #line or GNU linemarker ("# 12
+# "file" 1 3"), which would make the compiler quote or attribute lines to
+# another file, no #ident, #assert, #include_next, #import, #embed.
+_DIRECTIVES = frozenset({"", "include", "define", "undef", "if", "ifdef", "ifndef", "elif", "elifdef",
+                         "elifndef", "else", "endif", "error", "warning", "pragma"})
+
+
+def _constructs_in(text: str) -> list[tuple[int, str]]:
+    logical, cuts, removed = _logical(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
+    cleaned = _blank(_blank_strings(logical))
+    newlines = [m.start() for m in re.finditer("\n", cleaned)]
+
+    def line_of(offset: int) -> int:
+        at = bisect_right(cuts, offset)
+        return bisect_right(newlines, offset - 1) + (removed[at - 1] if at else 0) + 1
+
+    found = []
+    for match in _DIRECTIVE.finditer(cleaned):
+        name, rest = match.group(1), match.group(2).strip()
+        shown = f"#{name} {rest}".strip()[:120]
+        if name not in _DIRECTIVES:
+            found.append((line_of(match.start()), _("%(shown)s (the directive #%(name)s is not "
+                                                    "allowed in a submission)") % {"shown": shown, "name": name or rest.split()[0]}))
+        elif name == "pragma" and not pragma_allowed(rest):
+            found.append((line_of(match.start()), _("%(shown)s (this pragma is not allowed in a submission)") % {"shown": shown}))
+    for match in re.finditer(r"\b_Pragma\b", cleaned):
+        found.append((line_of(match.start()), _("_Pragma (not allowed in a submission)")))
+    return found
+
+
+def _blank_strings(text: str) -> str:
+    """String and character literals become spaces, so that "_Pragma" in a
+    string is not taken for the operator (comments: _blank)."""
+    pieces = []
+    for match in _TOKEN.finditer(text):
+        piece = match.group(0)
+        pieces.append(re.sub(r"[^\n]", " ", piece) if match.lastgroup in ("string", "char") else piece)
+    return "".join(pieces)
+
+
+def refused_constructs(text: bytes) -> list[tuple[int, str]]:
+    """(line, what) for each directive outside the allow-list (#line, GNU
+    linemarkers, #ident, ...), pragma outside PRAGMAS and
+    _Pragma in a source, read as the compiler reads it (with trigraphs
+    replaced too). The compiler's tokens are judged as well, after -E
+    (source_policy.refusals): this half sees what -E does not show."""
+    source = text.decode("latin-1")
+    found = dict.fromkeys(_constructs_in(source))
+    if "??" in source:
+        for trigraph, replacement in _TRIGRAPHS.items():
+            source = source.replace(trigraph, replacement)
+        found.update(dict.fromkeys(_constructs_in(source)))
+    return sorted(found)

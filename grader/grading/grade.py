@@ -44,7 +44,8 @@ def run_seed(secret: str, source_sha256: str) -> int:
 
 
 def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, write_reports: bool = True) -> GradeResult:
-    from ..build import HarnessBuildError, build_submission
+    from ..build.compiler import HarnessBuildError
+    from ..build import build_submission
     from ..intake import student_name
     options = options or GradeOptions()
     started = time.monotonic()

@@ -72,7 +72,7 @@ ENTRY_POINT = "grader.kit.selfcheck"
 # timings), which the kit leaves out (grader.kit.NOT_IN_KIT): not followed.
 NOT_FOLLOWED = ("grader.study",)
 # Files beside the modules that they read (grader-relative): the build's
-# shim (grader.build._shim_files), the worker's source (grader.worker.native).
+# shim (grader.build.common._shim_files), the worker's source (grader.worker.native).
 # The null submission and reference_submission.c serve only speed.
 GRADER_FILES = ("build/shim/shim.cpp", "build/shim/submission_abi.h", "worker/worker.c")
 # What the kit's rubric keeps of [grading] (never the secret); [checks] whole.
@@ -193,7 +193,7 @@ def write_selfcheck(root: Path, artifacts: Path) -> None:
     and reference renders, the recorded answers."""
     from ..grading import fixtures
     from .. import i18n
-    from ..build import API_HEADERS
+    from ..build.include_policy import API_HEADERS
     from ..grading.score import load_rubric
     from . import answers, environment
     package = PROJECT_ROOT / "grader"

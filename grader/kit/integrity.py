@@ -50,6 +50,6 @@ def edited_api_files(kit: Path, root: Path) -> list[str]:
     loader) that differ from the course's copies under `root`
     (student_template/): grading compiles EnvironmentMap.cpp with the
     course's, so an edit there builds with `make` but not when graded."""
-    from ..build import API_HEADERS
+    from ..build.include_policy import API_HEADERS
     return [name for name in (*API_HEADERS, "EnvironmentMapLoader.cpp")
             if (kit / name).is_file() and _digest(kit / name) != _digest(root / "student_template" / name)]

@@ -14,7 +14,8 @@ import pytest
 
 from grader import build
 from grader.build import compiler as build_confinement
-from grader.build import BUILD_GID, BUILD_UID, HarnessBuildError, build_submission
+from grader.build.compiler import BUILD_GID, BUILD_UID, HarnessBuildError
+from grader.build import build_submission
 from grader.build.compiler import BuildConfinementError, ensure_confined, readable_by, readable_tree
 from project_paths import SUBMISSIONS
 

@@ -5,7 +5,7 @@ import subprocess
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.build import REFERENCE, TEMPLATE
+from grader.build.common import REFERENCE, TEMPLATE
 from grader.worker.sandbox import compiler_command, sandbox_problem
 
 pytestmark = pytest.mark.skipif(sandbox_problem() is not None, reason=f"no sandbox here: {sandbox_problem()}")
@@ -40,7 +40,7 @@ def test_a_student_build_step_sees_no_project_folder(tmp_path):
     # API headers and our objects: not even the template or the reference's
     # headers are mounted.
     import time
-    from grader.build import _run
+    from grader.build.compiler import _run
     probe = " || ".join(f"test -e {p}" for p in (REFERENCE / "include" / "envmap.h",
                                                    TEMPLATE / "EnvironmentMap.h", PROJECT_ROOT / "grader"))
     step = _run(["/bin/sh", "-c", f"{probe} || echo hidden; id -u"], tmp_path, time.monotonic() + 30,

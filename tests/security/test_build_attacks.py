@@ -22,7 +22,9 @@ from pathlib import Path
 import pytest
 
 from grader import PROJECT_ROOT, build, intake as submissions
-from grader.build import _dependencies, _outside_files, build_submission, inspect_object, refused_directives
+from grader.build.include_policy import _dependencies, _outside_files, refused_directives
+from grader.build import build_submission
+from grader.build.objects import inspect_object
 from fake_bwrap import write_failing_bwrap
 from project_paths import SUBMISSIONS
 from cases import cases
@@ -134,7 +136,7 @@ def test_object_reader_refuses_malformed_objects():
 
 def test_compiler_stdin_is_dev_null(tmp_path):
     # The grader's stdin carries data; a compiler reading /dev/stdin must not see it.
-    script = ("import sys, time; from pathlib import Path; from grader.build import _run;"
+    script = ("import sys, time; from pathlib import Path; from grader.build.compiler import _run;"
               "step = _run(['/bin/cat', '/dev/stdin'], Path(sys.argv[1]), time.monotonic() + 20, 'none');"
               "print(repr(step.output))")
     done = subprocess.run([sys.executable, "-c", script, str(tmp_path)], input="GRADER-STDIN-SECRET",
@@ -550,7 +552,7 @@ def test_refusals_stay_short_whatever_the_object_holds(tmp_path, monkeypatch):
 def test_the_linked_library_is_checked_too(cache):
     # Whatever got past the object checks, the library the worker loads
     # may need only the C/C++ runtime: a library that needs zlib is refused.
-    from grader.build import inspect_library
+    from grader.build.objects import inspect_library
     built = build_submission(SUBMISSIONS / "correct" / "idiomatic.cpp", cache_dir=cache)
     allowed = set((next(cache.glob("common-*")) / "allowed-symbols.txt").read_text().split())
     assert inspect_library(built.library.read_bytes(), allowed, sanitize=False) is None

@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.build import BUILD_GID, BUILD_UID
+from grader.build.compiler import BUILD_GID, BUILD_UID
 from grader.build.compiler import readable_tree
 from grader.grading.catalogue import CATALOGUE
 from grader.platforms.gradescope import build_bundle

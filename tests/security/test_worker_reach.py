@@ -179,7 +179,7 @@ def test_without_the_filter_the_uid_and_namespace_still_keep_workers_apart(attac
 
 @pytest.mark.skipif(DROP is not None, reason=f"no privilege drop: {DROP}")
 def test_each_privilege_drop_worker_has_a_uid_of_its_own(attacker):
-    from grader.build import BUILD_UID
+    from grader.build.compiler import BUILD_UID
     with Worker(attacker, sandbox="privilege-drop") as a, Worker(null_library(), sandbox="privilege-drop") as b:
         seen = {uid_of(a._worker_pid), uid_of(b._worker_pid)}
         assert len(seen) == 2 and not seen & {0, 65534, BUILD_UID}

@@ -1,5 +1,5 @@
 """The source policy (grader/build/source_policy.py) on the compiler's own -E
-output, each wall on its own: the text half (build.refused_constructs), the
+output, each wall on its own: the text half (source_policy.refused_constructs), the
 token half (source_policy.refusals on real g++ -E output, without the text
 half in front of it) and the assembly as a second wall (the token half
 switched off).
@@ -13,7 +13,8 @@ import pytest
 
 from grader import build
 from grader.build import source_policy
-from grader.build import build_submission, refused_constructs
+from grader.build import build_submission
+from grader.build.source_policy import refused_constructs
 from project_paths import SUBMISSIONS
 
 ATTACKS = SUBMISSIONS / "attacks"
