@@ -38,13 +38,13 @@ from pathlib import Path
 from .. import PROJECT_ROOT
 from ..grading.results import TIMEOUT, UNGRADABLE
 from ..intake import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
+from .class_files import MISSING, cell, write_text_atomic
 from .lms_csv import FILES as LMS_FILES
 
 # grade() imports this module for student_name: what only a class needs
 # (process pools, the class summary's report code) is imported where used.
 
 RECORD_FILE = ".grade.json"
-MISSING = "no-submission"     # a roster's student with nothing in the class folder
 SUMMARY_DATA = "summary.json"
 # What grade-all writes beside the students' folders in OUT (lower case).
 CLASS_FILES = ("gradebook.csv", SUMMARY_DATA, "summary.md", "summary.html", "summary_histogram.png",
@@ -198,15 +198,6 @@ def _replace_dir(new: Path, final: Path) -> None:
         shutil.rmtree(old, ignore_errors=True)
 
 
-def _write_text_atomic(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
-
-
 def read_record(out_dir: Path) -> dict | None:
     try:
         return json.loads((out_dir / RECORD_FILE).read_text())
@@ -314,7 +305,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         from .similarity import class_similarity
         data["similarity"] = class_similarity(submissions, out)
     write_gradebook(ordered + missing, out / "gradebook.csv", roster_columns=class_roster is not None)
-    _write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
+    write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
     _summary(ordered, out, data)
     return ordered
 
@@ -514,15 +505,9 @@ def write_gradebook(rows: list[Row], path: Path, roster_columns: bool = False) -
     who = ["student_id", "name", "email"] if roster_columns else []
     w.writerow(["student", *who, "score", "max_score", "status", *names, "diagnoses"])
     for r in rows:
-        ids = [_cell(r.student_id), _cell(r.name), _cell(r.email)] if roster_columns else []
+        ids = [cell(r.student_id), cell(r.name), cell(r.email)] if roster_columns else []
         score = ["", ""] if r.status == MISSING else [f"{r.score:g}", f"{r.max_score:g}"]
         # A check that did not run is blank, not 0: the difference matters when an instructor regrades.
-        w.writerow([_cell(r.student), *ids, *score, r.status,
+        w.writerow([cell(r.student), *ids, *score, r.status,
                     *[f"{r.checks[n]:g}" if n in r.checks else "" for n in names], " ".join(r.diagnoses)])
-    _write_text_atomic(path, buf.getvalue())
-
-
-def _cell(text: str) -> str:
-    """A spreadsheet cell from a name a student chose: a leading =, +, - or @
-    would be read as a formula by Excel or LibreOffice (CSV injection)."""
-    return "'" + text if text[:1] in ("=", "+", "-", "@", "\t", "\r") else text
+    write_text_atomic(path, buf.getvalue())

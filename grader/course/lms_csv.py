@@ -26,9 +26,7 @@ import io
 from pathlib import Path
 
 from ..grading.results import UNGRADABLE
-
-# grade_all imports FILES from here (they are class files): what this module
-# needs of grade_all is imported where used.
+from .class_files import MISSING, cell, write_text_atomic
 
 DEFAULT_ASSIGNMENT = "Environment map"
 CANVAS, MOODLE, GRADESCOPE = "grades_canvas.csv", "grades_moodle.csv", "grades_gradescope.csv"
@@ -36,16 +34,14 @@ FILES = (CANVAS, MOODLE, GRADESCOPE)
 
 
 def _score(row) -> str:
-    from .grade_all import MISSING
     return "" if row.status in (MISSING, UNGRADABLE) else f"{row.score:g}"
 
 
 def _csv(header: list[str], lines: list[list[str]]) -> str:
-    from .grade_all import _cell
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\r\n")   # RFC 4180, as the LMSs write their own
     w.writerow(header)
-    w.writerows([[_cell(str(v)) for v in line] for line in lines])
+    w.writerows([[cell(str(v)) for v in line] for line in lines])
     return buf.getvalue()
 
 
@@ -61,7 +57,6 @@ def moodle(entries, assignment: str) -> str:
 
 
 def gradescope(entries, max_score: float) -> str:
-    from .grade_all import MISSING
     return _csv(["Name", "SID", "Email", "Total Score", "Max Points", "Status"],
                 [[st.name, st.id, st.email, _score(row), f"{max_score:g}",
                   "Missing" if row.status == MISSING else "Graded" if _score(row) else "Ungraded"]
@@ -71,10 +66,9 @@ def gradescope(entries, max_score: float) -> str:
 def write_lms_files(entries, out: Path, assignment: str = DEFAULT_ASSIGNMENT) -> list[Path]:
     """entries: (gradebook row, roster student) for every student on the
     roster, in gradebook order. Returns the files written."""
-    from .grade_all import _write_text_atomic
     max_score = max([row.max_score for row, _ in entries] + [0.0])
     files = {CANVAS: canvas(entries, max_score, assignment), MOODLE: moodle(entries, assignment),
              GRADESCOPE: gradescope(entries, max_score)}
     for name, text in files.items():
-        _write_text_atomic(Path(out) / name, text)
+        write_text_atomic(Path(out) / name, text)
     return [Path(out) / name for name in files]
