@@ -8,23 +8,31 @@ others.
 from __future__ import annotations
 
 import argparse
+import ast
 import importlib
 import sys
+from pathlib import Path
 
-COMMANDS = {
-    "grade": "grade one submission and write its reports",
-    "grade-all": "grade every submission in a folder (a class) in parallel",
-    "lookup": "look up directions read from stdin in a cube map (reference)",
-    "render": "render a scene file with the reference renderer",
-    "fixtures": "regenerate fixtures/ from the reference",
-    "kit": "build the student kit (template, renderer, self-check; no lookup, no secret)",
-    "bundle": "the old name of `kit`: build the student kit",
-    "gradescope": "build autograder.zip for Gradescope",
-    "prairielearn": "grade /grade/student for PrairieLearn's external grader",
-    "cubemap": "generate and convert environment maps",
-    "study": "speed against accuracy of the lookup methods",
-    "audit": "measure the grader: grade mutants of correct solutions and count what escapes",
-}
+# In the order `--help` lists them; each one's help is its module's HELP.
+COMMANDS = ("grade", "grade-all", "lookup", "render", "fixtures", "kit", "bundle", "gradescope", "prairielearn",
+            "cubemap", "study", "audit")
+
+
+def module_name(command: str) -> str:
+    return command.replace("-", "_")
+
+
+def command_help(command: str) -> str:
+    """The command module's HELP, read from its source rather than imported:
+    `--help` stays fast and cannot be broken by one command's imports."""
+    path = Path(__file__).with_name("commands") / f"{module_name(command)}.py"
+    try:
+        for node in ast.parse(path.read_text(), str(path)).body:
+            if isinstance(node, ast.Assign) and [getattr(t, "id", None) for t in node.targets] == ["HELP"]:
+                return ast.literal_eval(node.value)
+    except (OSError, SyntaxError, ValueError) as e:
+        return f"(its help cannot be read: {e})"
+    return "(no help)"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -35,10 +43,11 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     argv = sys.argv[1:] if argv is None else argv
     chosen = next((a for a in argv if not a.startswith("-")), None)
-    for name, help_text in COMMANDS.items():
+    for name in COMMANDS:
+        help_text = command_help(name)
         p = sub.add_parser(name, help=help_text, description=help_text)
         if name == chosen:
-            module = importlib.import_module(f"grader.commands.{name.replace('-', '_')}")
+            module = importlib.import_module(f"grader.commands.{module_name(name)}")
             module.add_arguments(p)
             p.set_defaults(run=module.run)
     args = parser.parse_args(argv)
