@@ -1,7 +1,8 @@
 """The cube-map environment-mapping autograder.
 
-Data flows submission -> build -> worker (isolated) -> checks -> score ->
-reports; each step is a module or package of the same name.
+Data flows intake -> build -> worker (isolated) -> checks -> grading ->
+reports, each step a module or package of that name; envmap/ is the
+reference C library's Python face, i18n/ the languages (docs/ARCHITECTURE.md).
 """
 from pathlib import Path
 

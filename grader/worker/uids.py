@@ -10,7 +10,7 @@ the null library's included, runs as a uid nobody else uses while it lives:
 one of a reserved range, held by an exclusive lock on a file of that uid in
 a root-only folder (flock: across processes, released by the kernel when the
 holder dies). The range is far from real accounts, nobody (65534) and the
-build uid (grader/build/__init__.py BUILD_UID 65533).
+build uid (grader/build/compiler.py BUILD_UID 65533).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 // shim.cpp - submission_abi.h over a student's EnvironmentMap.
 //
-// Compiled by grader/build/__init__.py with the template's headers into the
+// Compiled by grader/build/common.py with the template's headers into the
 // submission's shared library. No C++ exception crosses the C boundary:
 // each entry point catches everything and reports it as SUB_ERR_EXCEPTION
 // with the exception's message.
