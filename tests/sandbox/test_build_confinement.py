@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from grader import build
-from grader.build import compiler as build_confinement
+from grader.build import compiler
 from grader.build.compiler import BUILD_GID, BUILD_UID, HarnessBuildError
 from grader.build import build_submission
 from grader.build.compiler import BuildConfinementError, ensure_confined, readable_by, readable_tree
@@ -36,9 +36,9 @@ def layout(monkeypatch):
     for path in [top, *top.rglob("*")]:
         path.chmod(0o755 if path.is_dir() else 0o644)
     monkeypatch.setenv("AUTOGRADER_ROOT", str(root))
-    build_confinement._ensured.cache_clear()
+    compiler._ensured.cache_clear()
     yield root
-    build_confinement._ensured.cache_clear()
+    compiler._ensured.cache_clear()
     shutil.rmtree(top, ignore_errors=True)
 
 
@@ -62,7 +62,7 @@ def test_a_readable_layout_is_closed_before_a_build(layout, tmp_path):
 def test_when_our_files_cannot_be_closed_nothing_is_built(layout, tmp_path, monkeypatch):
     # As on a read-only bind mount: chmod cannot help, so the build refuses
     # with a typed error for the instructor, before compiling anything.
-    monkeypatch.setattr(build_confinement, "_close", lambda root: None)
+    monkeypatch.setattr(compiler, "_close", lambda root: None)
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
     scratch = tmp_path / "scratch"
     scratch.mkdir()
@@ -77,7 +77,7 @@ def test_when_our_files_cannot_be_closed_nothing_is_built(layout, tmp_path, monk
 def test_a_grading_that_cannot_confine_is_ungradable_and_says_why(layout, tmp_path, monkeypatch):
     # The instructor reads what to close, not "could not build its own files".
     from grader.grading import grade as grading
-    monkeypatch.setattr(build_confinement, "_close", lambda root: None)
+    monkeypatch.setattr(compiler, "_close", lambda root: None)
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
     source = layout / "submission" / "EnvironmentMap.cpp"
     source.write_bytes(GOOD + f"\n// not in any build cache: {os.getpid()} {tmp_path.name}\n".encode())

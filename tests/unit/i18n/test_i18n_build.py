@@ -63,7 +63,7 @@ def _assert_japanese_and_same(path: Path, tmp_path: Path, name: str, quoted: str
 # from the submission): each reaches
 # another message: the object check (build.inspect_object), the text half
 # of the source policy (build.refused_directives), the friendly sentences
-# over the compiler's output (build_messages).
+# over the compiler's output (grader.build.messages).
 BUILD_CASES = [
     ("attacks/unknown_symbol.cpp", "forbidden-object", "標準ライブラリ"),
     ("attacks/calls_reference.cpp", "calls-reference", "参照実装"),
