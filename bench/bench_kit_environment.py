@@ -45,7 +45,9 @@ print("imports %.2f s" % (time.monotonic() - start))
 
 def layout(dest: Path, kit: Path | None) -> None:
     if kit is not None:
-        shutil.copytree(kit, dest, ignore=shutil.ignore_patterns("build"))
+        from grader import in_build_output
+        shutil.copytree(kit, dest, ignore=lambda folder, names: {n for n in names if n == "build" and in_build_output(
+            (*Path(folder).parts[-1:], n, "x"))})
         return
     from grader.kit.environment import write_requirements
     selfcheck = dest / "selfcheck"

@@ -116,6 +116,17 @@ NOBODY = ["setpriv", "--reuid", "65534", "--regid", "65534", "--clear-groups"]
 NOT_COPIED = (".venv", "build", "out", ".git", "__pycache__", ".pytest_cache", ".tmp-*")
 
 
+def not_copied(folder: str, names: list[str]) -> set[str]:
+    """shutil.copytree's ignore for NOT_COPIED, keeping grader/build/ (the
+    build step's package, not a build output)."""
+    import shutil
+    from grader import in_build_output
+    ignored = set(shutil.ignore_patterns(*NOT_COPIED)(folder, names))
+    if "build" in ignored and not in_build_output((*Path(folder).parts[-1:], "build", "x")):
+        ignored.discard("build")
+    return ignored
+
+
 def nobody_python() -> tuple[str | None, str]:
     """An interpreter path user nobody can run with the grader's packages
     (this one, or the same venv by its real path when only the way to it is
@@ -161,7 +172,7 @@ def nobody_project(tmp_path_factory) -> NobodyCopy:
     try:
         folder.chmod(0o755)
         copy = folder / "project"
-        shutil.copytree(PROJECT_ROOT, copy, ignore=shutil.ignore_patterns(*NOT_COPIED), symlinks=True)
+        shutil.copytree(PROJECT_ROOT, copy, ignore=not_copied, symlinks=True)
         for path in [copy, *copy.rglob("*")]:
             if not path.is_symlink():
                 path.chmod(path.stat().st_mode | (0o755 if path.is_dir() else 0o444))

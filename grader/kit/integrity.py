@@ -15,9 +15,12 @@ import hashlib
 import json
 from pathlib import Path
 
+from .. import in_build_output
+
 MANIFEST = "kit_files.json"
-# Made by running the self-check (Python's caches, the reference's build).
-GENERATED = ("__pycache__", "build")
+# Made by running the self-check: Python's caches (and the reference's
+# build outputs, in_build_output: the grader's build package is the kit's own).
+GENERATED = ("__pycache__",)
 
 
 def _digest(path: Path) -> str:
@@ -27,7 +30,8 @@ def _digest(path: Path) -> str:
 def _files(root: Path) -> dict[str, str]:
     return {p.relative_to(root).as_posix(): _digest(p) for p in sorted(root.rglob("*"))
             if p.is_file() and p.name != MANIFEST
-            and not any(part in GENERATED for part in p.relative_to(root).parts)}
+            and not any(part in GENERATED for part in p.relative_to(root).parts)
+            and not in_build_output(p.relative_to(root).parts)}
 
 
 def write_manifest(root: Path) -> None:

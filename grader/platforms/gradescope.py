@@ -11,12 +11,12 @@ import stat
 import zipfile
 from pathlib import Path
 
-from .. import PROJECT_ROOT
+from .. import PROJECT_ROOT, in_build_output
 
 INCLUDE = ("grader", "reference", "student_template", "Cubemap", "fixtures", "scenes",
            "envmap_test.cfg", "requirements.txt", "requirements.lock", "packages.txt", "Makefile", "scripts")
 # Build outputs, caches, a student's local self-check, CI files: never shipped.
-EXCLUDE_PARTS = {"__pycache__", ".venv", "build", "out", "selfcheck", ".github", ".pytest_cache", "fuzz"}
+EXCLUDE_PARTS = {"__pycache__", ".venv", "out", "selfcheck", ".github", ".pytest_cache", "fuzz"}   # and build outputs
 FIXED_TIME = (2020, 1, 1, 0, 0, 0)   # byte-identical zips from identical trees
 
 SETUP_SH = """#!/usr/bin/env bash
@@ -112,7 +112,8 @@ def _files():
             yield path
         elif path.is_dir():
             for f in sorted(path.rglob("*")):
-                if f.is_file() and not (EXCLUDE_PARTS & set(f.relative_to(PROJECT_ROOT).parts)):
+                parts = f.relative_to(PROJECT_ROOT).parts
+                if f.is_file() and not (EXCLUDE_PARTS & set(parts)) and not in_build_output(parts):
                     yield f
 
 

@@ -84,7 +84,10 @@ def test_zip_has_the_scripts_at_the_top_and_no_build_outputs(bundle):
                    "requirements.txt", "fixtures/manifest.json", "student_template/EnvironmentMap.h"):
         assert needed in infos, needed
     parts = {p for name in infos for p in Path(name).parts}
-    assert not parts & {"build", ".venv", "__pycache__", "out", "tests"}
+    assert not parts & {".venv", "__pycache__", "out", "tests"}
+    from grader import in_build_output
+    assert not [name for name in infos if in_build_output(Path(name).parts)]
+    assert "grader/build/__init__.py" in infos and "grader/build/shim/shim.cpp" in infos
 
 
 def test_zip_is_reproducible(bundle, tmp_path):

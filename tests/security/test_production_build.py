@@ -90,7 +90,7 @@ def secret_lines(top: Path) -> set[str]:
     every longer line of the rubric, the reference's lookup and the question's files."""
     source = top / "autograder" / "source"
     lines = {SECRET, TESTS_SECRET}
-    for path in (source / "grader" / "rubric.toml", source / "reference" / "src" / "lookup.c"):
+    for path in (source / "grader" / "grading" / "rubric.toml", source / "reference" / "src" / "lookup.c"):
         lines |= {t.strip() for t in path.read_text().splitlines() if len(t.strip()) >= 30}
     return lines
 
@@ -179,7 +179,7 @@ def test_in_privilege_drop_mode_the_build_uid_reads_nothing_of_ours(layout):
     # nothing under /autograder or /grade is readable to it.
     open_up(layout)
     before = readable_tree(BUILD_UID, BUILD_GID, [layout])
-    assert {layout / "autograder" / "source" / "grader" / "rubric.toml", layout / "grade" / "tests" / "answer.txt",
+    assert {layout / "autograder" / "source" / "grader" / "grading" / "rubric.toml", layout / "grade" / "tests" / "answer.txt",
             layout / "autograder" / "submission_metadata.json"} <= set(before)
     # A source not built before (a cached verdict compiles nothing, so it needs no probe).
     grade_on_gradescope(layout, "asm_incbin_reference.cpp", "privilege-drop", suffix="// fresh\n")

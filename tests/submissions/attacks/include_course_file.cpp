@@ -2,7 +2,7 @@
 // Attack: the course's rubric included by its path, to read the secret in
 // the compiler's error messages.
 #include "EnvironmentMap.h"
-#include "/autograder/source/grader/rubric.toml"
+#include "/autograder/source/grader/grading/rubric.toml"
 
 Color EnvironmentMap::fetchColor(const Vector3& d) const
 {

