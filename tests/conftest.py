@@ -63,6 +63,10 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(getattr(pytest.mark, name))
 
 
+# The isolation modes (isolation_mode, privilege_drop): tests/helpers/isolation.py.
+pytest_plugins = ["isolation"]
+
+
 @pytest.fixture
 def rng() -> np.random.Generator:
     """A seeded generator: random tests repeat exactly."""

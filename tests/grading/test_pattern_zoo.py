@@ -195,22 +195,6 @@ def test_no_correct_submission_gets_a_pattern(path, tmp_path):
     assert {c.name: c.status for c in result.checks}["diagnosis"] == PASSED
 
 
-@pytest.fixture
-def privilege_drop(tmp_path, monkeypatch):
-    """A bwrap that always fails (Gradescope, PrairieLearn): as root the
-    grader runs the submission in privilege-drop mode."""
-    import os
-    import stat
-    from fake_bwrap import write_failing_bwrap
-    from grader.worker import sandbox
-    folder = write_failing_bwrap(tmp_path / "fakebin")
-    tmp_path.chmod(tmp_path.stat().st_mode | stat.S_IXOTH | stat.S_IROTH)
-    monkeypatch.setenv("PATH", f"{folder}:{os.environ.get('PATH', '/usr/bin:/bin')}")
-    sandbox.sandbox_problem.cache_clear()
-    yield
-    sandbox.sandbox_problem.cache_clear()
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("name, title", [
     ("face-order-negative-first_lambdas_nearest", "あなたの面の番号は、バッファーの面の順と違う順になっています"),

@@ -11,16 +11,14 @@ is held has a plain test that it stays held. docs/security.md, "Red team
 """
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
 
 from grader.grading.grade import GradeOptions
 from grader.grading.results import FAILED, GRADED
-from grader.worker import sandbox
-from fake_bwrap import write_failing_bwrap
 from grading_cache import grade_once
+from isolation import ISOLATION, isolation_mode
 from project_paths import SUBMISSIONS
 
 REDTEAM2 = SUBMISSIONS / "redteam2"
@@ -30,8 +28,6 @@ TESTED = {"analytic_when_timed", "fit_on_direct_calls", "half_texel_fetch_contro
           "v_flipped_control", "pays_to_be_believed", "unchecked_tail_of_timed_pass",
           "believed_on_two_faces", "swapped_on_y_control"}
 
-ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
-ISOLATION = {"bubblewrap": "bubblewrap", "privilege-drop": "privilege-drop"}
 
 
 def test_every_redteam2_submission_has_a_test():
@@ -41,21 +37,8 @@ def test_every_redteam2_submission_has_a_test():
         assert first.startswith("// ") and "Verdict" in first
 
 
-@pytest.fixture(params=["bubblewrap", "privilege-drop"])
-def mode(request, tmp_path, monkeypatch):
-    """Both production modes: bubblewrap as it is here, and privilege-drop
-    (root with a failing `bwrap` first on PATH, as in a container without
-    user namespaces)."""
-    if request.param == "bubblewrap" and sandbox.sandbox_problem() is not None:
-        pytest.skip(f"bubblewrap does not run here: {sandbox.sandbox_problem()}")
-    if request.param == "privilege-drop":
-        if not ROOT:
-            pytest.skip("privilege-drop mode needs root")
-        fake = write_failing_bwrap(tmp_path / "fakebin")
-        monkeypatch.setenv("PATH", f"{fake}:{os.environ.get('PATH', '/usr/bin:/bin')}")
-    sandbox.sandbox_problem.cache_clear()
-    yield request.param
-    sandbox.sandbox_problem.cache_clear()
+# Both production modes (tests/helpers/isolation.py), under the name these tests use.
+mode = isolation_mode
 
 
 def graded(name: str, out: Path, mode: str, only: tuple[str, ...] = ()):

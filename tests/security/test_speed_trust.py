@@ -21,7 +21,6 @@ from grader.checks.speed import WITHIN, speed
 from grader.checks.fetch_sweep import SweepFinding
 from grader.grading.results import FAILED, PASSED, CheckResult
 from grader.worker.lookups import open_lookups
-from fake_bwrap import write_failing_bwrap
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
 
@@ -147,21 +146,6 @@ def speed_verdict(library, tmp_path) -> CheckResult:
         ctx = CheckContext(lookups=lookups, seed=4242, artifacts=tmp_path / "images", quick=True)
         speed(ctx, result, SweepFinding(fraction=1.0))
     return result
-
-
-@pytest.fixture
-def privilege_drop(tmp_path, monkeypatch):
-    """A bwrap first on PATH that fails as in a container without user
-    namespaces: root grades in privilege-drop mode."""
-    import os
-    from grader.worker import sandbox
-    if sandbox.privilege_drop_problem() is not None:
-        pytest.skip(f"no privilege drop: {sandbox.privilege_drop_problem()}")
-    fake = write_failing_bwrap(tmp_path / "fakebin")
-    monkeypatch.setenv("PATH", f"{fake}:{os.environ['PATH']}")
-    sandbox.sandbox_problem.cache_clear()
-    yield
-    sandbox.sandbox_problem.cache_clear()
 
 
 def test_stopping_the_reference_during_the_speed_check_is_the_submissions_failure(libraries, tmp_path,

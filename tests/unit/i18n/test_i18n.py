@@ -17,7 +17,6 @@ from babel.messages.pofile import read_po
 
 from grader import PROJECT_ROOT, i18n
 from grader.grading.catalogue import CATALOGUE, KINDS
-from fake_bwrap import write_failing_bwrap
 
 PO = i18n.po_path("ja")
 PLACEHOLDER = re.compile(r"%\((\w+)\)[sd]")
@@ -220,21 +219,6 @@ def test_the_same_submission_graded_twice_in_japanese_reads_the_same(graded):
     strip = lambda t: re.sub(r"[\d.]+ (s|ms|ns)\b|比は [\d.]+ 倍", "", t)
     assert strip((first / "report.md").read_text()) == strip((second / "report.md").read_text())
     assert (first / "report.md").read_text().count("直し方") >= 1
-
-
-@pytest.fixture
-def privilege_drop(tmp_path, monkeypatch):
-    """A bwrap that always fails (a container without user namespaces): as
-    root the grader runs the submission in privilege-drop mode."""
-    import os
-    import stat
-    from grader.worker import sandbox
-    folder = write_failing_bwrap(tmp_path / "fakebin")
-    tmp_path.chmod(tmp_path.stat().st_mode | stat.S_IXOTH | stat.S_IROTH)
-    monkeypatch.setenv("PATH", f"{folder}:{os.environ.get('PATH', '/usr/bin:/bin')}")
-    sandbox.sandbox_problem.cache_clear()
-    yield
-    sandbox.sandbox_problem.cache_clear()
 
 
 @pytest.mark.representative

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from grader import PROJECT_ROOT, i18n
-from test_i18n import english_sentences, privilege_drop  # noqa: F401 (a fixture)
+from test_i18n import english_sentences
 
 SUBMISSIONS = PROJECT_ROOT / "tests" / "submissions"
 KANA = re.compile(r"[\u3040-\u30ff]")
