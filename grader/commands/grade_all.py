@@ -14,8 +14,10 @@ summary (OUT/summary.html, summary.md) are written at the end. Interrupted
 Gradescope or Canvas export, or any CSV with id, name and email columns), a
 row for each student who handed nothing in, and grade files that Canvas,
 Moodle and Gradescope import as they are (grades_canvas.csv,
-grades_moodle.csv, grades_gradescope.csv; --assignment names their column).
-Canvas's test student is left out. Unmatched and missing students are
+grades_moodle.csv, grades_gradescope.csv). A Canvas or Moodle export as
+roster names the assignment's column and Canvas's points; --assignment
+picks one when the export has several. Moodle's and Canvas's download
+names are matched to the roster. Canvas's test student is left out. Unmatched and missing students are
 printed. --similarity compares every
 pair of submissions (copydetect, the template's starter code left out) and
 lists the most similar pairs with their shared passages in the summary.
@@ -56,6 +58,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--assignment", metavar="NAME",
                    help="the assignment's column in the LMS grade files (default: 'Environment map'; for "
                         "Canvas, its export's name, e.g. 'Environment map (1234)', fills that assignment)")
+    p.add_argument("--zero-missing", action="store_true",
+                   help="in the LMS grade files, 0 for a roster's student who handed in nothing (default: blank, "
+                        "which Canvas leaves as it was and Moodle's file leaves out)")
     p.add_argument("--similarity", action="store_true",
                    help="compare the submissions with each other (starter code excluded) and list the most "
                         "similar pairs in the summary")
@@ -66,6 +71,7 @@ def run(args) -> int:
     from ..course.grade_all import DISTURBED, Interrupted, find_submissions, grade_all, skipped_entries
     from ..reports.class_summary import entry_text
     from ..reports.text import clean
+    from ..course.lms_csv import TargetError
     from ..course.roster import RosterError
     from ..course.similarity import SimilarityUnavailable
     if not args.submissions.is_dir():
@@ -91,8 +97,9 @@ def run(args) -> int:
                "allow_unsafe": args.allow_unsafe, "lang": args.lang}
     try:
         rows = grade_all(args.submissions, out, args.jobs, options, args.progress, force=args.force,
-                         roster=args.roster, similarity=args.similarity, assignment=args.assignment)
-    except RosterError as e:
+                         roster=args.roster, similarity=args.similarity, assignment=args.assignment,
+                         zero_missing=args.zero_missing)
+    except (RosterError, TargetError) as e:
         print(f"grade-all: roster: {e}", file=sys.stderr)
         return 2
     except SimilarityUnavailable as e:
@@ -127,6 +134,10 @@ def run(args) -> int:
                       ("missing", "handed in nothing"), ("left_out", "left out of the roster")):
         for entry in roster.get(key) or []:
             print(f"  {what}: {clean(entry_text(entry))}")
+    for entry in roster.get("lms_left_out") or []:
+        print(f"  left out of {entry['file']}: {clean(entry['student'])}: {entry['why']}")
+    for note in roster.get("lms_notes") or []:
+        print(f"  note: {clean(note)}")
     for name in roster.get("lms_files") or []:
         print(f"LMS import: {out / name}")
     print(f"gradebook: {out / 'gradebook.csv'}")

@@ -243,13 +243,16 @@ class Interrupted(Exception):
 
 def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | None = None,
               progress: bool = True, force: bool = False, roster: Path | None = None,
-              similarity: bool = False, grade_one=None, assignment: str | None = None) -> list[Row]:
+              similarity: bool = False, grade_one=None, assignment: str | None = None,
+              zero_missing: bool = False) -> list[Row]:
     """Grade every submission in `folder` into `out`; returns the gradebook rows.
     Raises Interrupted on Ctrl-C (what finished is kept: run again to go on),
-    RosterError when the roster cannot be read and SimilarityUnavailable
-    when --similarity cannot run (both before anything is graded). With a
-    roster, the grade files for Canvas, Moodle and Gradescope are written
-    too (grader/course/lms_csv.py), the LMS's column named `assignment`.
+    RosterError when the roster cannot be read, TargetError when its export
+    has several assignments and `assignment` names none of them, and
+    SimilarityUnavailable when --similarity cannot run (all before anything
+    is graded). With a roster, the grade files for Canvas, Moodle and
+    Gradescope are written too (grader/course/lms_csv.py), filling
+    `assignment` (0 for who handed in nothing when `zero_missing`).
     `grade_one` (a module-level function with _grade_one's signature, run in
     the grading processes) replaces _grade_one: tests use it to break a
     grading process."""
@@ -257,10 +260,12 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     if similarity:   # before grading: a missing tool must not cost a class's grading time
         from .similarity import require_tool
         require_tool()
-    class_roster = None
+    class_roster = target = None
     if roster is not None:
+        from .lms_csv import choose_target
         from .roster import load_roster
         class_roster = load_roster(roster)
+        target = choose_target(class_roster, assignment, zero_missing)
     if not options.get("allow_stale"):
         from ..grading.fixtures import check_stale
         check_stale()   # once, here: raises StaleFixtures for the instructor to read
@@ -296,11 +301,11 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
     missing: list[Row] = []
     if class_roster is not None:
         data["roster"], missing, entries = _apply_roster(class_roster, Path(roster), ordered)
-        from .lms_csv import DEFAULT_ASSIGNMENT, write_lms_files
-        # A Canvas export with one assignment names the column that fills it.
-        exported = class_roster.assignments[0] if len(class_roster.assignments) == 1 else None
-        data["roster"]["lms_files"] = [p.name for p in write_lms_files(entries, out,
-                                                                       assignment or exported or DEFAULT_ASSIGNMENT)]
+        from .lms_csv import write_lms_files
+        files, lms_left_out = write_lms_files(entries, out, target)
+        data["roster"].update(lms_files=[p.name for p in files], lms_left_out=lms_left_out, lms_notes=target.notes,
+                              lms_columns={"canvas": target.canvas_column, "moodle": target.moodle_column},
+                              canvas_points=target.canvas_points)
     if similarity:
         from .similarity import class_similarity
         data["similarity"] = class_similarity(submissions, out)

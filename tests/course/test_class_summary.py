@@ -10,7 +10,7 @@ import re
 from html.parser import HTMLParser
 
 from grader.course.grade_all import MISSING, Row
-from grader.course.lms_csv import write_lms_files
+from grader.course.lms_csv import Target, write_lms_files
 from grader.course.roster import Student, load_roster
 from grader.reports.class_summary import similarity_clusters, write_summary
 from grader.reports.html import CSS
@@ -111,10 +111,10 @@ def test_the_page_collapses_each_cluster_and_each_shared_passage(tmp_path):
 
 
 def entries():
-    students = [Student("S001", "Anderson, Alice", "alice", "501", "Lab A"),
-                Student("S002", "Brown, Bob", "bob", "502", "Lab B"),
-                Student("S003", "Clark, Carol", "carol", "503", "Lab A"),
-                Student("S004", "=cmd|' /C calc'!A0", "dan", "504", "Lab A")]
+    students = [Student("S001", "Anderson, Alice", "alice@uni.example", "501", "Lab A", "alice"),
+                Student("S002", "Brown, Bob", "", "502", "Lab B", "bob"),
+                Student("S003", "Clark, Carol", "carol@uni.example", "503", "Lab A", "carol"),
+                Student("S004", "=cmd|' /C calc'!A0", "dan@uni.example", "504", "Lab A", "dan")]
     rows = [Row("alice", "graded", 100.0, 100.0), Row("bob", "graded", 63.93, 100.0),
             Row("carol", "ungradable", 0.0, 0.0), Row("Clark", MISSING, 0.0, 0.0)]
     return list(zip(rows, students))
@@ -125,25 +125,36 @@ def read(path):
 
 
 def test_each_lms_gets_the_columns_it_imports_by(tmp_path):
-    files = write_lms_files(entries(), tmp_path, "Environment map (1234)")
+    files, left_out = write_lms_files(entries(), tmp_path, Target("Environment map (1234)", "Environment map", 10.0))
     assert [f.name for f in files] == ["grades_canvas.csv", "grades_moodle.csv", "grades_gradescope.csv"]
-    # Canvas: its export's identity columns, the Points Possible row, the assignment as Canvas names it.
+    # Canvas: its export's identity columns, the Points Possible row, the assignment as Canvas names it,
+    # scores scaled to its points.
     assert read(tmp_path / "grades_canvas.csv") == [
         ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Environment map (1234)"],
-        ["    Points Possible", "", "", "", "", "100"],
-        ["Anderson, Alice", "501", "S001", "alice", "Lab A", "100"],
-        ["Brown, Bob", "502", "S002", "bob", "Lab B", "63.93"],
+        ["    Points Possible", "", "", "", "", "10"],
+        ["Anderson, Alice", "501", "S001", "alice", "Lab A", "10"],
+        ["Brown, Bob", "502", "S002", "bob", "Lab B", "6.39"],
         ["Clark, Carol", "503", "S003", "carol", "Lab A", ""],           # ungradable: left alone
         ["'=cmd|' /C calc'!A0", "504", "S004", "dan", "Lab A", ""]]     # no formula; nothing handed in
-    assert read(tmp_path / "grades_moodle.csv")[:2] == [
-        ["Full name", "Email address", "ID number", "Environment map (1234)"], ["Anderson, Alice", "alice", "S001", "100"]]
+    # Moodle: a row only with a score and every identifier (Bob has no email address).
+    assert read(tmp_path / "grades_moodle.csv") == [
+        ["Full name", "ID number", "Email address", "Environment map"],
+        ["Anderson, Alice", "S001", "alice@uni.example", "100"]]
+    assert left_out == [{"file": "grades_moodle.csv", "student": "Brown, Bob", "why": "no Email address to be found by"}]
     assert read(tmp_path / "grades_gradescope.csv") == [
-        ["Name", "SID", "Email", "Total Score", "Max Points", "Status"],
-        ["Anderson, Alice", "S001", "alice", "100", "100", "Graded"],
-        ["Brown, Bob", "S002", "bob", "63.93", "100", "Graded"],
-        ["Clark, Carol", "S003", "carol", "", "100", "Ungraded"],
-        ["'=cmd|' /C calc'!A0", "S004", "dan", "", "100", "Missing"]]
+        ["First Name", "Last Name", "SID", "Email", "Total Score", "Max Points", "Status"],
+        ["Alice", "Anderson", "S001", "alice@uni.example", "100", "100", "Graded"],
+        ["Bob", "Brown", "S002", "", "63.93", "100", "Graded"],
+        ["Carol", "Clark", "S003", "carol@uni.example", "", "100", "Ungraded"],
+        ["'=cmd|' /C", "calc'!A0", "S004", "dan@uni.example", "", "100", "Missing"]]
     assert (tmp_path / "grades_canvas.csv").read_bytes().count(b"\r\n") == 6    # RFC 4180 line ends
+
+
+def test_zero_for_nothing_handed_in_only_when_asked(tmp_path):
+    write_lms_files(entries(), tmp_path, Target("Environment map (1234)", "Environment map", 10.0, zero_missing=True))
+    canvas = read(tmp_path / "grades_canvas.csv")
+    assert [r[-1] for r in canvas[2:]] == ["10", "6.39", "", "0"]     # ungradable stays blank
+    assert read(tmp_path / "grades_gradescope.csv")[-1][4:] == ["0", "100", "Missing"]
 
 
 def test_a_canvas_export_names_its_assignment_column(tmp_path):

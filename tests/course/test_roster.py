@@ -32,9 +32,9 @@ def test_gradescope_roster_columns(tmp_path):
 
 def test_canvas_gradebook_export_skips_points_possible_and_the_test_student(tmp_path):
     r = roster(tmp_path, CANVAS)
-    assert r.columns == {"id": "SIS User ID", "name": "Student", "email": "SIS Login ID"}
-    assert r.students == [Student("1001", "Doe, Jane", "jdoe", "555", "S1"),
-                          Student("1002", "Smith, John", "jsmith", "556", "S1")]
+    assert r.columns == {"id": "SIS User ID", "name": "Student", "login": "SIS Login ID"}
+    assert r.students == [Student("1001", "Doe, Jane", "", "555", "S1", "jdoe"),     # a login, not an email
+                          Student("1002", "Smith, John", "", "556", "S1", "jsmith")]
     assert r.left_out == ["Test Student: Canvas's test student (Student View), not a student"]
 
 
@@ -99,3 +99,90 @@ def test_gradebook_with_roster_columns_and_formula_safe_cells(tmp_path):
         "student,student_id,name,email,score,max_score,status,one,diagnoses",
         "'=HYPERLINK(1),1001,'+Doe,d@x,30,40,graded,30,",
         "Ann Lee,1003,Ann Lee,alee@uni.edu,,,no-submission,,"]
+
+
+# ---- Moodle, logins, points, staff -----------------------------------------------------
+
+MOODLE = ('"First name","Last name","ID number",Institution,Department,"Email address",'
+          '"Assignment: Environment map (Real)","Last downloaded from this course"\n'
+          'Jane,Doe,1001,Uni,CS,jane.doe@uni.edu,-,1796601600\n'
+          'John,Smith,1002,Uni,CS,john.smith@uni.edu,-,1796601600\n')
+
+
+@pytest.mark.parametrize("entry", [
+    "Jane Doe_101_assignsubmission_file",                      # downloaded in folders (Moodle 3.1 and later)
+    "Jane Doe_101_assignsubmission_file_",                     # in folders, before 3.1
+    "Jane Doe_101_assignsubmission_file_EnvironmentMap",       # one flat folder (.cpp taken off)
+    "Jane Doe_101_assignsubmission_file_my_handin",            # a zip the student named
+])
+def test_moodle_download_names_match_by_full_name(tmp_path, entry):
+    matched, unmatched, missing = roster(tmp_path, MOODLE).match([entry])
+    assert matched[entry].id == "1001" and unmatched == [] and [s.id for s in missing] == ["1002"]
+
+
+def test_a_moodle_participant_number_is_never_taken_for_a_canvas_or_student_id(tmp_path):
+    """Participant 555 is Moodle's number for one assignment: Jane's Canvas id
+    555 must not claim John's download."""
+    matched, unmatched, _ = roster(tmp_path, CANVAS).match(["John Smith_555_assignsubmission_file"])
+    assert matched["John Smith_555_assignsubmission_file"].id == "1002"
+
+
+def test_moodle_grading_worksheet_matches_by_participant_number(tmp_path):
+    worksheet = ('Identifier,"Full name","Email address",Status,Grade,"Maximum Grade"\n'
+                 '"Participant 101","Jane Doe",jane.doe@uni.edu,"Submitted for grading",,100.00\n'
+                 '"Participant 102","Jane Doe",jane.d@uni.edu,"Submitted for grading",,100.00\n')
+    matched, unmatched, _ = roster(tmp_path, worksheet).match(["Jane Doe_102_assignsubmission_file"])
+    assert matched["Jane Doe_102_assignsubmission_file"].email == "jane.d@uni.edu"   # two Jane Does: the number decides
+
+
+def test_moodle_export_gives_id_number_email_and_its_assignment_columns(tmp_path):
+    r = roster(tmp_path, MOODLE)
+    assert r.students[0] == Student("1001", "Jane Doe", "jane.doe@uni.edu")
+    assert r.moodle_items == ["Assignment: Environment map (Real)"]
+
+
+def test_a_login_is_an_email_only_when_it_is_one(tmp_path):
+    r = roster(tmp_path, CANVAS.replace("jsmith", "john.smith@uni.edu"))
+    assert [(s.email, s.login) for s in r.students] == [("", "jdoe"), ("john.smith@uni.edu", "john.smith@uni.edu")]
+
+
+def test_canvas_points_possible_per_assignment(tmp_path):
+    text = ("Student,ID,SIS User ID,SIS Login ID,Section,Environment map (4711),Quiz (12),Current Points\n"
+            "    Points Possible,,,,,10.00,5.00,(read only)\n"
+            '"Doe, Jane",555,1001,jdoe,S1,,,\n')
+    r = roster(tmp_path, text)
+    assert r.points_possible == {"Environment map (4711)": 10.0, "Quiz (12)": 5.0}
+
+
+def test_gradescope_staff_are_left_out(tmp_path):
+    r = roster(tmp_path, GRADESCOPE + "Grace,Hopper,,ghopper@uni.edu,Instructor\n")
+    assert [s.name for s in r.students] == ["Jane Doe", "John Smith", "Ann Lee"]
+    assert r.left_out == ["Grace Hopper: Instructor, not a student"]
+
+
+@pytest.mark.parametrize("wanted, canvas, moodle", [
+    (None, "Environment map (4711)", "Assignment: Environment map (Real)"),      # the default name
+    ("Environment map (4711)", "Environment map (4711)", "Assignment: Environment map (Real)"),
+    ("quiz", "Quiz (12)", "Assignment: Quiz (Real)"),                            # the name without decoration
+])
+def test_the_assignment_to_fill_is_found_in_the_export(tmp_path, wanted, canvas, moodle):
+    from grader.course.lms_csv import choose_target
+    text = ("Student,ID,SIS User ID,SIS Login ID,Section,Quiz (12),Environment map (4711)\n"
+            "    Points Possible,,,,,5,10\n")
+    r = roster(tmp_path, text)
+    r.moodle_items = ["Assignment: Quiz (Real)", "Assignment: Environment map (Real)"]
+    target = choose_target(r, wanted)
+    assert (target.canvas_column, target.moodle_column) == (canvas, moodle)
+    assert target.canvas_points == r.points_possible[canvas] and target.notes == []
+
+
+def test_an_export_with_several_assignments_and_none_named_is_refused(tmp_path):
+    from grader.course.lms_csv import TargetError, choose_target
+    r = roster(tmp_path, "Student,ID,SIS User ID,SIS Login ID,Section,Quiz (12),Lab 2 (13)\n")
+    with pytest.raises(TargetError, match=r"the Canvas export has 2 assignments \(Quiz \(12\), Lab 2 \(13\)\); "
+                                          "name the one to fill with --assignment"):
+        choose_target(r, None)
+    target = choose_target(r, "Environment map")     # named, but not in the export: a new assignment, said so
+    assert target.canvas_column == "Environment map" and target.canvas_points is None
+    assert target.notes == ["grades_canvas.csv: the Canvas export has no assignment named 'Environment map': "
+                            "Canvas will create a new assignment of that name"]
