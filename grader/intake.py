@@ -474,6 +474,15 @@ def _checked(chosen: ChosenSource) -> ChosenSource:
     return chosen
 
 
+def _only_archive(folder: Path, sources: dict[str, Reader]) -> Path | None:
+    """The one archive at the top of a folder that holds no source file
+    (one level: an archive's own archives are not opened)."""
+    if sources:
+        return None
+    found = [p for p in sorted(folder.iterdir()) if _NAMED_ARCHIVE.search(p.name) and not p.is_symlink() and p.is_file()]
+    return found[0] if len(found) == 1 else None
+
+
 def select_source(path: Path, template: Path) -> ChosenSource:
     """Find the student's EnvironmentMap.cpp in a folder, file or archive.
     `template` is the folder of our headers (to note changed copies)."""
@@ -484,6 +493,11 @@ def select_source(path: Path, template: Path) -> ChosenSource:
         where = _("the folder %(name)s") % {"name": path.name}
         budget = _Budget(where)
         files, listed = _folder_files(path, budget)
+        archive = _only_archive(path, files)
+        if archive is not None:   # Gradescope and Moodle put an uploaded zip in a folder
+            chosen = select_source(archive, template)
+            chosen.notes.insert(0, f"graded {archive.name}, the archive in {path.name}.")
+            return chosen
         name, notes = _choose(files, listed, where)
         return _checked(ChosenSource(files[name](), name, path / name,
                                      notes + _header_notes(files, name, template)))

@@ -104,6 +104,19 @@ def test_correct_submission_scores_full_marks(autograder):
     assert (autograder / "results" / "images" / "speed_accuracy_chart.png").is_file()
 
 
+def test_a_zip_uploaded_to_gradescope_is_graded(autograder, tmp_path):
+    """Gradescope puts an uploaded zip in /autograder/submission as it is: the
+    zip is opened (the student's message says zips are accepted)."""
+    handin = tmp_path / "handin.zip"
+    with zipfile.ZipFile(handin, "w") as z:
+        z.write(SUBMISSIONS / "correct" / "switch_on_face.cpp", "my_work/EnvironmentMap.cpp")
+    stdout: list[str] = []
+    data = run_autograder(autograder, handin, "--quick", name="handin.zip", stdout=stdout)
+    assert data["extra_data"]["status"] == "graded"
+    assert data["score"] == data["extra_data"]["max_score"] > 0
+    assert "note: graded handin.zip, the archive in submission." in stdout[0]
+
+
 @pytest.mark.representative
 def test_build_error_gives_valid_results_and_no_check_passes(autograder):
     """Nothing ran, so nothing is "passed", not even the check worth no points."""
