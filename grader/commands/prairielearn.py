@@ -8,6 +8,13 @@ PrairieLearn's 1 MB). Exit status 0 whenever results.json was written,
 whatever the grade (gradable: false says the grader failed). PrairieLearn
 runs it through grader/platforms/prairielearn/entrypoint.sh;
 docs/platforms.md has the image and the question's info.json.
+
+    python -m grader prairielearn --check-question questions/envmap/info.json
+
+checks a question's info.json before students use it: external grading on,
+envmap/ among serverFilesCourse, the entry point, and a timeout long enough
+for a cold job (PrairieLearn never tells the job its timeout; each job's log
+says how long it took).
 """
 from __future__ import annotations
 
@@ -25,11 +32,22 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
     p.add_argument("--lang", choices=("en", "ja"),
                    help="language of what students read (default: the rubric's grading.language)")
+    p.add_argument("--check-question", type=Path, metavar="INFO_JSON",
+                   help="instead: check a question's info.json (timeout, entry point, serverFilesCourse)")
     p.add_argument("--keep-reports", action="store_true",
                    help="also copy report.html, report.md and junit.xml to ROOT/results/reports/")
 
 
 def run(args) -> int:
+    if args.check_question is not None:
+        from ..platforms.prairielearn import check_question
+        problems = check_question(args.check_question)
+        for problem in problems:
+            print(f"prairielearn: {problem}")
+        if not problems:
+            print(f"{args.check_question}: external grading, entry point, serverFilesCourse and timeout are as "
+                  "docs/platforms.md sets them")
+        return 1 if problems else 0
     from ..i18n import override_from_command_line
     from ..platforms.prairielearn import grade_prairielearn
     override_from_command_line(args.lang)

@@ -250,3 +250,103 @@ def test_plain_text_leaves_no_markdown():
 def test_the_dockerfile_passes_hadolint():
     run = subprocess.run(["hadolint", str(PLATFORM / "Dockerfile")], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+# ---- a compile error, the question's timeout -------------------------------------------------
+
+def _rubric_with(root: Path, table: str) -> None:
+    rubric = root / "serverFilesCourse" / "envmap" / "grader" / "rubric.toml"
+    text = rubric.read_text()
+    assert "build_error_gradable = true" in text
+    rubric.write_text(text.replace("build_error_gradable = true", table))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("gradable", [True, False])
+def test_a_compile_error_is_graded_or_not_gradable_as_the_rubric_says(grade_root, gradable):
+    """The course's rubric chooses: graded 0 (an attempt used) or not
+    gradable (PrairieLearn charges none); the compiler's message is shown
+    either way, and the job log says which."""
+    _rubric_with(grade_root, f"build_error_gradable = {str(gradable).lower()}")
+    (grade_root / "student" / "EnvironmentMap.cpp").write_bytes((SUBMISSIONS / "build" / "syntax_error.cpp").read_bytes())
+    run = run_entrypoint(grade_root, image_venv(grade_root), "--quick")
+    assert run.returncode == 0, run.stdout + run.stderr
+    data = results(grade_root)
+    assert data["gradable"] is gradable and data["score"] == 0
+    assert "expected" in data["output"]                     # the compiler's words
+    assert_all_plain(data)
+    if gradable:
+        assert data["message"].startswith("Score: 0 / ")
+        assert "no attempt charged" not in run.stderr
+    else:
+        assert data["message"].startswith("Your code did not compile, so it was not graded and this submission "
+                                          "uses none of your attempts.")
+        assert "prairielearn: note: a build error, not gradable" in run.stderr
+    assert re.search(r"prairielearn: this cold job took \d+ s wall-clock", run.stderr)
+
+
+def test_a_bad_build_error_gradable_is_the_instructors_failure(grade_root):
+    _rubric_with(grade_root, 'build_error_gradable = "no"')
+    (grade_root / "student" / "EnvironmentMap.cpp").write_text("// anything\n")
+    run = run_entrypoint(grade_root, image_venv(grade_root), "--quick")
+    data = results(grade_root)
+    assert data["gradable"] is False and "not your fault" in data["message"]
+    assert "prairielearn.build_error_gradable must be true or false, not 'no'" in data["message"] + run.stderr
+
+
+def _result(status: str, *ids: str):
+    from grader.results import CheckResult, Diagnosis, GradeResult
+    return GradeResult(submission="s", status=status,
+                       checks=[CheckResult("read_texture", "t", diagnoses=[Diagnosis(i, "") for i in ids])])
+
+
+@pytest.mark.parametrize("status, ids, not_gradable", [
+    ("build-error", ("build-error",), True),          # the compiler refused it
+    ("build-error", ("no-source",), True),            # nothing to compile
+    ("build-error", ("calls-reference",), False),     # a refusal is a verdict on the code: graded
+    ("build-error", ("refused-include",), False),
+    ("graded", (), False),
+])
+def test_which_builds_are_not_gradable_when_the_rubric_says_false(status, ids, not_gradable):
+    from grader.platforms.prairielearn import build_not_gradable
+    result = _result(status, *ids)
+    assert build_not_gradable(result, {"prairielearn": {"build_error_gradable": False}}) is not_gradable
+    assert build_not_gradable(result, {}) is False       # the default: graded
+
+
+def _documented_info_json() -> dict:
+    """The question's info.json as docs/platforms.md gives it."""
+    docs = (PROJECT_ROOT / "docs" / "platforms.md").read_text()
+    block = re.search(r"`questions/envmap/info.json`:\n\n```json\n(.*?)```", docs, re.S)
+    return json.loads(block[1])
+
+
+@pytest.mark.parametrize("change, problem", [
+    ({}, None),                                                          # the documented question passes
+    ({"timeout": 30}, "timeout is 30 s, too short for a cold grading job"),
+    ({"timeout": None}, "no timeout: PrairieLearn's default is 30 s, too short for a cold grading job"),
+    ({"serverFilesCourse": []}, 'serverFilesCourse does not list "envmap/"'),
+    ({"entrypoint": "/grade/run.sh"}, "entrypoint is '/grade/run.sh'"),
+])
+def test_the_question_info_json_is_checked(tmp_path, change, problem):
+    info = _documented_info_json()
+    for key, value in change.items():
+        if value is None:
+            del info["externalGradingOptions"][key]
+        else:
+            info["externalGradingOptions"][key] = value
+    (tmp_path / "info.json").write_text(json.dumps(info))
+    run = subprocess.run([sys.executable, "-m", "grader", "prairielearn", "--check-question",
+                          str(tmp_path / "info.json")], cwd=PROJECT_ROOT, capture_output=True, text=True, timeout=60)
+    if problem is None:
+        assert run.returncode == 0 and "as docs/platforms.md sets them" in run.stdout, run.stdout + run.stderr
+    else:
+        assert run.returncode == 1 and problem in run.stdout, run.stdout + run.stderr
+
+
+def test_the_job_log_says_when_a_job_outlasts_the_default_timeout():
+    from grader.platforms.prairielearn import timing_note
+    assert timing_note(12.4) == "this cold job took 12 s wall-clock"
+    assert timing_note(44.0).startswith("this cold job took 44 s wall-clock, longer than PrairieLearn's default "
+                                        "timeout (30 s): the question needs externalGradingOptions.timeout of at "
+                                        "least 120")

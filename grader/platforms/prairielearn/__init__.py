@@ -15,8 +15,9 @@ virtual environment ($ENVMAP_VENV); entrypoint.sh finds them and runs
 image and set up the question.
 
 results.json is shown to the student by <pl-external-grader-results>:
-`score` (0 to 1), `gradable` (false only when the grader failed, which
-PrairieLearn does not charge to the student), `message`, `output`,
+`score` (0 to 1), `gradable` (false when the grader failed, or when the
+code did not compile and the rubric's [prairielearn] build_error_gradable is
+false: PrairieLearn charges neither to the student), `message`, `output`,
 `tests[]` (name, description, points, max_points, message, output) and
 `images[]` ({label, url}: PNG data URLs). PrairieLearn shows message and
 output in a <pre>, so they are plain text (the Markdown reports rendered by
@@ -38,6 +39,7 @@ import re
 import shutil
 import sys
 import tempfile
+import time
 import traceback
 from pathlib import Path
 
@@ -60,6 +62,12 @@ MAX_RESULTS_BYTES = 1_000_000   # PrairieLearn's limit for the whole results.jso
 RESULTS_BUDGET = 900_000        # what we fill, with room to spare
 MAX_IMAGE_BYTES = 200_000       # per picture, encoded (larger ones are halved until they fit)
 TEXT_WIDTH = 100                # columns of the plain text (PrairieLearn's <pre> scrolls wider lines)
+# What build_error_gradable = false reports as not gradable: code that did not
+# compile and uploads with nothing to compile. A refusal (the reference
+# called, a forbidden include or object) is a verdict on the code and stays graded.
+NOT_COMPILED = ("build-error", "load-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive")
+BUILD_ERROR_MESSAGE = N_("Your code did not compile, so it was not graded and this submission uses none of "
+                         "your attempts. Fix what the compiler says below and submit again.")
 FAILED_MESSAGE = N_("The autograder failed before it could grade your submission. This is not your fault: "
                     "please tell your instructor.")
 
@@ -148,6 +156,77 @@ def results_from(result) -> dict:
     return data
 
 
+# PrairieLearn stops a job at the question's externalGradingOptions.timeout
+# (30 s when info.json gives none). The job itself is never told it: only
+# its files and environment reach the container, so the instructor checks
+# info.json (check_question), and every job says in its log how long it took.
+PL_DEFAULT_TIMEOUT_S = 30
+# Every job is cold (the reference, the worker's objects and the submission
+# built each time): 22-44 s wall-clock measured on a 2-core host at load
+# 10-15 (docs/platforms.md), which 120 s covers with room; docs suggest 300.
+NEEDED_TIMEOUT_S = 120
+DOCUMENTED_ENTRYPOINT = "/grade/serverFilesCourse/envmap/grader/platforms/prairielearn/entrypoint.sh"
+
+
+def check_question(info_json: Path) -> list[str]:
+    """What in a question's info.json would stop this grader from running
+    or finishing (empty when nothing). Reads the file as PrairieLearn does."""
+    try:
+        info = json.loads(Path(info_json).read_text(encoding="utf-8"))
+    except (OSError, ValueError) as e:
+        return [f"{info_json}: cannot be read as JSON ({e})"]
+    options = info.get("externalGradingOptions") if isinstance(info, dict) else None
+    if not isinstance(options, dict) or options.get("enabled") is False:
+        return [f"{info_json}: no externalGradingOptions (or enabled is false): PrairieLearn will not run the grader"]
+    problems = []
+    if info.get("gradingMethod") != "External":
+        problems.append(f'gradingMethod is {info.get("gradingMethod")!r}, not "External"')
+    if "envmap/" not in (options.get("serverFilesCourse") or []):
+        problems.append('serverFilesCourse does not list "envmap/": the grader\'s files are not copied into the job')
+    if options.get("entrypoint") != DOCUMENTED_ENTRYPOINT:
+        problems.append(f"entrypoint is {options.get('entrypoint')!r}, not {DOCUMENTED_ENTRYPOINT!r}")
+    timeout = options.get("timeout", PL_DEFAULT_TIMEOUT_S)
+    given = "timeout" in options
+    if not isinstance(timeout, (int, float)) or isinstance(timeout, bool) or timeout < NEEDED_TIMEOUT_S:
+        said = f"timeout is {timeout!r} s" if given else f"no timeout: PrairieLearn's default is {PL_DEFAULT_TIMEOUT_S} s"
+        problems.append(f"{said}, too short for a cold grading job (22-44 s measured on a busy 2-core host): "
+                        f"set externalGradingOptions.timeout to at least {NEEDED_TIMEOUT_S} (300 suggested)")
+    return [f"{info_json}: {p}" for p in problems]
+
+
+def timing_note(seconds: float) -> str:
+    """The job log's line on how long this cold job took, and what it means
+    for the question's timeout."""
+    note = f"this cold job took {seconds:.0f} s wall-clock"
+    if seconds > PL_DEFAULT_TIMEOUT_S:
+        note += (f", longer than PrairieLearn's default timeout ({PL_DEFAULT_TIMEOUT_S} s): the question needs "
+                 f"externalGradingOptions.timeout of at least {NEEDED_TIMEOUT_S} (check it with python -m grader "
+                 "prairielearn --check-question questions/<question>/info.json)")
+    return note
+
+
+def build_error_gradable(rubric: dict) -> bool:
+    """The rubric's [prairielearn] build_error_gradable (default true)."""
+    from ...score import RubricError
+    value = rubric.get("prairielearn", {}).get("build_error_gradable", True)
+    if not isinstance(value, bool):
+        raise RubricError(f"prairielearn.build_error_gradable must be true or false, not {value!r}")
+    return value
+
+
+def build_not_gradable(result, rubric: dict) -> bool:
+    """True when this result is reported not gradable for not compiling
+    (the rubric's choice, NOT_COMPILED's cases)."""
+    return (result.status == BUILD_ERROR and not build_error_gradable(rubric)
+            and bool(result.diagnoses) and {d.id for d in result.diagnoses} <= set(NOT_COMPILED))
+
+
+def not_gradable_build(data: dict) -> dict:
+    """A build error reported as not gradable: PrairieLearn charges no
+    attempt; the compiler's messages stay in the output."""
+    return {**data, "gradable": False, "score": 0.0, "message": _(BUILD_ERROR_MESSAGE)}
+
+
 def failure_results(reason: str = "") -> dict:
     """What results.json says when the grader itself failed (never a traceback)."""
     return {"gradable": False, "score": 0.0, "message": _(FAILED_MESSAGE) + (f" ({reason})" if reason else ""),
@@ -170,6 +249,8 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
     isolation mode go to stderr too (PrairieLearn's job log)."""
     from ...grading.grade import GradeOptions, grade
     from ...reports.gradescope_json import instructor_notes
+    from ...score import load_rubric
+    started = time.monotonic()
     root = Path(root)
     results_path = root / "results" / "results.json"
     work = Path(tempfile.mkdtemp(prefix="envmap-pl-"))
@@ -178,10 +259,17 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
         if not student.is_dir():
             data = failure_results(f"{student} is missing")
         else:
-            result = grade(student, work / "reports", GradeOptions(quick=quick, include_hidden=False))
+            options = GradeOptions(quick=quick, include_hidden=False)
+            rubric = load_rubric(options.rubric)
+            build_error_gradable(rubric)   # a bad value is the instructor's: said before grading
+            result = grade(student, work / "reports", options)
             for note in instructor_notes(result):
                 print(f"prairielearn: note: {note}", file=sys.stderr)
             data = results_from(result)
+            if build_not_gradable(result, rubric):
+                data = not_gradable_build(data)
+                print("prairielearn: note: a build error, not gradable ([prairielearn] build_error_gradable = "
+                      "false): no attempt charged", file=sys.stderr)
             if keep_reports:    # report.html and friends for the instructor, beside results.json
                 shutil.copytree(work / "reports", root / "results" / "reports", dirs_exist_ok=True)
     except Exception as e:   # the harness, not the student: say so, keep the details off the student's page
@@ -191,4 +279,5 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
     finally:
         shutil.rmtree(work, ignore_errors=True)
     _write_json(results_path, data)
+    print(f"prairielearn: {timing_note(time.monotonic() - started)}", file=sys.stderr)
     return data
