@@ -35,12 +35,20 @@ CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; base-uri 'n
 # What the class page adds to report.html's stylesheet.
 CLASS_CSS = """
 table.students td { vertical-align: top; }
-/* Words stay whole (report.html breaks anywhere, which squeezed the columns);
-   a name too long for any column still breaks rather than widen the page. */
-table.checks.students th, table.checks.students td { overflow-wrap: normal; }
-table.students th { white-space: nowrap; }
-table.checks.students td.who { overflow-wrap: break-word; min-width: 7em; }
-.students .id, .students .nowrap { white-space: nowrap; }
+/* Fixed columns: a long name wraps in its own column instead of pushing
+   status and diagnosis off the page (the table once needed scrolling at 1280 px). */
+table.checks.students { table-layout: fixed; width: 100%; }
+table.checks.students th.c-who { width: 30%; }
+table.checks.students th.c-pts { width: 11.5em; }
+table.checks.students th.c-state { width: 9.5em; }
+table.checks.students th { white-space: nowrap; }
+table.checks.students td.who { overflow-wrap: anywhere; }
+.students .who > a, .students .who { font-weight: 600; }
+.students .wholine { font-weight: 400; font-size: .78rem; color: var(--muted); margin-top: .15em; }
+.students .fileline { font-family: var(--mono, monospace); }
+.students .diag { color: var(--muted); overflow-wrap: anywhere; }
+.students .diag strong { color: var(--text); font-weight: 500; }
+.students td.pts { white-space: nowrap; }
 table.checks.points th, table.checks.points td { overflow-wrap: normal; }
 .students .who { font-weight: 600; }
 .students .diag { color: var(--muted); }
@@ -56,14 +64,16 @@ table.checks.points th, table.checks.points td { overflow-wrap: normal; }
 .side-by-side { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 12px; }
 .side-by-side pre { max-height: 24em; overflow: auto; }
 ul.plain { padding-left: 1.2em; margin: .4em 0; }
-/* A phone: each student a block of its own, score and status under the name,
-   so the score is never off to the side of a scrolled table. */
+/* A phone: each student two lines, the name with score and status on the
+   first, the diagnosis under them; no column is off to the side. */
 @media (max-width: 640px) {
   table.checks.students thead { display: none; }
-  table.checks.students, table.checks.students tbody, table.checks.students tr,
-  table.checks.students td { display: block; width: auto; min-width: 0; text-align: left; }
-  table.checks.students tr { padding: 8px 0; border-bottom: 1px solid var(--border); }
-  table.checks.students td { border: 0; padding: 2px 12px; }
+  table.checks.students, table.checks.students tbody { display: block; }
+  table.checks.students tr { display: grid; grid-template-columns: 1fr auto auto; column-gap: 8px;
+    align-items: baseline; padding: 8px 12px; border-bottom: 1px solid var(--border); }
+  table.checks.students td { display: block; border: 0; padding: 0; min-width: 0; }
+  table.checks.students td.diag { grid-column: 1 / -1; margin-top: .2em; }
+  table.checks.students .bar, table.checks.students .fileline { display: none; }
 }
 """
 
@@ -280,8 +290,8 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: d
         lines += [f"- {md_escape(r.student, line_start=True)}: {md_escape(r.error)}" for r in failed]
     lines += ["", "## Students", "", "| student | score | status | first diagnosis |", "|---|---:|---|---|"]
     for r in rows:
-        name = (f"[{md_escape(r.student)}](<{report_link(r.student)}>)" if r.student in linked
-                else f"{md_escape(r.student)} (no report)")
+        who = md_escape(display_name(r))
+        name = f"[{who}](<{report_link(r.student)}>)" if r.student in linked else f"{who} (no report)"
         d = first_diagnosis(r)
         diagnosis = f"{md_escape(_diagnosis_title(d))} ({md_code(d)})" if d else ""
         lines.append(f"| {name} | {_score_cell(r)} | {md_escape(r.status)} | {diagnosis} |")
@@ -321,11 +331,6 @@ def _status_class(r) -> str:
         return "failed"
     fraction = r.score / r.max_score if r.max_score > 0 else 0.0
     return "passed" if fraction >= 0.999 else "partial" if fraction >= 0.5 else "failed"
-
-
-def _who_columns(rows) -> list[str]:
-    # A roster (grade-all --roster) adds who each student is.
-    return [k for k in ("student_id", "name", "email") if any(getattr(r, k, "") for r in rows)]
 
 
 def _student_link(r, linked: set[str]) -> str:
@@ -388,10 +393,29 @@ def _attention(rows, data: dict) -> str:
     return "\n".join(out)
 
 
+def display_name(r) -> str:
+    """Who a row is, as the instructor knows them: the roster's name, else
+    the folder or archive name (a Canvas download's "doejane_12345_..." is
+    nobody's name, so it comes second, in the line under the name)."""
+    return getattr(r, "name", "") or r.student
+
+
+def _who_line(r) -> str:
+    """The muted line under a name: the roster's id and email, and the
+    entry of the class folder it was matched to (when that is not the name)."""
+    from .html import e
+    ids = " · ".join(e(x) for x in (getattr(r, "student_id", ""), getattr(r, "email", "")) if x)
+    out = f'<div class="wholine">{ids}</div>' if ids else ""
+    if getattr(r, "name", "") and r.student != r.name:   # a phone leaves the file out (the link goes there)
+        out += f'<div class="wholine fileline">{e(r.student)}</div>'
+    return out
+
+
 def _students_table(rows, linked: set[str]) -> str:
+    """One line per student: who (the roster's name first), score, status,
+    the first diagnosis. Fixed columns, so the diagnosis is never pushed off
+    to the right of a long name; a phone stacks it under the name."""
     from .html import STATE_MARK, e
-    who = _who_columns(rows)
-    head = "".join(f"<th>{e(h.replace('_', ' '))}</th>" for h in who)
     body = []
     for r in rows:
         cls = _status_class(r)
@@ -400,24 +424,25 @@ def _students_table(rows, linked: set[str]) -> str:
         d = first_diagnosis(r)
         more = len(set(r.diagnoses) - {d})
         diagnosis = (f'<strong>{e(_diagnosis_title(d))}</strong> <span class="id">{e(d)}</span>'
-                     + (f" (+{more} more)" if more else "")) if d else ""
+                     + (f' <span class="more">(+{more} more)</span>' if more else "")) if d else ""
         if r.error:
             diagnosis = e(r.error)
         mark = {"passed": STATE_MARK["passed"], "failed": STATE_MARK["failed"],
                 "partial": STATE_MARK["partial"]}.get(cls, "–")
-        body.append(f'<tr><td class="who">{_student_link(r, linked)}</td>'
-                    + "".join(f'<td class="nowrap">{e(getattr(r, k, ""))}</td>' if k != "name"
-                              else f"<td>{e(getattr(r, k, ''))}</td>" for k in who)
-                    + f'<td class="pts">{bar}{e(_score_cell(r)) if r.max_score > 0 else "–"}</td>'
-                    f'<td><span class="pill {cls}">{mark} {e(r.status)}</span></td>'
+        name = e(display_name(r))
+        link = f'<a href="{e(report_link(r.student))}">{name}</a>' if r.student in linked else name
+        body.append(f'<tr><td class="who">{link}{_who_line(r)}</td>'
+                    f'<td class="pts">{bar}{e(_score_cell(r)) if r.max_score > 0 else "–"}</td>'
+                    f'<td class="state"><span class="pill {cls}">{mark} {e(r.status)}</span></td>'
                     f'<td class="diag">{diagnosis}</td></tr>')
     return f"""
 <section>
   <h2>Students</h2>
-  <div class="wide"><table class="checks students">
-    <thead><tr><th>Student</th>{head}<th class="pts">Score</th><th>Status</th><th>First diagnosis</th></tr></thead>
+  <table class="checks students">
+    <thead><tr><th class="c-who">Student</th><th class="pts c-pts">Score</th><th class="c-state">Status</th>
+      <th>First diagnosis</th></tr></thead>
     <tbody>{"".join(body)}</tbody>
-  </table></div>
+  </table>
 </section>"""
 
 

@@ -372,4 +372,4 @@ def test_the_gradebook_page_shows_the_roster_columns(tmp_path):
     write_summary(rows, tmp_path)
     page = Page((tmp_path / "summary.html").read_text())
     assert "script" not in page.tags()
-    assert_shown_literally(page, "summary.html", "student id", "s42", FAKE_SCRIPT, "ada@uni.example")
+    assert_shown_literally(page, "summary.html", "s42", FAKE_SCRIPT, "ada@uni.example")
