@@ -17,6 +17,7 @@ import numpy as np
 
 from ..i18n import _
 from ..grading.results import Diagnosis
+from ..worker.failures import TIMEOUT
 
 
 class SubmissionLookups(Protocol):
@@ -50,8 +51,10 @@ def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
             continue
         seen.add(kind)
         # The hint travels separately: reports print it as what to do.
+        stops = [f.grader_limit for f in failures if f.kind == TIMEOUT]
         out.append(Diagnosis(kind, _("%(input)s: %(message)s.") % {"input": failure.input, "message": failure.message},
-                             hint=failure.hint))
+                             hint=failure.hint,
+                             stopped_by="" if kind != TIMEOUT else "grader" if any(stops) else "code"))
         if len(out) >= limit:
             break
     return out

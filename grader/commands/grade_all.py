@@ -121,7 +121,12 @@ def run(args) -> int:
     for r in rows:
         if r.error:
             print(f"  {clean(r.student)}: ungradable: {clean(r.error)}", file=sys.stderr)
-    disturbed = [r for r in rows if r.status in DISTURBED]
+    summary = _summary_data(out)
+    own = set((summary.get("own_timeouts") or {}).get("students") or [])
+    disturbed = [r for r in rows if r.status in DISTURBED and r.student not in own]
+    if own:
+        print(f"  {len(own)} timeout{'' if len(own) == 1 else 's'} kept ({', '.join(sorted(clean(s) for s in own))}): "
+              f"{summary['own_timeouts']['why']}.")
     if disturbed:
         print(f"  {len(disturbed)} {'result says' if len(disturbed) == 1 else 'results say'} "
               f"{' or '.join(DISTURBED)}, which another process can cause: running the same command again "
@@ -129,7 +134,7 @@ def run(args) -> int:
     for entry in skipped_entries(args.submissions, exclude=out):
         # Names a student chose: no escapes to the terminal, no undecodable bytes to print.
         print(f"  skipped {clean(entry['entry'])}: {clean(entry['reason'])}")
-    roster = _summary_data(out).get("roster") or {}
+    roster = summary.get("roster") or {}
     for key, what in (("unmatched", "matches no one on the roster (not in the LMS files)"),
                       ("missing", "handed in nothing"), ("left_out", "left out of the roster")):
         for entry in roster.get(key) or []:

@@ -6,7 +6,9 @@ they were graded under: the submission's content hash, the grader's own
 (code, rubric, fixtures, maps, our C and C++ sources), the options and the
 course secret. Re-run after an interruption, a student whose key is
 unchanged is skipped, unless their status says another process may have
-disturbed the grading (DISTURBED: timeout, ungradable). A grading process
+disturbed the grading (DISTURBED: timeout, ungradable). A timeout the
+worker saw to be the code's own (its CPU-time limit used up: no other
+process can spend it) is kept, and the summary says why (own_timeout). A grading process
 that dies (killed, out of memory, unable to start a thread) breaks the
 process pool and every grading in it: the pool is rebuilt for those not yet
 started, and those that were being graded are graded again, each alone in a
@@ -61,6 +63,8 @@ KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")   #
 # signalled or starved this one, a grading process killed, a harness error):
 # a resumed run grades them again instead of keeping them as final.
 DISTURBED = (TIMEOUT, UNGRADABLE)
+OWN_TIMEOUT_WHY = ("the code used up its CPU-time limit on a call (or stopped itself), which no other process "
+                   "can cause: kept as it is when grade-all runs again")
 # Metrics the class summary charts, copied from the checks into the record.
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
@@ -178,7 +182,9 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
     try:
         result = grade(Path(submission), work, GradeOptions(**options))
         record = {"key": key, "metrics": _chart_metrics(result),
-                  "check_seconds": {c.name: round(c.duration_s, 3) for c in result.checks}}
+                  "check_seconds": {c.name: round(c.duration_s, 3) for c in result.checks},
+                  # what stopped each timeout ("code" or "grader"), as the worker saw it (own_timeout)
+                  "timeouts": [d.stopped_by for d in result.diagnoses if d.id == TIMEOUT]}
         (work / RECORD_FILE).write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
         work.chmod(0o755)
         _replace_dir(work, final)
@@ -218,6 +224,16 @@ def read_row(student: str, out_dir: Path) -> Row:
                float(extra.get("max_score", sum(t.get("max_score", 0) for t in tests))),
                checks, sorted(set(found)), dict(record.get("metrics", {})), float(data.get("execution_time", 0.0)),
                first_diagnosis=found[0] if found else "")
+
+
+def own_timeout(row: Row, record: dict | None) -> bool:
+    """A timeout that is the code's own: every one the grading met stopped
+    by the code's CPU-time limit, which no other process can use up. Kept
+    on a resumed run; any timeout stopped only by a wall-clock bound (which a
+    busy machine reaches too), or one an older grader did not record, is
+    graded again."""
+    stops = (record or {}).get("timeouts") or []
+    return row.status == TIMEOUT and bool(stops) and all(s == "code" for s in stops)
 
 
 def _clean_leftovers(out: Path) -> None:
@@ -283,7 +299,7 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         kept = None
         if not force and record and record.get("key") == key and (out / student / "results.json").is_file():
             kept = read_row(student, out / student)
-        if kept is not None and kept.status not in DISTURBED:
+        if kept is not None and (kept.status not in DISTURBED or own_timeout(kept, record)):
             kept.skipped = True
             rows[student] = kept
         else:
@@ -296,8 +312,11 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
                 raise Interrupted(len(rows), len(submissions)) from None
     _clean_leftovers(out)   # what a broken pool's processes left half-written
     ordered = [rows[s] for s in submissions]
+    own = [r.student for r in ordered if own_timeout(r, read_record(out / r.student))]
     data = {"skipped": skipped_entries(folder, exclude=out), "roster": None, "similarity": None,
-            "grade_again": {"statuses": list(DISTURBED), "students": [r.student for r in ordered if r.status in DISTURBED]}}
+            "grade_again": {"statuses": list(DISTURBED),
+                            "students": [r.student for r in ordered if r.status in DISTURBED and r.student not in own]},
+            "own_timeouts": {"students": own, "why": OWN_TIMEOUT_WHY}}
     missing: list[Row] = []
     if class_roster is not None:
         data["roster"], missing, entries = _apply_roster(class_roster, Path(roster), ordered)

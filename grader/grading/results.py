@@ -25,6 +25,12 @@ class Diagnosis:
     detail: str
     face: str | None = None
     hint: str = ""
+    # For a worker's failure: what stopped it, as the worker saw it. "code":
+    # the code's own doing (its CPU-time limit used up, or it stopped
+    # itself); "grader": only the grader's wall-clock bound or shared time
+    # budget, which a busy machine reaches too; "": not a stop, or not known.
+    # Not in results.json: grade-all keeps it in its record (.grade.json).
+    stopped_by: str = ""
 
     def as_json(self) -> dict:
         out = {"id": self.id, "detail": self.detail}

@@ -381,6 +381,11 @@ def _attention(rows, data: dict) -> str:
                    f'{e(" or ".join(again.get("statuses", [])))}</strong>, which another process can cause: '
                    f'running grade-all again grades {"it" if n == 1 else "them"} again: '
                    f'{e(", ".join(again["students"]))}.</div>')
+    own = data.get("own_timeouts") or {}
+    if own.get("students"):
+        n = len(own["students"])
+        out.append(f'<div class="callout passed"><strong>{n} timeout{"" if n == 1 else "s"} kept</strong>: '
+                   f'{e(", ".join(own["students"]))}. {e(own.get("why", ""))}.</div>')
     roster = data.get("roster") or {}
     for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster"),
                        ("left_out", "Left out of the roster")):

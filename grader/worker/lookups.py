@@ -62,7 +62,8 @@ class BudgetedRunner(SubmissionRunner):
                        message=_("the lookups used up the %(budget)s s that all checks have together, "
                                  "so this call was not run") % {"budget": f"{self.total_budget_s:g}"},
                        hint=_("every call took about as long as its time limit allows: make each lookup fast "
-                              "(no sleeping, allocation or searching per call)"))
+                              "(no sleeping, allocation or searching per call)"),
+                       grader_limit=True)   # the whole grading's wall-clock budget: load spends it too
 
     def _nothing(self, n: int, function: str) -> Outcome:
         return Outcome(values=np.full((n, 3), np.nan), evaluated=np.zeros(n, bool),

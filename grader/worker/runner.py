@@ -59,6 +59,9 @@ class Failure:
     hint: str               # what usually causes it
     signal: str | None = None
     output: str = ""        # the tail of what the submission printed
+    # A timeout stopped only by the grader's wall-clock bound (on the retry
+    # too): a busy machine reaches it as well, so it is not shown to be the code's.
+    grader_limit: bool = False
 
     def describe(self) -> str:
         """One sentence for a report."""
@@ -393,7 +396,8 @@ class SubmissionRunner:
         return Failure(kind=failure.kind, function=function, index=index, input=text, message=failure.message,
                        hint=hint(failure, function, timeout_s=self.timeout_s,
                                  memory_mb=self.limits.address_space_mb),
-                       signal=failure.signal_name, output=failure.output[-2000:])
+                       signal=failure.signal_name, output=failure.output[-2000:],
+                       grader_limit=failure.grader_limit)
 
     # ---- workers ----------------------------------------------------------
 

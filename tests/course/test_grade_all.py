@@ -408,10 +408,13 @@ def test_a_grading_process_that_dies_costs_only_its_own_student(tmp_path):
     assert not list(out.glob(".tmp-*")), "a killed grading's folder was left behind"
 
 
-def test_a_resume_grades_again_what_another_process_may_have_disturbed(tmp_path):
-    """A timeout can be a classmate's doing (a worker stopped or starved from
-    outside): a resumed run grades it again; an unchanged good result is kept."""
-    from grader.course.grade_all import grade_all
+def test_a_resume_keeps_a_students_own_timeout_with_the_reason(tmp_path):
+    """spinner loops forever near +x: the worker sees it use its whole
+    CPU-time limit, which no classmate can cause: kept on a resumed run,
+    with the reason (a timeout stopped by the wall-clock bound alone is
+    graded again: test_only_a_timeout_the_code_caused_is_kept). An unchanged
+    good result is kept too."""
+    from grader.course.grade_all import OWN_TIMEOUT_WHY, grade_all
     klass, out = tmp_path / "class", tmp_path / "out"
     klass.mkdir()
     shutil.copy(SUBMISSIONS / "correct" / "if_chain.cpp", klass / "alice.cpp")
@@ -420,8 +423,41 @@ def test_a_resume_grades_again_what_another_process_may_have_disturbed(tmp_path)
     first = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
     assert first["alice"].status == "graded" and first["alice"].score == first["alice"].max_score > 0
     assert first["spinner"].status == "timeout"
+    assert json.loads((out / "spinner" / RECORD_FILE).read_text())["timeouts"] == ["code"]
     mtimes = {s: (out / s / "results.json").stat().st_mtime_ns for s in first}
     second = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
-    assert second["alice"].skipped and (out / "alice" / "results.json").stat().st_mtime_ns == mtimes["alice"]
-    assert not second["spinner"].skipped and second["spinner"].status == "timeout"
-    assert (out / "spinner" / "results.json").stat().st_mtime_ns != mtimes["spinner"]
+    for kept in ("alice", "spinner"):
+        assert second[kept].skipped and (out / kept / "results.json").stat().st_mtime_ns == mtimes[kept]
+    assert second["spinner"].status == "timeout"
+    data = json.loads((out / "summary.json").read_text())
+    assert data["own_timeouts"] == {"students": ["spinner"], "why": OWN_TIMEOUT_WHY}
+    assert data["grade_again"]["students"] == []
+    page = (out / "summary.html").read_text()
+    assert "1 timeout kept</strong>: spinner. the code used up its CPU-time limit" in page
+
+
+@pytest.mark.parametrize("status, stops, kept", [
+    ("timeout", ["code"], True),
+    ("timeout", ["code", "code"], True),
+    ("timeout", ["code", "grader"], False),   # one stopped by the wall-clock bound: maybe the machine's
+    ("timeout", [], False),                   # an older grader's record: not known, graded again
+    ("ungradable", ["code"], False),
+])
+def test_only_a_timeout_the_code_caused_is_kept(status, stops, kept):
+    from grader.course.grade_all import own_timeout
+    assert own_timeout(Row("s", status, 0.0, 100.0), {"timeouts": stops}) is kept
+
+
+def test_a_timeout_says_what_stopped_it():
+    """The worker's view (grader_limit: the wall-clock bound only) becomes the
+    diagnosis's stopped_by, which grade-all records."""
+    from grader.checks.context import failure_diagnoses
+    from grader.worker.runner import Failure
+
+    def timeout(grader_limit):
+        return Failure("timeout", "fetchColor", 3, "fetchColor(...)", "did not finish in time", "a loop",
+                       grader_limit=grader_limit)
+    assert [d.stopped_by for d in failure_diagnoses([timeout(False)])] == ["code"]
+    assert [d.stopped_by for d in failure_diagnoses([timeout(False), timeout(True)])] == ["grader"]
+    crash = Failure("crash", "fetchColor", 1, "fetchColor(...)", "SIGSEGV", "a pointer")
+    assert [d.stopped_by for d in failure_diagnoses([crash])] == [""]
