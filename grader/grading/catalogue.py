@@ -353,8 +353,9 @@ _ENTRIES = [
         "instead of m, or turned into angles. Normalising the direction does "
         "not replace this division."),
         N_("Compute `m = |largest component|` and use `(1 + a/m)/2` with the signs "
-        "from the table. Directions are not unit length and need not be "
-        "normalised first; if you normalise, you must still divide by m."),
+        "from the table. Directions are not unit length: do not normalise them, "
+        "dividing by m is all the scaling needed (normalising squares the "
+        "components, which overflows for huge directions: `length-overflow`)."),
     ),
     DiagnosisInfo(
         "not-implemented", "mapping",

@@ -33,6 +33,12 @@ from .. import PROJECT_ROOT
 from . import ANSWERS, KIT_SEED, NOT_IN_KIT, integrity
 
 SOURCE = Path("EnvironmentMap.cpp")
+# Where the self-check ran without a sandbox: the student's own code on
+# their own machine. One quiet line says so (reports/view.py ISOLATION_TEXT);
+# the grader's warning for that case (worker/sandbox.py fallback_warning,
+# written for an instructor's --unsafe-no-sandbox) read as an alarm here.
+OWN_MACHINE, UNSAFE_NONE = "own-machine", "unsafe-none"
+FALLBACK_WARNING = "sandbox unavailable: "
 SUMMARY = "selfcheck.json"
 # What grade() writes into OUT, with SUMMARY.
 REPORTS = ("results.json", "report.html", "report.md", "junit.xml")
@@ -53,6 +59,14 @@ def kit_options(rubric: Path | None = None, lang: str | None = None):
     # hashes the reference's lookup.c): the kit build checked they are fresh.
     options.allow_stale = True
     return options
+
+
+def quiet_about_own_machine(result) -> None:
+    """No sandbox on the student's own machine: said once, quietly, as the
+    isolation line; the grader's warning for it is left out."""
+    if result.isolation == UNSAFE_NONE:
+        result.isolation = OWN_MACHINE
+        result.warnings = [w for w in result.warnings if not w.startswith(FALLBACK_WARNING)]
 
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
@@ -88,11 +102,16 @@ def main(argv: list[str] | None = None) -> int:
               "self-check, like grading, compiles EnvironmentMap.cpp with the course's copies "
               "(selfcheck/student_template/).", file=sys.stderr)
     from ..envmap import oracle
-    from ..grading.grade import grade
-    from ..reports.terminal import print_summary
+    from ..grading.grade import grade, write_harness_log
     from ..grading.results import BUILD_ERROR, UNGRADABLE
+    from ..reports import write_all
+    from ..reports.terminal import print_summary
+    options = kit_options(lang=args.lang)
     with oracle.using(oracle.Replay(PROJECT_ROOT / ANSWERS)):
-        result = grade(args.source, args.out, kit_options(lang=args.lang))
+        result = grade(args.source, args.out, options, write_reports=False)
+    quiet_about_own_machine(result)
+    write_all(result, args.out, include_hidden=options.include_hidden)
+    write_harness_log(result, args.out)
     shutil.copyfile(args.out / "results.json", args.out / SUMMARY)
     print_summary(result, report_paths={name: args.out / name for name in ("report.html", "report.md")})
     if result.status == UNGRADABLE:

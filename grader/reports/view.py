@@ -63,6 +63,8 @@ ISOLATION_TEXT = Translated({
     "bubblewrap": N_("bubblewrap sandbox"),
     "privilege-drop": N_("separate unprivileged user with a system-call filter"),
     "unsafe-none": N_("no sandbox (--unsafe-no-sandbox, or the student kit's self-check on your own machine, where bubblewrap is missing)"),
+    # The kit's self-check where bubblewrap is missing (grader.kit.selfcheck): the student's own code, at home.
+    "own-machine": N_("no sandbox (your own code on your own machine)"),
     "": N_("none needed (no code of the submission ran)"),
 })
 

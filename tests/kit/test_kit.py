@@ -255,7 +255,7 @@ def test_selfcheck_of_the_template_in_the_kit_alone(alone, environment):
     assert f"{summary['score']:g} / {VISIBLE_POINTS:g}" in page
     isolation = summary["extra_data"]["isolation"]
     assert isolation == ("bubblewrap" if "SELFCHECK_PYTHON" in environment and "fakebin" not in environment["PATH"]
-                         else "privilege-drop" if os.geteuid() == 0 else "unsafe-none"), isolation
+                         else "privilege-drop" if os.geteuid() == 0 else "own-machine"), isolation
 
 
 # slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
@@ -432,10 +432,9 @@ def test_the_students_code_cannot_reach_the_reports(alone, tmp_path, environment
     assert f"**Score: {printed[1]} / {printed[2]}**" in (out / "report.md").read_text()
 
 
-# ---- GitHub Classroom -----------------------------------------------------------------
+# ---- the workflow (GitHub Actions; any CI reads what it leaves) ------------------------------
 
 WORKFLOW = PROJECT_ROOT / "student_template" / ".github" / "workflows" / "grade.yml"
-REPORTER = "classroom-resources/autograding-grading-reporter@v1"
 EXPRESSION = re.compile(r"\$\{\{\s*([^}]*?)\s*\}\}")
 
 
@@ -444,33 +443,31 @@ def workflow() -> dict:
     return yaml.safe_load(WORKFLOW.read_text())
 
 
-def test_the_workflow_reports_points_through_classrooms_reporter():
+def test_the_workflow_needs_no_classroom_reporter_and_gives_its_points_as_outputs():
+    """Classroom's grading reporter is deprecated (Classroom's autograding is
+    sunset): the workflow uses GitHub's own actions only, and its points are
+    the job's outputs, from the step that computes them."""
     flow = workflow()
-    assert flow["name"] == "Autograding Tests"
-    job = flow["jobs"]["run-autograding-tests"]
-    assert job["name"] == "Autograding Tests" and "github-classroom[bot]" in job["if"]
-    steps = {s.get("id") or s["name"]: s for s in job["steps"]}
-    reporter = [s for s in job["steps"] if s.get("uses") == REPORTER]
-    assert len(reporter) == 1
-    # The reporter reads <RUNNER>_RESULTS for each runner id (letters and digits only, as it checks).
-    runners = reporter[0]["with"]["runners"].split(",")
-    assert all(re.fullmatch(r"[A-Za-z0-9]+", r) for r in runners)
-    for runner in runners:
-        assert reporter[0]["env"][f"{runner.upper()}_RESULTS"] == f"${{{{ steps.{runner}.outputs.result }}}}"
-        assert runner in steps and "run" in steps[runner]
-    assert [s["uses"].split("@")[0] for s in job["steps"] if "uses" in s] == [
-        "actions/checkout", "classroom-resources/autograding-grading-reporter", "actions/upload-artifact"]
+    assert "classroom-resources" not in WORKFLOW.read_text()
+    (job,) = flow["jobs"].values()
+    assert [s["uses"].split("@")[0] for s in job["steps"] if "uses" in s] == ["actions/checkout", "actions/upload-artifact"]
+    assert job["outputs"] == {"points": "${{ steps.points.outputs.points }}",
+                              "max_points": "${{ steps.points.outputs.max_points }}"}
+    assert any(s.get("id") == "points" for s in job["steps"])
+    artifact = [s for s in job["steps"] if s.get("uses", "").startswith("actions/upload-artifact")][0]
+    assert "junit.xml" in artifact["with"]["path"] and "report.html" in artifact["with"]["path"]
 
 
 def run_workflow(repo: Path) -> dict:
     """The workflow's steps as GitHub runs them, in `repo`: each `run` in bash
     (-e, as GitHub's default shell), ${{ }} filled in (step outputs, no
-    repository variables), GITHUB_OUTPUT and GITHUB_STEP_SUMMARY as files.
-    The reporter is done as it does it: base64 JSON from <RUNNER>_RESULTS,
-    points = the sum of its tests' scores over the sum of max_score."""
+    repository variables), GITHUB_OUTPUT and GITHUB_STEP_SUMMARY as files;
+    after a step fails, only the steps whose `if` says always() run."""
     outputs: dict[str, dict[str, str]] = {}
+    printed: dict[str, str] = {}
+    failed = []
     summary = repo.parent / f"{repo.name}-summary.md"
-    points = None
+    (job,) = workflow()["jobs"].values()
 
     def fill(text: str) -> str:
         def value(m):
@@ -482,25 +479,22 @@ def run_workflow(repo: Path) -> dict:
             return ""
         return EXPRESSION.sub(value, str(text))
 
-    for step in workflow()["jobs"]["run-autograding-tests"]["steps"]:
-        if step.get("uses") == REPORTER:
-            env = {k: fill(v) for k, v in step["env"].items()}
-            results = [json.loads(base64.b64decode(env[f"{r.upper()}_RESULTS"]))
-                       for r in step["with"]["runners"].split(",")]
-            points = (sum(t["score"] for r in results for t in r["tests"]), sum(r["max_score"] for r in results))
-            continue
-        if "run" not in step:
+    for step in job["steps"]:
+        if "run" not in step or (failed and "always()" not in str(step.get("if", ""))):
             continue
         output = repo.parent / f"{repo.name}-output-{len(outputs)}"
         output.write_text("")
         cwd = repo / fill(step.get("working-directory", "."))
+        env = {k: fill(v) for k, v in step.get("env", {}).items()}
         run = subprocess.run(["bash", "--noprofile", "--norc", "-eo", "pipefail", "-c", fill(step["run"])], cwd=cwd,
                              capture_output=True, text=True, timeout=300,
-                             env=kit_environment(GITHUB_OUTPUT=str(output), GITHUB_STEP_SUMMARY=str(summary)))
-        assert run.returncode == 0, (step["name"], run.stdout + run.stderr)
-        outputs[step.get("id", step["name"])] = dict(
-            line.split("=", 1) for line in output.read_text().splitlines() if "=" in line)
-    return {"outputs": outputs, "points": points, "summary": summary.read_text()}
+                             env=kit_environment(GITHUB_OUTPUT=str(output), GITHUB_STEP_SUMMARY=str(summary), **env))
+        name = step.get("id", step["name"])
+        if run.returncode != 0:
+            failed.append(name)
+        printed[name] = run.stdout
+        outputs[name] = dict(line.split("=", 1) for line in output.read_text().splitlines() if "=" in line)
+    return {"outputs": outputs, "printed": printed, "failed": failed, "summary": summary.read_text()}
 
 
 # slow: the student kit built, then make selfcheck or a workflow run in it (6-16 s each)
@@ -515,9 +509,31 @@ def test_the_workflow_runs_in_a_repository_made_from_the_kit(alone, tmp_path, la
     (kit / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text())   # partial credit: 5.72 / 95
     assert (kit / ".github" / "workflows" / "grade.yml").read_text() == WORKFLOW.read_text()   # the kit's own
     ran = run_workflow(repo)
+    assert ran["failed"] == []
     assert ran["outputs"]["kit"]["dir"] == ("." if layout == "kit-is-the-root" else "./student-kit")
     summary = json.loads((kit / "build" / "selfcheck" / "selfcheck.json").read_text())
-    # Classroom gets the score the self-check printed, partial credit included.
-    assert ran["points"] == (pytest.approx(summary["score"]), VISIBLE_POINTS)
+    # The job's outputs hold the score the self-check printed, partial credit included.
+    points = ran["outputs"]["points"]
+    assert (float(points["points"]), float(points["max_points"])) == (pytest.approx(summary["score"]), VISIBLE_POINTS)
     assert 0 < summary["score"] < VISIBLE_POINTS
+    assert ran["summary"].startswith(f"**Points: {summary['score']:g} / {VISIBLE_POINTS:g}**")
+    assert "::error" not in ran["printed"]["points"]       # no diagnosis names a line here
     assert f"**Score: {summary['score']:g} / {VISIBLE_POINTS:g}**" in ran["summary"]
+
+
+def test_a_compile_error_is_annotated_on_the_students_line(alone, tmp_path):
+    """The compiler's line (22 in the zoo's syntax error, as the build-error
+    diagnosis names it) becomes a GitHub annotation on EnvironmentMap.cpp;
+    the points say 0 of the visible."""
+    workflow()
+    repo = tmp_path / "repo"
+    shutil.copytree(alone, repo, symlinks=True)
+    shutil.rmtree(repo / "build" / "selfcheck", ignore_errors=True)
+    shutil.copy(PROJECT_ROOT / "tests" / "submissions" / "build" / "syntax_error.cpp", repo / "EnvironmentMap.cpp")
+    ran = run_workflow(repo)
+    assert ran["failed"] == ["Visible checks"]                 # make selfcheck exits 1: the run is red
+    annotations = [line for line in ran["printed"]["points"].splitlines() if line.startswith("::error ")]
+    assert len(annotations) == 1, ran["printed"]["points"]
+    assert annotations[0].startswith("::error file=EnvironmentMap.cpp,line=22,title=build-error::")
+    assert "expected primary-expression" in annotations[0]
+    assert ran["outputs"]["points"] == {"points": "0", "max_points": f"{VISIBLE_POINTS:g}"}
