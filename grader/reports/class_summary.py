@@ -39,8 +39,8 @@ table.students td { vertical-align: top; }
    status and diagnosis off the page (the table once needed scrolling at 1280 px). */
 table.checks.students { table-layout: fixed; width: 100%; }
 table.checks.students th.c-who { width: 30%; }
-table.checks.students th.c-pts { width: 11.5em; }
-table.checks.students th.c-state { width: 9.5em; }
+table.checks.students th.c-pts { width: 13rem; }     /* rem: a th's own font is smaller */
+table.checks.students th.c-state { width: 9.5rem; }
 table.checks.students th { white-space: nowrap; }
 table.checks.students td.who { overflow-wrap: anywhere; }
 .students .who > a, .students .who { font-weight: 600; }
@@ -48,7 +48,9 @@ table.checks.students td.who { overflow-wrap: anywhere; }
 .students .fileline { font-family: var(--mono, monospace); }
 .students .diag { color: var(--muted); overflow-wrap: anywhere; }
 .students .diag strong { color: var(--text); font-weight: 500; }
-.students td.pts { white-space: nowrap; }
+/* The bar goes above the number rather than over the next column when the cell is narrow. */
+table.checks.students td.pts { white-space: normal; }
+.students td.pts .score { white-space: nowrap; }
 table.checks.points th, table.checks.points td { overflow-wrap: normal; }
 .students .who { font-weight: 600; }
 .students .diag { color: var(--muted); }
@@ -384,8 +386,9 @@ def _attention(rows, data: dict) -> str:
     own = data.get("own_timeouts") or {}
     if own.get("students"):
         n = len(own["students"])
-        out.append(f'<div class="callout passed"><strong>{n} timeout{"" if n == 1 else "s"} kept</strong>: '
-                   f'{e(", ".join(own["students"]))}. {e(own.get("why", ""))}.</div>')
+        names = {r.student: display_name(r) for r in rows}
+        out.append(f'<div class="callout passed"><strong>{n} timeout{"" if n == 1 else "s"} kept</strong> '
+                   f'({e("; ".join(names.get(s, s) for s in own["students"]))}): {e(own.get("why", ""))}.</div>')
     roster = data.get("roster") or {}
     for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster"),
                        ("left_out", "Left out of the roster")):
@@ -437,7 +440,7 @@ def _students_table(rows, linked: set[str]) -> str:
         name = e(display_name(r))
         link = f'<a href="{e(report_link(r.student))}">{name}</a>' if r.student in linked else name
         body.append(f'<tr><td class="who">{link}{_who_line(r)}</td>'
-                    f'<td class="pts">{bar}{e(_score_cell(r)) if r.max_score > 0 else "–"}</td>'
+                    f'<td class="pts">{bar}<span class="score">{e(_score_cell(r)) if r.max_score > 0 else "–"}</span></td>'
                     f'<td class="state"><span class="pill {cls}">{mark} {e(r.status)}</span></td>'
                     f'<td class="diag">{diagnosis}</td></tr>')
     return f"""

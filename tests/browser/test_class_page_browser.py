@@ -24,7 +24,8 @@ window.addEventListener("load", () => {
   const rows = [...document.querySelectorAll("table.students tbody tr")].map(tr => ({
     name: box(tr.querySelector("td.who > a")), score: box(tr.querySelector("td.pts")),
     status: box(tr.querySelector("td.state .pill")), diagnosis: box(tr.querySelector("td.diag strong")),
-    text: tr.querySelector("td.who > a").textContent}));
+    text: tr.querySelector("td.who > a").textContent,
+    spill: [...tr.cells].filter(td => td.scrollWidth > td.clientWidth + 1).map(td => td.className)}));
   document.body.setAttribute("data-rows", JSON.stringify(rows));
   document.body.setAttribute("data-page-width", document.documentElement.scrollWidth);
   if (window.parent !== window) {
@@ -72,6 +73,7 @@ def test_name_score_status_and_diagnosis_read_on_one_line(tmp_path, width):
     assert [r["text"] for r in rows] == [r.name for r in ROWS]          # the roster's name, not the file's
     for r in rows:
         assert same_line(r["name"], r["score"]) and same_line(r["name"], r["status"]), (width, r)
+        assert r["spill"] == [], (width, r)     # no cell's content runs over into the next
         assert max(r[k]["right"] for k in ("name", "score", "status")) <= width, (width, r)
         if r["diagnosis"] is not None:
             assert r["diagnosis"]["right"] <= width, (width, r)

@@ -433,7 +433,7 @@ def test_a_resume_keeps_a_students_own_timeout_with_the_reason(tmp_path):
     assert data["own_timeouts"] == {"students": ["spinner"], "why": OWN_TIMEOUT_WHY}
     assert data["grade_again"]["students"] == []
     page = (out / "summary.html").read_text()
-    assert "1 timeout kept</strong>: spinner. the code used up its CPU-time limit" in page
+    assert "1 timeout kept</strong> (spinner): the code used up its CPU-time limit" in page
 
 
 @pytest.mark.parametrize("status, stops, kept", [
