@@ -16,7 +16,7 @@ import pytest
 from grader.kit.selfcheck import OWN_MACHINE, quiet_about_own_machine
 from grader.reports.terminal import summary
 from grader.reports.view import build_view
-from grader.results import CheckResult, GradeResult
+from grader.grading.results import CheckResult, GradeResult
 from grader.worker.sandbox import fallback_warning, sandbox_problem
 
 pytestmark = pytest.mark.slow   # builds the student kit (once per session)

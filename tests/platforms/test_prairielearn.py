@@ -255,7 +255,7 @@ def test_the_dockerfile_passes_hadolint():
 # ---- a compile error, the question's timeout -------------------------------------------------
 
 def _rubric_with(root: Path, table: str) -> None:
-    rubric = root / "serverFilesCourse" / "envmap" / "grader" / "rubric.toml"
+    rubric = root / "serverFilesCourse" / "envmap" / "grader" / "grading" / "rubric.toml"
     text = rubric.read_text()
     assert "build_error_gradable = true" in text
     rubric.write_text(text.replace("build_error_gradable = true", table))
@@ -295,7 +295,7 @@ def test_a_bad_build_error_gradable_is_the_instructors_failure(grade_root):
 
 
 def _result(status: str, *ids: str):
-    from grader.results import CheckResult, Diagnosis, GradeResult
+    from grader.grading.results import CheckResult, Diagnosis, GradeResult
     return GradeResult(submission="s", status=status,
                        checks=[CheckResult("read_texture", "t", diagnoses=[Diagnosis(i, "") for i in ids])])
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from grader import PROJECT_ROOT
-from grader.submissions import SubmissionError, select_source
+from grader.intake import SubmissionError, select_source
 
 TEMPLATE = PROJECT_ROOT / "student_template"
 SOURCE = (PROJECT_ROOT / "tests" / "submissions" / "correct" / "if_chain.cpp").read_bytes()

@@ -207,7 +207,7 @@ def timing_note(seconds: float) -> str:
 
 def build_error_gradable(rubric: dict) -> bool:
     """The rubric's [prairielearn] build_error_gradable (default true)."""
-    from ...score import RubricError
+    from ...grading.score import RubricError
     value = rubric.get("prairielearn", {}).get("build_error_gradable", True)
     if not isinstance(value, bool):
         raise RubricError(f"prairielearn.build_error_gradable must be true or false, not {value!r}")
@@ -249,7 +249,7 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
     isolation mode go to stderr too (PrairieLearn's job log)."""
     from ...grading.grade import GradeOptions, grade
     from ...reports.gradescope_json import instructor_notes
-    from ...score import load_rubric
+    from ...grading.score import load_rubric
     started = time.monotonic()
     root = Path(root)
     results_path = root / "results" / "results.json"
