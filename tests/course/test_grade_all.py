@@ -408,7 +408,7 @@ def test_a_grading_process_that_dies_costs_only_its_own_student(tmp_path):
     assert not list(out.glob(".tmp-*")), "a killed grading's folder was left behind"
 
 
-def test_a_resume_keeps_a_students_own_timeout_with_the_reason(tmp_path):
+def test_a_resume_keeps_a_students_own_timeout_with_the_reason(tmp_path, isolation_mode):
     """spinner loops forever near +x: the worker sees it use its whole
     CPU-time limit, which no classmate can cause: kept on a resumed run,
     with the reason (a timeout stopped by the wall-clock bound alone is
@@ -423,6 +423,7 @@ def test_a_resume_keeps_a_students_own_timeout_with_the_reason(tmp_path):
     first = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
     assert first["alice"].status == "graded" and first["alice"].score == first["alice"].max_score > 0
     assert first["spinner"].status == "timeout"
+    assert json.loads((out / "spinner" / "results.json").read_text())["extra_data"]["isolation"] == isolation_mode
     assert json.loads((out / "spinner" / RECORD_FILE).read_text())["timeouts"] == ["code"]
     mtimes = {s: (out / s / "results.json").stat().st_mtime_ns for s in first}
     second = {r.student: r for r in grade_all(klass, out, 2, options, progress=False)}
