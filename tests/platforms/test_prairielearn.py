@@ -263,10 +263,11 @@ def _rubric_with(root: Path, table: str) -> None:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("gradable", [True, False])
-def test_a_compile_error_is_graded_or_not_gradable_as_the_rubric_says(grade_root, gradable):
+def test_a_compile_error_is_graded_or_not_gradable_as_the_rubric_says(grade_root, gradable, isolation_mode):
     """The course's rubric chooses: graded 0 (an attempt used) or not
     gradable (PrairieLearn charges none); the compiler's message is shown
-    either way, and the job log says which."""
+    either way, and the job log says which. In both production modes (the
+    compiler is confined differently in each)."""
     _rubric_with(grade_root, f"build_error_gradable = {str(gradable).lower()}")
     (grade_root / "student" / "EnvironmentMap.cpp").write_bytes((SUBMISSIONS / "build" / "syntax_error.cpp").read_bytes())
     run = run_entrypoint(grade_root, image_venv(grade_root), "--quick")
