@@ -42,6 +42,7 @@ from pathlib import Path
 
 from .. import PROJECT_ROOT
 from . import integrity
+from ..worker.native import SOURCES as WORKER_SOURCES
 
 TEMPLATE = PROJECT_ROOT / "student_template"
 REFERENCE = PROJECT_ROOT / "reference"
@@ -74,7 +75,8 @@ NOT_FOLLOWED = ("grader.study",)
 # Files beside the modules that they read (grader-relative): the build's
 # shim (grader.build.common._shim_files), the worker's source (grader.worker.native).
 # The null submission and reference_submission.c serve only speed.
-GRADER_FILES = ("build/shim/shim.cpp", "build/shim/submission_abi.h", "worker/worker.c")
+GRADER_FILES = ("build/shim/shim.cpp", "build/shim/submission_abi.h",
+                *(f"worker/{path.name}" for path in WORKER_SOURCES if path.parent.name == "worker"))
 # What the kit's rubric keeps of [grading] (never the secret); [checks] whole.
 GRADING_KEYS = ("language",)
 

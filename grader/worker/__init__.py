@@ -2,8 +2,9 @@
 
     build -> [worker] -> checks
 
-- worker.c (built into build/worker by native.py) sets resource limits,
-  installs crash handlers and a seccomp filter, then dlopen()s the
+- worker.c (built into build/worker by native.py, with faults.c, seccomp.c
+  and privileges.c) sets resource limits, installs crash handlers and a
+  seccomp filter, then dlopen()s the
   submission and serves lookups over a private pipe pair (protocol.py).
 - sandbox.py picks the isolation: bubblewrap when the machine allows, else
   privilege-drop (root: chroot + nobody), else SandboxUnavailable unless

@@ -1,4 +1,5 @@
-"""Build the worker executable (worker.c) once per machine, into build/worker.
+"""Build the worker executable (worker.c, faults.c, seccomp.c, privileges.c)
+once per machine, into build/worker.
 
 Rebuilt when the content hash of its sources and flags changes (recorded in
 build/worker.sha256), under a file lock so parallel test processes build it
@@ -17,13 +18,13 @@ from pathlib import Path
 from .. import PROJECT_ROOT
 
 ABI_DIR = PROJECT_ROOT / "grader" / "build" / "shim"
-SOURCES = [Path(__file__).with_name("worker.c"), ABI_DIR / "submission_abi.h"]
+# The C files first (compiled), then the headers they include (hashed only).
+C_FILES = [Path(__file__).with_name(name) for name in ("worker.c", "faults.c", "seccomp.c", "privileges.c")]
+SOURCES = [*C_FILES, *(Path(__file__).with_name(name) for name in ("protocol.h", "faults.h", "seccomp.h", "privileges.h")),
+           ABI_DIR / "submission_abi.h"]
 BINARY = PROJECT_ROOT / "build" / "worker"
 CC = os.environ.get("CC", "cc")
-# worker.c includes "../shim/submission_abi.h", written when shim/ sat beside
-# worker/; -iquote ABI_DIR finds it there (ABI_DIR/../shim) until that line
-# names ../build/shim/ (worker.c is being split on another branch).
-CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", f"-iquote{ABI_DIR}"]
+CFLAGS = ["-std=c11", "-O2", "-Wall", "-Wextra", "-Werror"]
 # Full RELRO: the worker's GOT is read-only before the submission is loaded,
 # and the seccomp filter keeps it so (a submission once redirected the
 # worker's clock_gettime through it).
@@ -34,7 +35,7 @@ _checked: Path | None = None
 
 
 class WorkerBuildError(RuntimeError):
-    """worker.c did not compile: a harness problem, never the student's."""
+    """The worker did not compile: a harness problem, never the student's."""
 
 
 def _content_hash() -> str:
@@ -58,7 +59,7 @@ def null_library() -> Path:
         if _null_checked is not None:
             return _null_checked
         h = hashlib.sha256()
-        for path in (NULL_SOURCE, SOURCES[1]):
+        for path in (NULL_SOURCE, SOURCES[-1]):
             h.update(path.name.encode() + b"\0" + path.read_bytes())
         h.update(CC.encode())
         digest = h.hexdigest()
@@ -92,7 +93,7 @@ def worker_binary() -> Path:
             fcntl.flock(lock, fcntl.LOCK_EX)
             if not (BINARY.is_file() and stamp.is_file() and stamp.read_text().strip() == digest):
                 tmp = BINARY.with_name(f".worker.{os.getpid()}")
-                cmd = [CC, *CFLAGS, "-o", str(tmp), str(SOURCES[0]), *LIBS]
+                cmd = [CC, *CFLAGS, "-o", str(tmp), *map(str, C_FILES), *LIBS]
                 done = subprocess.run(cmd, capture_output=True, text=True)
                 if done.returncode != 0:
                     raise WorkerBuildError(f"{' '.join(cmd)} failed:\n{done.stderr}")

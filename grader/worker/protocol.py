@@ -1,8 +1,8 @@
-"""The byte protocol between the grader and worker.c (README.md, "Protocol").
+"""The byte protocol between the grader and the worker (protocol.h; README.md, "Protocol").
 
 Every message is a 24-byte header (magic u32, op or status u32, count u64,
 payload_bytes u64; native byte order: both ends run on the same machine)
-followed by payload_bytes of payload. Constants here mirror worker.c.
+followed by payload_bytes of payload. Constants here mirror protocol.h.
 Everything the worker sends is untrusted (student code runs in that process):
 `check_reply` validates sizes before anything is decoded, and any surprise is
 a ProtocolViolation, charged to the submission.
@@ -40,7 +40,7 @@ STATUS_NAMES = {OK: "ok", EXCEPTION: "exception", ARGUMENT: "argument", CRASH: "
 # Text replies (exception and error messages) longer than this are refused.
 MAX_TEXT_BYTES = 64 << 10
 
-# Crash report causes (crash_report.cause in worker.c).
+# Crash report causes (crash_report.cause in protocol.h).
 CAUSE_SIGNAL, CAUSE_GUARD_AFTER, CAUSE_GUARD_BEFORE, CAUSE_STACK_OVERFLOW = 0, 1, 2, 3
 CAUSE_CPU_LIMIT, CAUSE_FORBIDDEN_SYSCALL, CAUSE_TEXTURE_WRITE = 4, 5, 6
 WHERE_ALL_FACES = -1
@@ -50,7 +50,7 @@ FAULT = struct.Struct("=Q256s")                # one FAULTS entry: the input's i
 # Texture placements: the texels end where a guard page starts, or start
 # where one ends.
 PLACEMENTS = {"end": 0, "start": 1}
-# Worker exit codes (worker.c): a crash already reported, a load failure, a
+# Worker exit codes (protocol.h): a crash already reported, a load failure, a
 # broken protocol.
 EXIT_CRASH, EXIT_LOAD, EXIT_PROTOCOL, EXIT_SETUP = 70, 71, 72, 73
 

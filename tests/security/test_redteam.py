@@ -41,7 +41,7 @@ Attacks that worked before (and the fix):
   uid (another student's worker in grade-all, the speed check's reference)
   into SCHED_IDLE at nice 19 on one CPU, to starve it into timeouts. Now the
   seccomp filter refuses (EPERM) scheduling, priority and page placement of
-  any process but the worker itself (grader/worker/worker.c on_other_pid).
+  any process but the worker itself (grader/worker/seccomp.c on_other_pid).
 Attacks the grader already handled, kept as regression tests at the worker:
 exit status 73 from a static initialiser, a destructor that never returns,
 an interval timer interrupting the worker, SIGSTOP to itself.

@@ -1,4 +1,4 @@
-"""The worker protocol's constants exist twice, in worker.c and protocol.py
+"""The worker protocol's constants exist twice, in protocol.h and protocol.py
 (C and Python cannot share a header): they must agree, name by name."""
 from __future__ import annotations
 
@@ -7,11 +7,11 @@ import re
 from grader import PROJECT_ROOT
 from grader.worker import protocol
 
-WORKER_C = PROJECT_ROOT / "grader" / "worker" / "worker.c"
+WORKER_C = PROJECT_ROOT / "grader" / "worker" / "protocol.h"
 
 
 def c_constants() -> dict[str, int]:
-    """Every `NAME = value` inside an enum, and the magic #defines, of worker.c."""
+    """Every `NAME = value` inside an enum, and the magic #defines, of protocol.h."""
     text = WORKER_C.read_text()
     found = {name: int(value, 16) for name, value in
              re.findall(r"^#define (\w+_MAGIC) (0x[0-9a-fA-F]+)u", text, re.M)}
@@ -22,7 +22,7 @@ def c_constants() -> dict[str, int]:
 
 
 def python_name(c_name: str) -> str | None:
-    """The protocol.py name of a worker.c constant (None: not part of the protocol)."""
+    """The protocol.py name of a protocol.h constant (None: not part of the protocol)."""
     for prefix in ("OP_", "ST_"):
         if c_name.startswith(prefix):
             return c_name[len(prefix):]
@@ -38,8 +38,8 @@ def test_every_protocol_constant_of_worker_c_has_the_same_value_in_protocol_py()
         name = python_name(c_name)
         if name is None:
             continue
-        assert hasattr(protocol, name), f"worker.c's {c_name} has no {name} in protocol.py"
-        assert getattr(protocol, name) == value, f"{c_name} = {value} in worker.c, {getattr(protocol, name)} in protocol.py"
+        assert hasattr(protocol, name), f"protocol.h's {c_name} has no {name} in protocol.py"
+        assert getattr(protocol, name) == value, f"{c_name} = {value} in protocol.h, {getattr(protocol, name)} in protocol.py"
         compared += 1
     # The parse itself must have found the protocol (a rename would otherwise pass silently).
     assert {"REQUEST_MAGIC", "RESPONSE_MAGIC", "OP_FETCH", "ST_CRASH", "CAUSE_GUARD_AFTER", "EXIT_CRASH"} <= set(constants)
@@ -54,4 +54,4 @@ def test_placements_agree():
 def test_crash_report_size_matches_the_c_struct():
     text = WORKER_C.read_text()
     assert protocol.CRASH_REPORT.size == 256
-    assert re.search(r"char\s+text\[224\]", text), "worker.c's crash report text field changed size"
+    assert re.search(r"char\s+text\[224\]", text), "protocol.h's crash report text field changed size"
