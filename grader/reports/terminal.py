@@ -30,6 +30,16 @@ STATE_STYLE = {
     STATE_INFO: ("i", "cyan"),
 }
 LOG_LINES = 15   # compiler messages shown in the terminal; the reports have all
+# Line breaks and tabs inside one line of the summary, shown as their escapes:
+# a submission's exception text must not start a line of its own (a forged
+# "# Score: 100/100"), as every file report already escapes it. The view has
+# cleaned every other control character (text.clean).
+_ONE_LINE = str.maketrans({"\n": "\\n", "\r": "\\r", "\t": "\\t", "\u2028": "\\u2028", "\u2029": "\\u2029",
+                           "\x0b": "\\v", "\x0c": "\\f", "\x85": "\\x85"})
+
+
+def one_line(text: str) -> str:
+    return str(text).translate(_ONE_LINE)
 
 
 def _score_style(view: ReportView) -> str:
@@ -42,16 +52,16 @@ def _score_style(view: ReportView) -> str:
 def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Group:
     parts = []
     head = Text.assemble(
-        (view.submission, "bold"), "  ",
+        (one_line(view.submission), "bold"), "  ",
         (f"{points(view.score)} / {points(view.max_score)}", f"bold {_score_style(view)}"),
         "  ", (view.status_text, "dim" if view.status == "graded" else "bold red"),
         "  ", (f"({seconds(view.execution_time_s)})", "dim"))
     parts.append(head)
     parts.append(Text(_("your code ran under: %(isolation)s") % {"isolation": view.isolation_text}, style="dim"))
     if view.status_explanation:
-        parts.append(Text(view.status_explanation, style="red"))
+        parts.append(Text(one_line(view.status_explanation), style="red"))
     for w in view.warnings:
-        parts.append(Text.assemble((_("warning: "), "bold yellow"), w))
+        parts.append(Text.assemble((_("warning: "), "bold yellow"), one_line(w)))
 
     if view.status == BUILD_ERROR and view.build_log.strip():
         lines = view.build_log.strip().splitlines()
@@ -70,7 +80,7 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
         for c in view.checks:
             mark, style = STATE_STYLE[check_state(c)]
             # Text, not str: rich would read "[...]" in a string as markup.
-            table.add_row(Text(mark, style=style), Text(c.number), Text(c.title),
+            table.add_row(Text(mark, style=style), Text(c.number), Text(one_line(c.title)),
                           Text(check_points(c), style=style))
         parts.append(table)
     for h in view.hidden:
@@ -80,12 +90,12 @@ def summary(view: ReportView, report_paths: dict[str, Path] | None = None) -> Gr
 
     for group in view.diagnoses:
         faces = f" [{', '.join(group.faces)}]" if group.faces else ""
-        parts.append(Text.assemble(("• ", "red"), (group.info.title, "bold"),
-                                   (f"  {group.info.id}{faces}", "dim")))
+        parts.append(Text.assemble(("• ", "red"), (one_line(group.info.title), "bold"),
+                                   (one_line(f"  {group.info.id}{faces}"), "dim")))
         for d in group.findings:
             where = f"{d.face}: " if d.face else ""
-            parts.append(Padding(Text(f"{where}{d.detail}"), (0, 0, 0, 4), expand=False))
-        parts.append(Padding(Text.assemble((_("what to do: "), "cyan"), group.info.what_to_do),
+            parts.append(Padding(Text(one_line(f"{where}{d.detail}")), (0, 0, 0, 4), expand=False))
+        parts.append(Padding(Text.assemble((_("what to do: "), "cyan"), one_line(group.info.what_to_do)),
                              (0, 0, 0, 4), expand=False))
 
     if report_paths:
