@@ -33,8 +33,10 @@ everything they read, under bubblewrap where it works; where it does not
 but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop"),
 once grader/build/compiler.py has made sure that uid can read none of
 the grader's, the course's or the uploads' files; otherwise as ourselves
-("none"). Always with stdin /dev/null, a scrubbed environment, CPU/memory
-limits and a wall-clock deadline.
+("none"). Always with stdin /dev/null, a scrubbed environment, CPU/memory/
+descriptor limits, oom_score_adj 1000 in the grading's memory cgroup
+(grader/worker/memory.py), and a deadline in CPU time of the compiler's
+processes with the wall clock only as an outer bound (compiler.Deadline).
 
 Builds are cached by content hash under build/submissions/<key>/: the key
 covers the student's source, every file of ours that goes into the library,
@@ -69,7 +71,8 @@ from ..intake import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401
                       SubmissionError, select_source as _select_source)
 from . import common as common_objects, source_policy
 from .common import COMMON_FILES, PRECOMPILED_HEADER, TEMPLATE, _common_objects, _fingerprint, _publish
-from .compiler import BUILD_GID, BUILD_UID, LINK_FLAGS, CXX, HarnessBuildError, _flags, _run, _Step, build_isolation
+from .compiler import (BUILD_GID, BUILD_UID, LINK_FLAGS, CXX, Deadline, HarnessBuildError,
+                       _flags, _run, _Step, build_isolation)
 from .include_policy import API_HEADERS, _dependencies, _outside_files, refused_directives
 from .messages import describe
 from .objects import _ASSEMBLER_FORBIDDEN, inspect_library, inspect_object
@@ -188,7 +191,7 @@ def _refusal(diagnosis_id: str, message: str, line: int | None = None) -> dict:
 
 
 def _compile_and_link(source: bytes, common: Path, out_dir: Path, sanitize: bool,
-                      deadline: float, extra_flags: tuple[str, ...] = (),
+                      deadline: Deadline, extra_flags: tuple[str, ...] = (),
                       isolation: str = "none") -> dict:
     """Preprocess (to list the files read), compile to assembly, assemble,
     inspect and link the student's file in a scratch folder; the library
@@ -209,7 +212,7 @@ def _compile_and_link(source: bytes, common: Path, out_dir: Path, sanitize: bool
 
 
 def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str],
-              extra_flags: tuple[str, ...], deadline: float, isolation: str) -> dict:
+              extra_flags: tuple[str, ...], deadline: Deadline, isolation: str) -> dict:
     include = [f"-I{scratch / 'include'}"]
     outputs: list[str] = []
 
@@ -372,7 +375,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
             ensure_confined(path, cache_dir)
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=cache_dir))
         (tmp / SOURCE_NAME).write_bytes(chosen.text)
-        record = _compile_and_link(chosen.text, common, tmp, sanitize, time.monotonic() + timeout_s,
+        record = _compile_and_link(chosen.text, common, tmp, sanitize, Deadline.of(timeout_s),
                                    tuple(extra_flags), isolation)
         if record["timed_out"]:
             # Not cached: a loaded machine may finish the same build next time.

@@ -16,7 +16,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from .compiler import CC, CXX, HarnessBuildError, _flags, _run, compiler_versions
+from .compiler import CC, CXX, Deadline, HarnessBuildError, _flags, _run, compiler_versions
 from .include_policy import API_HEADERS
 from .objects import _LINKER_SYMBOLS, _defined_symbols, _library_paths, _object_symbols
 
@@ -118,7 +118,6 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
             shutil.rmtree(tmp, ignore_errors=True)
             raise
         return final
-    deadline = time.monotonic() + 600
     includes = [f"-I{TEMPLATE}", f"-I{REFERENCE / 'include'}", f"-I{SHIM}"]
     jobs = [[CXX, *cxxflags, *includes, "-c", str(TEMPLATE / "EnvironmentMapLoader.cpp"), "-o", "loader.o"],
             [CXX, *cxxflags, *includes, "-c", str(SHIM / "shim.cpp"), "-o", "shim.o"]]
@@ -129,8 +128,8 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
         reference_objects.append(f"ref_{src.stem}.o")
     archive = ["ar", "rcs", "libreference.a", *reference_objects]
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-        steps = list(pool.map(lambda cmd: _run(cmd, tmp, deadline), jobs))
-    steps.append(_run(archive, tmp, deadline))
+        steps = list(pool.map(lambda cmd: _run(cmd, tmp, Deadline.of(600)), jobs))
+    steps.append(_run(archive, tmp, Deadline.of(600)))
     for cmd, step in zip(jobs + [archive], steps):
         if step.returncode != 0 or step.timed_out:
             shutil.rmtree(tmp, ignore_errors=True)
@@ -144,7 +143,7 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
     if not sanitize:
         pch = [CXX, *cxxflags, f"-I{tmp / 'include'}", "-x", "c++-header", str(tmp / "include" / API_HEADERS[0]),
                "-o", str(tmp / "include" / PRECOMPILED_HEADER)]
-        step = _run(pch, tmp, deadline)
+        step = _run(pch, tmp, Deadline.of(600))
         if step.returncode != 0 or step.timed_out:
             shutil.rmtree(tmp, ignore_errors=True)
             raise HarnessBuildError(f"{' '.join(pch)}\n{step.output}")

@@ -1,8 +1,10 @@
 """The compiler, confined: every command of a student's build runs here,
 under bubblewrap where it works, else as the unprivileged BUILD_UID
 ("privilege-drop"), else as ourselves ("none"); always with stdin /dev/null,
-a scrubbed environment, CPU, memory and output limits and a wall-clock
-deadline. The flags every build uses are here too.
+a scrubbed environment, CPU, memory, descriptor and output limits,
+oom_score_adj 1000 in the grading's memory cgroup (grader/worker/memory.py),
+and a deadline in CPU time of the compiler's processes with the wall clock
+only as an outer bound (Deadline). The flags every build uses are here too.
 
 Privilege-drop mode: the compiler's uid can read nothing of ours.
 
@@ -107,26 +109,52 @@ def build_isolation() -> str:
 
 
 def _limited(cmd: list[str], cpu_seconds: int) -> list[str]:
-    """cmd under an address-space and a CPU-time limit. The limits are set by
-    the shell's ulimit rather than setrlimit in a preexec_fn, which is unsafe
-    when threads run (the common objects are compiled in parallel)."""
+    """cmd under an address-space, a CPU-time and a descriptor limit. The
+    limits are set by the shell's ulimit rather than setrlimit in a
+    preexec_fn, which is unsafe when threads run (the common objects are
+    compiled in parallel)."""
     # ulimit -f counts 512-byte blocks in dash (Debian's sh), 1 KiB in bash: at most 2x the cap.
     script = (f'ulimit -v {MEMORY_LIMIT_BYTES >> 10} && ulimit -t {cpu_seconds} && '
-              f'ulimit -f {MAX_OUTPUT_FILE_BYTES >> 9} && exec "$@"')
+              f'ulimit -f {MAX_OUTPUT_FILE_BYTES >> 9} && ulimit -n {COMPILER_OPEN_FILES} && exec "$@"')
     return ["/bin/sh", "-c", script, "sh", *cmd]
 
 
-def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted") -> _Step:
-    """Run one compiler command in its own process group, killed at the
-    deadline. isolation: "trusted" (our own sources), or how a student's
+# Descriptors a compiler step may hold (ld opens each object and library
+# once; each pipe pins kernel memory outside ulimit -v).
+COMPILER_OPEN_FILES = 256
+
+
+@dataclass
+class Deadline:
+    """A build's time: `cpu_s` seconds of CPU time of the compiler's
+    processes (what the source asks of the compiler; a loaded machine
+    stretches wall time, never CPU time), spent step by step, and the wall
+    clock only as an outer bound (process.wall_bound's factor)."""
+    cpu_s: float
+    wall_end: float
+
+    @classmethod
+    def of(cls, seconds: float) -> "Deadline":
+        from ..worker.process import wall_bound
+        return cls(float(seconds), time.monotonic() + wall_bound(seconds))
+
+    def wall_left(self) -> float:
+        return self.wall_end - time.monotonic()
+
+
+def _run(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "trusted") -> _Step:
+    """Run one compiler command in its own process group, killed when it has
+    used the deadline's CPU time (all its processes) or reached its wall
+    bound. isolation: "trusted" (our own sources), or how a student's
     file is built (build_isolation(); the scratch folder `cwd` is all of
     ours it may see)."""
-    remaining = deadline - time.monotonic()
-    if remaining <= 0:
+    from ..worker import memory
+    if deadline.cpu_s <= 0 or deadline.wall_left() <= 0:
         return _Step(-1, "", timed_out=True)
-    cpu = max(1, int(remaining) + 1)
+    cpu = max(1, int(deadline.cpu_s) + 1)     # each process's own backstop
     env = dict(_COMPILER_ENVIRONMENT)
     drop: dict = {}
+    group = memory.current()
     if isolation == "bubblewrap":
         from ..worker.sandbox import compiler_command
         cmd = compiler_command(cmd, [], cwd)
@@ -135,12 +163,15 @@ def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted")
         # folder only it (and root) can enter; its temporary files go there too.
         drop = {"user": BUILD_UID, "group": BUILD_GID, "extra_groups": []}
         env = {"PATH": "/usr/bin:/bin", "LC_ALL": "C", "TMPDIR": str(cwd / "tmp"), "HOME": str(cwd)}
+        if group is not None:
+            group.allow_uid(BUILD_UID)     # its shell joins the grading's cgroup itself
     elif isolation == "none":
         env["TMPDIR"] = str(cwd / "tmp")
-    proc = subprocess.Popen(_limited(cmd, cpu), cwd=cwd, stdin=subprocess.DEVNULL,
+    proc = subprocess.Popen(memory.charged(_limited(cmd, cpu), group), cwd=cwd, stdin=subprocess.DEVNULL,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True, env=env, **drop)
-    out, ended = _read_capped(proc, remaining)
+    out, ended, used_s = _read_capped(proc, deadline)
+    deadline.cpu_s -= used_s
     if ended != "exited":
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
@@ -156,19 +187,25 @@ def _run(cmd: list[str], cwd: Path, deadline: float, isolation: str = "trusted")
     return _Step(proc.returncode, text)
 
 
-def _read_capped(proc: subprocess.Popen, timeout: float) -> tuple[bytes, str]:
-    """proc's output (at most MAX_COMPILER_OUTPUT_BYTES) and how reading
-    ended: "exited", "timeout" or "overflow" (it printed more; the caller
-    kills it). communicate() would hold all of it in our memory."""
-    end = time.monotonic() + timeout
+def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str, float]:
+    """proc's output (at most MAX_COMPILER_OUTPUT_BYTES), how reading ended
+    ("exited", "timeout" or "overflow": it printed more; the caller kills
+    it) and the CPU seconds its processes used. communicate() would hold all
+    of it in our memory."""
+    from ..worker.process import tree_cpu_ns
     fd = proc.stdout.fileno()
-    chunks, size = [], 0
+    chunks, size, used_ns = [], 0, 0
+
+    def out_of_time() -> bool:
+        nonlocal used_ns
+        used_ns = max(used_ns, tree_cpu_ns(proc.pid))
+        return used_ns > deadline.cpu_s * 1e9 or deadline.wall_left() <= 0
+
     while True:
-        left = end - time.monotonic()
-        if left <= 0:
-            return b"".join(chunks), "timeout"
-        ready, _, _ = select.select([fd], [], [], left)
+        ready, _, _ = select.select([fd], [], [], max(0.0, min(0.1, deadline.wall_left())))
         if not ready:
+            if out_of_time():
+                return b"".join(chunks), "timeout", used_ns / 1e9
             continue
         chunk = os.read(fd, 1 << 16)
         if not chunk:
@@ -176,13 +213,13 @@ def _read_capped(proc: subprocess.Popen, timeout: float) -> tuple[bytes, str]:
         chunks.append(chunk)
         size += len(chunk)
         if size > MAX_COMPILER_OUTPUT_BYTES:
-            return b"".join(chunks)[:MAX_COMPILER_OUTPUT_BYTES], "overflow"
+            return b"".join(chunks)[:MAX_COMPILER_OUTPUT_BYTES], "overflow", used_ns / 1e9
     proc.stdout.close()
-    try:
-        proc.wait(timeout=max(0.0, end - time.monotonic()))
-    except subprocess.TimeoutExpired:
-        return b"".join(chunks), "timeout"
-    return b"".join(chunks), "exited"
+    while proc.poll() is None:
+        if out_of_time():
+            return b"".join(chunks), "timeout", used_ns / 1e9
+        time.sleep(0.01)
+    return b"".join(chunks), "exited", used_ns / 1e9
 
 
 # ---- privilege-drop: what the build uid may read ----------------------------------------

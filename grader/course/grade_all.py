@@ -181,7 +181,7 @@ def _grade_one(student: str, submission: str, out: str, key: str, options: dict)
     work = Path(tempfile.mkdtemp(prefix=f".tmp-{student[:TMP_NAME_CHARS]}-", dir=final.parent))
     try:
         result = grade(Path(submission), work, GradeOptions(**options))
-        record = {"key": key, "metrics": _chart_metrics(result),
+        record = {"key": key, "metrics": _chart_metrics(result), "build_timed_out": result.build_timed_out,
                   "check_seconds": {c.name: round(c.duration_s, 3) for c in result.checks},
                   # what stopped each timeout ("code" or "grader"), as the worker saw it (own_timeout)
                   "timeouts": [d.stopped_by for d in result.diagnoses if d.id == TIMEOUT]}
@@ -299,7 +299,10 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         kept = None
         if not force and record and record.get("key") == key and (out / student / "results.json").is_file():
             kept = read_row(student, out / student)
-        if kept is not None and (kept.status not in DISTURBED or own_timeout(kept, record)):
+        # A build stopped at its deadline is graded again too: a loaded
+        # machine (or a classmate) may have cost it its time.
+        if kept is not None and (kept.status not in DISTURBED or own_timeout(kept, record)) \
+                and not record.get("build_timed_out"):
             kept.skipped = True
             rows[student] = kept
         else:

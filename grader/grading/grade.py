@@ -44,6 +44,17 @@ def run_seed(secret: str, source_sha256: str) -> int:
 
 
 def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, write_reports: bool = True) -> GradeResult:
+    """Grade one submission (see the module docstring). Its workers and
+    compilers are charged to one memory cgroup of its own where the machine
+    offers one, and the grader's own process asks not to be the OOM
+    killer's choice (grader/worker/memory.py)."""
+    from ..worker import memory
+    memory.protect_grader()
+    with memory.grading_cgroup():
+        return _grade(submission, out_dir, options, write_reports)
+
+
+def _grade(submission: Path, out_dir: Path, options: GradeOptions | None, write_reports: bool) -> GradeResult:
     from ..build.compiler import HarnessBuildError
     from ..build import build_submission
     from ..intake import student_name
@@ -85,6 +96,7 @@ def grade(submission: Path, out_dir: Path, options: GradeOptions | None = None, 
     result.source_sha256 = build.sha256 or ""
     if not build.ok:
         result.status = BUILD_ERROR
+        result.build_timed_out = bool(build.timed_out)
         from ..i18n import _
         first = build.log.strip().splitlines()[0] if build.log.strip() else _("the submission did not compile")
         for c in selected:

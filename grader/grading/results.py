@@ -102,6 +102,9 @@ class GradeResult:
     # How the submission's code was isolated (grader.worker: "bubblewrap",
     # "privilege-drop", "unsafe-none"); "" when none of it ran (build failed).
     isolation: str = ""
+    # The build was stopped at its deadline (not cached: a resumed
+    # grade-all builds it again, grader/course/grade_all.py).
+    build_timed_out: bool = False
 
     @property
     def diagnoses(self) -> list[Diagnosis]:

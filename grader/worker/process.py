@@ -35,7 +35,7 @@ from . import protocol
 from .capture import CappedOutput
 from .failures import (EXCEPTION, EXITED, FORBIDDEN_SYSCALL, LOAD_ERROR, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash,
                        signal_name)
-from . import uids
+from . import memory, uids
 from .native import worker_binary
 from .sandbox import INPUT_INSIDE, ISOLATION, bwrap_command, resolve_mode
 
@@ -67,6 +67,7 @@ class Limits:
     cpu_seconds: int | None = 120         # over the worker's life: a backstop to the per-call limits
     file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
     processes: int = 64                   # threads included: the worker's uid's tasks (see _nproc_limit)
+    open_files: int = 64                  # RLIMIT_NOFILE: what pipes and memfds it can pin (memory.py)
     seccomp: bool = True
     texture_mb: int = 24                  # the largest six-face texture window (512 x 512 faces need 18 MiB)
 
@@ -156,6 +157,24 @@ def process_cpu_ns(pid: int) -> int:
     return time.clock_gettime_ns(((~pid) << 3) | 2)
 
 
+_TICK_NS = 10**9 // os.sysconf("SC_CLK_TCK")
+
+
+def tree_cpu_ns(pid: int) -> int:
+    """CPU time of `pid` and every process below it, living or reaped by
+    one of them (utime + stime + cutime + cstime each): what a build step's
+    processes have used, read from outside. 0 once it is gone."""
+    total = 0
+    for p in _descendants(pid):
+        try:
+            with open(f"/proc/{p}/stat") as f:
+                fields = f.read().rpartition(")")[2].split()
+            total += sum(int(x) for x in fields[11:15])
+        except (OSError, ValueError, IndexError):
+            continue
+    return total * _TICK_NS
+
+
 def _all_stopped(pid: int) -> bool:
     """Every thread of `pid` is stopped (state T or t in /proc)."""
     try:
@@ -229,6 +248,7 @@ class Worker:
         self._watch: tuple[int | None, float, int | None] | None = None
         self.stuck: tuple[int, float, float] | None = None
         self._frozen = False     # stopped by freeze(), not by itself
+        self._killed = False     # ended by us (a failure, close()): no call may follow
         self.start_time_s = 0.0
         # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
         self._cpu_limit: tuple[int, int] | None = None
@@ -237,6 +257,14 @@ class Worker:
         # protocol.CrashReport) each; the worker went on past them.
         self.faults: list[tuple[int, protocol.CrashReport]] = []
         self._uid: uids.WorkerUid | None = None      # privilege-drop: a uid no other process has
+        # Where its memory is charged (memory.py), and the OOM kills counted
+        # there (or on the machine) before its current call: a SIGKILL that
+        # raised the count is the kernel's, for the memory it held.
+        self._cgroup: memory.GradingCgroup | None = None
+        self._oom_before = 0
+        # Between calls the worker is stopped (SIGSTOP): a submission costs
+        # CPU only while the grader is asking it something (issue 32).
+        self.stop_between_calls = True
         self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
 
     @property
@@ -316,6 +344,10 @@ class Worker:
                    *(["--pid-namespace"] if self.try_pid_namespace else []), *args, f"/{LIBRARY_NAME}"]
         else:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
+        # oom_score_adj 1000 and the grading's memory cgroup, before anything runs.
+        self._cgroup = memory.current()
+        self._oom_before = self._oom_kills()
+        cmd = memory.charged(cmd, self._cgroup)
         try:
             self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
                                           pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
@@ -339,6 +371,7 @@ class Worker:
         except BaseException:
             self.close()
             raise
+        self._idle()
         self.start_time_s = time.monotonic() - began
 
     def _setup(self, binary: Path, deadline: float) -> None:
@@ -370,6 +403,8 @@ class Worker:
             args += ["--cpu-s", str(lim.cpu_seconds)]
         if lim.processes:
             args += ["--nproc", str(self._nproc_limit())]
+        if lim.open_files:
+            args += ["--nofile", str(lim.open_files)]
         args += ["--texture-bytes", str(self.texture_bytes)]
         if not lim.seccomp:
             args.append("--no-seccomp")
@@ -389,6 +424,7 @@ class Worker:
         """Stop the worker (politely, then by force) and remove its files."""
         if self._proc is not None:
             if self._proc.poll() is None:
+                self._resume()
                 try:
                     os.write(self._request_fd, b"".join(protocol.request(protocol.QUIT, 0)))
                 except OSError:
@@ -420,6 +456,7 @@ class Worker:
         """Kill the worker's whole process group and reap it."""
         if self._proc is None:
             return
+        self._killed = True
         try:
             os.killpg(self._proc.pid, signal.SIGKILL)
         except (ProcessLookupError, PermissionError):
@@ -514,9 +551,9 @@ class Worker:
         return rgb, used
 
     def freeze(self) -> None:
-        """Stop every thread of the worker (SIGSTOP, from outside) while other
-        libraries are timed: a thread left spinning on memory would slow them
-        down and flatter its own ratio."""
+        """Stop every thread of the worker (SIGSTOP, from outside) and wait
+        until they are, while other libraries are timed: a thread left
+        spinning on memory would slow them down and flatter its own ratio."""
         if self._worker_pid is not None and self.alive:
             try:
                 os.kill(self._worker_pid, signal.SIGSTOP)
@@ -530,7 +567,22 @@ class Worker:
                 time.sleep(0.001)
 
     def thaw(self) -> None:
-        if self._worker_pid is not None and self.alive:
+        """Undo freeze(); a worker stopped between calls stays stopped until its next call."""
+        if not self.stop_between_calls:
+            self._resume()
+
+    def _idle(self) -> None:
+        """Between calls: stopped, so threads it left running cost no one
+        CPU (the per-call limit only watches calls)."""
+        if self.stop_between_calls and self._worker_pid is not None and self.alive:
+            try:
+                os.kill(self._worker_pid, signal.SIGSTOP)
+            except ProcessLookupError:
+                return
+            self._frozen = True
+
+    def _resume(self) -> None:
+        if self._frozen and self._worker_pid is not None and self.alive:
             try:
                 os.kill(self._worker_pid, signal.SIGCONT)
             except ProcessLookupError:
@@ -579,8 +631,24 @@ class Worker:
 
     def _call(self, op: int, count: int, payload: bytes, expected_count: int | None,
               expected_bytes: int | None, timeout_s: float, what: str) -> tuple[int, bytes]:
-        if not self.alive:
+        if self._proc is None or self._request_fd < 0 or self._killed:
             raise WorkerHarnessError("the worker is not running (start it, or start a new one after a failure)")
+        if not self.alive:
+            # It ended since its last call (a thread of its own crashed, it
+            # exited, the kernel killed it): the submission's doing, whichever
+            # check asked next. Its reply pipe holds what it said, if anything.
+            status, count, reply = self._receive(None, None, time.monotonic() + 2.0, what)
+            self._fail(PROTOCOL, f"the worker had ended before {what} was asked, after a reply "
+                                 f"({protocol.STATUS_NAMES.get(status, status)})")
+        self._resume()
+        try:
+            return self._exchange(op, count, payload, expected_count, expected_bytes, timeout_s, what)
+        finally:
+            self._idle()
+
+    def _exchange(self, op: int, count: int, payload: bytes, expected_count: int | None,
+                  expected_bytes: int | None, timeout_s: float, what: str) -> tuple[int, bytes]:
+        self._oom_before = self._oom_kills()
         deadline = time.monotonic() + wall_bound(timeout_s)
         if self._progress is not None:
             struct.pack_into("=Q", self._progress, 0, _NO_PROGRESS)
@@ -769,6 +837,14 @@ class Worker:
                 raise SubmissionFailure(FORBIDDEN_SYSCALL, _("made a forbidden system call with signals blocked "
                                         "(SIGSYS; system(), popen() and posix_spawn do this to start a process)"),
                                         signal_name=name, output=self.output(), exit_status=status)
+            if signo == signal.SIGKILL and self._oom_kills() > self._oom_before:
+                # The kernel's OOM killer (oom_score_adj 1000 makes the worker
+                # its first choice): memory the submission held, counting
+                # kernel memory outside RLIMIT_AS such as pipe buffers.
+                raise SubmissionFailure(EXITED, _("the kernel ended the worker for using too much memory "
+                                        "(counting kernel memory such as pipe buffers) while %(what)s ran")
+                                        % {"what": _(what)}, signal_name=name, output=self.output(),
+                                        exit_status=status, detail="memory")
             if signo == signal.SIGKILL and self.limits.cpu_seconds:
                 # The kernel's SIGKILL at the hard CPU limit, or a kill from
                 # outside (the machine's, or the submission's own): tried once
@@ -785,6 +861,9 @@ class Worker:
                                     output=self.output(), exit_status=status)
         raise SubmissionFailure(EXITED, _("the program ended itself (exit status %(status)s) while %(what)s ran") % {"status": status, "what": _(what)},
                                 output=self.output(), exit_status=status)
+
+    def _oom_kills(self) -> int:
+        return self._cgroup.oom_kills() if self._cgroup is not None else memory.oom_kills_on_machine()
 
     def _fail(self, kind: str, message: str):
         self._kill()

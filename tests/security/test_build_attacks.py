@@ -136,8 +136,8 @@ def test_object_reader_refuses_malformed_objects():
 
 def test_compiler_stdin_is_dev_null(tmp_path):
     # The grader's stdin carries data; a compiler reading /dev/stdin must not see it.
-    script = ("import sys, time; from pathlib import Path; from grader.build.compiler import _run;"
-              "step = _run(['/bin/cat', '/dev/stdin'], Path(sys.argv[1]), time.monotonic() + 20, 'none');"
+    script = ("import sys, time; from pathlib import Path; from grader.build.compiler import Deadline, _run;"
+              "step = _run(['/bin/cat', '/dev/stdin'], Path(sys.argv[1]), Deadline.of(20), 'none');"
               "print(repr(step.output))")
     done = subprocess.run([sys.executable, "-c", script, str(tmp_path)], input="GRADER-STDIN-SECRET",
                           capture_output=True, text=True, cwd=PROJECT_ROOT, timeout=60)
@@ -170,7 +170,7 @@ def test_link_runs_in_the_sandbox(cache, tmp_path, monkeypatch):
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
 def test_privilege_drop_builds_as_an_unprivileged_uid(cache, tmp_path, monkeypatch):
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
-    step = build._run(["/usr/bin/id", "-u"], tmp_path, time.monotonic() + 20, "privilege-drop")
+    step = build._run(["/usr/bin/id", "-u"], tmp_path, build.Deadline.of(20), "privilege-drop")
     # Neither root nor nobody (the uid a privilege-dropped worker runs student code as).
     assert step.output.strip() == str(build.BUILD_UID) and build.BUILD_UID not in (0, 65534)
     source = tmp_path / "EnvironmentMap.cpp"

@@ -194,14 +194,31 @@ def test_the_student_worker_is_frozen_while_others_are_timed(libraries):
         lookups.set_faces(np.zeros((6, 4, 4, 3), np.float32))
         assert lookups.fetch(np.eye(3)).ok
         worker = lookups._worker
+        worker.stop_between_calls = False        # the thread would run between calls...
+        worker.thaw()
         before = worker.cpu_ns()
         time.sleep(0.3)
-        assert worker.cpu_ns() > before          # its thread runs between calls...
+        assert worker.cpu_ns() > before
         with lookups.frozen():
             before = worker.cpu_ns()
             time.sleep(0.3)
             assert worker.cpu_ns() == before     # ...but not while frozen
         assert lookups.fetch(np.eye(3)).ok       # and it answers again afterwards
+
+
+def test_the_student_worker_is_stopped_between_calls(libraries):
+    """Issue 32: threads a lookup leaves spinning cost CPU only during calls."""
+    import time
+    import numpy as np
+    with open_lookups(libraries["thrash"]) as lookups:
+        lookups.set_faces(np.zeros((6, 4, 4, 3), np.float32))
+        assert lookups.fetch(np.eye(3)).ok
+        worker = lookups._worker
+        time.sleep(0.05)                         # the stop lands asynchronously
+        before = worker.cpu_ns()
+        time.sleep(0.3)
+        assert worker.cpu_ns() == before         # stopped between calls
+        assert lookups.fetch(np.eye(3)).ok       # and it answers the next call
 
 
 BUSY = [sys.executable, "-c", "import time\nend = time.monotonic() + 120\nwhile time.monotonic() < end: pass"]

@@ -1,0 +1,220 @@
+"""What a submission's memory is charged to, so that running out of it ends
+the submission and never the grader (issue 32).
+
+Pipe buffers, memfds and other kernel memory are outside a worker's
+RLIMIT_AS and its RSS, but a container's memory cgroup counts them: a
+static initialiser that filled pipes once made the kernel's OOM killer take
+the grader. Three defences, each where the machine allows it:
+
+- every process that runs or compiles student code starts with
+  oom_score_adj 1000 (any process may raise its own), so an OOM takes it
+  first (`charged`);
+- the grader's own process asks for GRADER_OOM_SCORE_ADJ (lowering needs
+  CAP_SYS_RESOURCE: `protect_grader` says why not where it is refused);
+- one memory cgroup per grading (`grading_cgroup`), cgroup v1's memory
+  controller or a delegated v2 subtree: the worker and the compiler join it
+  before they run anything, so their kernel memory is charged there and an
+  OOM kills inside it only; `oom_kills()` tells a death by OOM apart.
+
+The descriptors themselves are bounded where they are made: RLIMIT_NOFILE in
+worker.c (Limits.open_files) and in the compiler's shell (grader/build.py).
+"""
+from __future__ import annotations
+
+import contextlib
+import itertools
+import os
+import time
+from pathlib import Path
+
+STUDENT_OOM_SCORE_ADJ = 1000
+GRADER_OOM_SCORE_ADJ = -900
+# A grading runs one worker at a time (2 GiB of address space, Limits) or
+# one compile (1.5 GiB): this leaves room for kernel memory and page cache.
+GRADING_MEMORY_MB = 2560
+# Never less: a compile (cc1plus) and a correct worker fit in it.
+MINIMUM_MB = 256
+
+_CGROUP_ROOT = Path("/sys/fs/cgroup")
+_counter = itertools.count()
+
+
+class GradingCgroup:
+    """A memory cgroup of its own (v1 or v2), made by `grading_cgroup`."""
+
+    def __init__(self, path: Path, version: int):
+        self.path, self.version = path, version
+
+    @property
+    def procs(self) -> Path:
+        return self.path / "cgroup.procs"
+
+    def oom_kills(self) -> int:
+        """How many processes the kernel's OOM killer took in this cgroup."""
+        name = "memory.events" if self.version == 2 else "memory.oom_control"
+        return _field(self.path / name, "oom_kill")
+
+    def peak_bytes(self) -> int | None:
+        name = "memory.peak" if self.version == 2 else "memory.max_usage_in_bytes"
+        try:
+            return int((self.path / name).read_text().split()[0])
+        except (OSError, ValueError, IndexError):
+            return None
+
+    def allow_uid(self, uid: int) -> None:
+        """Let processes of `uid` move themselves in (the compiler's shell in
+        privilege-drop mode). cgroup v1 only: v2 would need write access to
+        the parent's cgroup.procs too, which is not given away."""
+        if self.version == 1:
+            for name in ("cgroup.procs", "tasks"):
+                os.chown(self.path / name, uid, -1)
+
+    def remove(self) -> None:
+        # The last worker may take a moment to be reaped after its kill.
+        for _ in range(50):
+            try:
+                self.path.rmdir()
+                return
+            except FileNotFoundError:
+                return
+            except OSError:
+                time.sleep(0.02)
+
+
+def _field(path: Path, name: str) -> int:
+    try:
+        for line in path.read_text().splitlines():
+            key, _, value = line.partition(" ")
+            if key == name:
+                return int(value)
+    except (OSError, ValueError):
+        pass
+    return 0
+
+
+def oom_kills_on_machine() -> int:
+    """The kernel's count of OOM kills since boot (/proc/vmstat): where no
+    cgroup of ours watches, a worker's SIGKILL that raised it is an OOM kill."""
+    return _field(Path("/proc/vmstat"), "oom_kill")
+
+
+def _own_cgroup() -> tuple[Path | None, int, str]:
+    """Where a child cgroup with a memory controller can be made: (folder,
+    version, why not)."""
+    try:
+        lines = Path("/proc/self/cgroup").read_text().splitlines()
+    except OSError as exc:
+        return None, 0, f"cannot read /proc/self/cgroup ({exc})"
+    for line in lines:
+        _, controllers, path = line.split(":", 2)
+        if "memory" in controllers.split(","):
+            folder = _CGROUP_ROOT / "memory" / path.lstrip("/")
+            if folder.is_dir() and os.access(folder, os.W_OK):
+                return folder, 1, ""
+            return None, 1, f"the memory cgroup {folder} is not writable here"
+    for line in lines:
+        if line.startswith("0::"):
+            unified = _CGROUP_ROOT if (_CGROUP_ROOT / "cgroup.controllers").exists() else _CGROUP_ROOT / "unified"
+            folder = unified / line[3:].lstrip("/")
+            try:
+                enabled = (folder / "cgroup.subtree_control").read_text().split()
+            except OSError:
+                enabled = []
+            if "memory" in enabled and os.access(folder, os.W_OK):
+                return folder, 2, ""
+            return None, 2, (f"cgroup v2 at {folder} does not delegate the memory controller to its children "
+                             "(cgroup.subtree_control lacks memory, or the folder is not writable)")
+    return None, 0, "no memory controller is mounted"
+
+
+def cgroup_problem() -> str | None:
+    """Why no grading cgroup can be made here (None: one can)."""
+    folder, _, why = _own_cgroup()
+    return why if folder is None else None
+
+
+def _ancestors_limit(folder: Path, version: int) -> int | None:
+    """The smallest memory limit (bytes) set on `folder` or above it (a
+    container's), None where none is set."""
+    name = "memory.max" if version == 2 else "memory.limit_in_bytes"
+    found = None
+    while (folder / name).exists():
+        try:
+            value = (folder / name).read_text().strip()
+        except OSError:
+            break
+        if value.isdigit() and int(value) < (1 << 60):
+            found = int(value) if found is None else min(found, int(value))
+        folder = folder.parent
+    return found
+
+
+def _make(limit_mb: int) -> GradingCgroup | None:
+    parent, version, _ = _own_cgroup()
+    if parent is None:
+        return None
+    # Inside a container with a limit, a third of it: the grading's own OOM
+    # then comes before the container's, which could take anything in it.
+    container = _ancestors_limit(parent, version)
+    if container is not None:
+        limit_mb = max(MINIMUM_MB, min(limit_mb, (container // 3) >> 20))
+    path = parent / f"envmap-grading-{os.getpid()}-{next(_counter)}"
+    try:
+        path.mkdir()
+    except OSError:
+        return None
+    group = GradingCgroup(path, version)
+    limit = str(limit_mb << 20)
+    try:
+        (path / ("memory.max" if version == 2 else "memory.limit_in_bytes")).write_text(limit)
+    except OSError:
+        group.remove()
+        return None
+    return group
+
+
+_current: GradingCgroup | None = None
+
+
+def current() -> GradingCgroup | None:
+    """The cgroup of the grading in progress (None: none, or not available)."""
+    return _current
+
+
+@contextlib.contextmanager
+def grading_cgroup(limit_mb: int | None = None):
+    """Everything started for student code inside the block (workers,
+    compilers) is charged to one new memory cgroup of `limit_mb` MiB, where
+    the machine offers one; yields it, or None (cgroup_problem() says why)."""
+    global _current
+    outer = _current
+    group = _make(limit_mb or GRADING_MEMORY_MB)
+    _current = group or outer
+    try:
+        yield group
+    finally:
+        _current = outer
+        if group is not None:
+            group.remove()
+
+
+def charged(cmd: list[str], group: GradingCgroup | None = None) -> list[str]:
+    """`cmd` started by a shell that first gives itself oom_score_adj 1000
+    and joins `group` (default: the current grading's); exec keeps both for
+    everything it starts. Failing to join is not fatal: the cgroup is a
+    defence where available, never a reason not to grade."""
+    group = group if group is not None else _current
+    procs = str(group.procs) if group is not None else ""
+    script = (f'echo {STUDENT_OOM_SCORE_ADJ} >/proc/self/oom_score_adj 2>/dev/null; '
+              'if [ -n "$0" ]; then echo $$ >"$0" 2>/dev/null; fi; exec "$@"')
+    return ["/bin/sh", "-c", script, procs, *cmd]
+
+
+def protect_grader() -> str | None:
+    """Make the grader's own process unattractive to the OOM killer; None
+    when done, else why not (lowering oom_score_adj needs CAP_SYS_RESOURCE)."""
+    try:
+        Path("/proc/self/oom_score_adj").write_text(str(GRADER_OOM_SCORE_ADJ))
+        return None
+    except OSError as exc:
+        return f"cannot lower the grader's oom_score_adj to {GRADER_OOM_SCORE_ADJ} ({exc.strerror})"
