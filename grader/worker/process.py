@@ -68,6 +68,7 @@ class Limits:
     file_size_bytes: int = 0              # no file may grow (writes are refused by seccomp anyway)
     processes: int = 64                   # threads included: the worker's uid's tasks (see _nproc_limit)
     open_files: int = 64                  # RLIMIT_NOFILE: what pipes and memfds it can pin (memory.py)
+    pending_signals: int = 64             # RLIMIT_SIGPENDING: queued signals, and so POSIX timers
     seccomp: bool = True
     texture_mb: int = 24                  # the largest six-face texture window (512 x 512 faces need 18 MiB)
 
@@ -405,6 +406,8 @@ class Worker:
             args += ["--nproc", str(self._nproc_limit())]
         if lim.open_files:
             args += ["--nofile", str(lim.open_files)]
+        if lim.pending_signals:
+            args += ["--sigpending", str(lim.pending_signals)]
         args += ["--texture-bytes", str(self.texture_bytes)]
         if not lim.seccomp:
             args.append("--no-seccomp")

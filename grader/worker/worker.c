@@ -1,7 +1,8 @@
 /*
  * worker.c - the only process that runs student code.
  *
- *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--nofile N] [--texture-bytes N]
+ *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--nofile N] [--sigpending N]
+ *          [--texture-bytes N]
  *          [--chroot DIR --uid N --gid N [--pid-namespace]] [--no-seccomp] [--check-drop]
  *          [--progress-fd N]
  *          REQUEST_FD RESPONSE_FD SUBMISSION.so
@@ -456,7 +457,7 @@ static void preload_runtime(void)
 
 int main(int argc, char **argv)
 {
-    long as_mb = 0, cpu_s = 0, nproc = -1, nofile = -1, uid = -1, gid = -1;
+    long as_mb = 0, cpu_s = 0, nproc = -1, nofile = -1, sigpending = -1, uid = -1, gid = -1;
     long long texture_bytes = 24ll << 20;
     long long fsize = 0;
     const char *chroot_dir = NULL;
@@ -467,6 +468,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--fsize") && i + 1 < argc) fsize = atoll(argv[++i]);
         else if (!strcmp(argv[i], "--nproc") && i + 1 < argc) nproc = atol(argv[++i]);
         else if (!strcmp(argv[i], "--nofile") && i + 1 < argc) nofile = atol(argv[++i]);
+        else if (!strcmp(argv[i], "--sigpending") && i + 1 < argc) sigpending = atol(argv[++i]);
         else if (!strcmp(argv[i], "--texture-bytes") && i + 1 < argc) texture_bytes = atoll(argv[++i]);
         else if (!strcmp(argv[i], "--chroot") && i + 1 < argc) chroot_dir = argv[++i];
         else if (!strcmp(argv[i], "--uid") && i + 1 < argc) uid = atol(argv[++i]);
@@ -503,6 +505,8 @@ int main(int argc, char **argv)
     /* Each descriptor can pin kernel memory outside RLIMIT_AS (a full pipe
      * holds 64 KiB; F_SETPIPE_SZ is refused by the filter). */
     if (nofile >= 0) set_limit(RLIMIT_NOFILE, (rlim_t)nofile, (rlim_t)nofile);
+    /* Each POSIX timer holds a queued signal: this bounds timer_create too. */
+    if (sigpending >= 0) set_limit(RLIMIT_SIGPENDING, (rlim_t)sigpending, (rlim_t)sigpending);
     /* Unbuffered, so output printed just before a crash is not lost. */
     setvbuf(stdout, NULL, _IONBF, 0);
     install_handlers();

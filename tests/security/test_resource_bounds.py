@@ -16,6 +16,7 @@ import signal
 import subprocess
 import sys
 import time
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -63,6 +64,7 @@ def test_the_pipe_filler_holds_a_few_pipes_and_is_the_oom_killers_first_choice(m
         pid = worker._worker_pid
         assert proc_field(pid, "oom_score_adj").strip() == "1000"
         assert re.search(r"Max open files\s+64\s+64", proc_field(pid, "limits"))
+        assert re.search(r"Max pending signals\s+64\s+64", proc_field(pid, "limits"))   # and POSIX timers
         held = int(re.search(r"pipes held: (\d+)", worker.output()).group(1))
     # 64 descriptors, a few already open: at most 32 pipes of 64 KiB (2 MiB).
     assert 0 < held <= 32, held
@@ -186,3 +188,84 @@ def test_the_pipe_filler_beside_a_classmate_in_a_small_container(mode, tmp_path)
     assert oom_kills == 0      # bounded before memory ran out: nobody was killed
     if mode == "privilege-drop":
         assert all("separate unprivileged user" in text for text in printed.values()), printed
+
+
+# ---- a class ----------------------------------------------------------------------------
+
+def grade_all_cmd(folder: Path, out: Path) -> list[str]:
+    return [sys.executable, "-m", "grader", "grade-all", str(folder), "--out", str(out), "--jobs", "2", "--quick",
+            "--no-progress"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mode", MODES)
+def test_the_idle_spinner_costs_its_classmates_neither_marks_nor_time(mode, tmp_path):
+    """63 threads that spin whenever no call is in flight, beside four correct
+    classmates in grade-all --jobs 2: their scores stay full and the class
+    takes at most 1.5x the control's time (a class of five correct ones).
+    Builds are cached first, so both classes time gradings only."""
+    classmates = sorted(CORRECT.glob("*.cpp"))[:4]
+    control_fifth = sorted(CORRECT.glob("*.cpp"))[4]
+    for source in [*classmates, control_fifth, RESOURCES / "idle_spinner.cpp"]:
+        assert build_submission(source).ok
+    env = mode_env(mode, tmp_path)
+    seconds, rows = {}, {}
+    for name, fifth in (("control", control_fifth), ("spinner", RESOURCES / "idle_spinner.cpp")):
+        folder = tmp_path / name
+        folder.mkdir()
+        for i, source in enumerate(classmates):
+            (folder / f"classmate{i}.cpp").write_bytes(source.read_bytes())
+        (folder / "fifth.cpp").write_bytes(fifth.read_bytes())
+        began = time.monotonic()
+        run = subprocess.run(grade_all_cmd(folder, tmp_path / f"{name}-out"), env=env, cwd=PROJECT_ROOT,
+                             capture_output=True, text=True, timeout=900)
+        seconds[name] = time.monotonic() - began
+        assert run.returncode == 0, run.stdout + run.stderr
+        with open(tmp_path / f"{name}-out" / "gradebook.csv") as f:
+            import csv
+            rows[name] = {r["student"]: r for r in csv.DictReader(f)}
+    for i in range(4):
+        row = rows["spinner"][f"classmate{i}"]
+        assert row["status"] == "graded" and float(row["score"]) == float(row["max_score"]) > 0, row
+    assert rows["spinner"]["fifth"]["status"] != "ungradable", rows["spinner"]["fifth"]
+    print(f"class seconds ({mode}): {seconds}")
+    assert seconds["spinner"] <= 1.5 * seconds["control"], seconds
+
+
+def grading_whose_first_build_times_out(student, submission, out, key, options):
+    """grade-all's grading of one student (in its grading processes): tim's
+    first build gets 1 ms of CPU time, so it really times out; any later
+    grading builds normally. Every attempt is logged beside the results."""
+    import functools
+
+    import grader.build
+    from grader.course.grade_all import _grade_one
+    log = Path(out).parent / f"attempts-{student}.log"
+    first = not log.exists()
+    with open(log, "a") as f:
+        f.write(f"{os.getpid()}\n")
+    if student == "tim" and first:
+        grader.build.build_submission = functools.partial(grader.build.build_submission, timeout_s=0.001)
+    return _grade_one(student, submission, out, key, options)
+
+
+@pytest.mark.slow
+def test_a_build_that_timed_out_is_graded_again_on_resume(tmp_path):
+    from grader.course.grade_all import grade_all
+    klass, out = tmp_path / "class", tmp_path / "out"
+    klass.mkdir()
+    (klass / "alice.cpp").write_bytes((CORRECT / "if_chain.cpp").read_bytes())
+    # A source no earlier run has built: a cached build would not time out.
+    (klass / "tim.cpp").write_bytes((CORRECT / "if_chain.cpp").read_bytes() + f"// {uuid.uuid4()}\n".encode())
+    options = {"quick": True, "only": ["fetch_sweep"]}
+    first = {r.student: r for r in grade_all(klass, out, 2, options, progress=False,
+                                             grade_one=grading_whose_first_build_times_out)}
+    assert first["tim"].status == "build-error", first["tim"]
+    assert "stopped" in (out / "tim" / "report.md").read_text()     # "The build took longer than ... stopped"
+    assert first["alice"].status == "graded" and first["alice"].score == first["alice"].max_score > 0
+    second = {r.student: r for r in grade_all(klass, out, 2, options, progress=False,
+                                              grade_one=grading_whose_first_build_times_out)}
+    assert second["tim"].status == "graded" and second["tim"].score == second["tim"].max_score > 0, second["tim"]
+    assert second["alice"].skipped
+    assert len((out / "attempts-tim.log").read_text().split()) == 2
+    assert len((out / "attempts-alice.log").read_text().split()) == 1

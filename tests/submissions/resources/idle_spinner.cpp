@@ -1,7 +1,8 @@
 // idle_spinner.cpp - issue 32 attack "classmates slowed and, once, zeroed":
 // a correct lookup whose static initialiser starts 63 threads that spin
-// whenever no call is in flight (the per-call CPU limit only watches calls),
-// to slow every classmate graded beside it. Verdict now: the grader stops the
+// whenever no call is in flight and sleep while one is (the per-call CPU limit
+// only watches calls, and sees nothing), to slow every classmate graded
+// beside it. Verdict now: the grader stops the
 // worker between calls (SIGSTOP), so the threads spin only inside its own
 // calls, on its own CPU time; it earns full marks and its classmates keep
 // theirs, in about the control's time.
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <thread>
@@ -27,7 +29,7 @@ const int spinners = [] {
                     if (callsInFlight.load(std::memory_order_relaxed) == 0)
                         ++spins;
                     else
-                        std::this_thread::yield();
+                        std::this_thread::sleep_for(std::chrono::milliseconds(1));   // idle while asked
                 }
             }).detach();
         } catch (...) {
