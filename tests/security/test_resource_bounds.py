@@ -90,6 +90,25 @@ def test_a_worker_that_died_between_calls_is_the_submissions_verdict(mode):
     assert not isinstance(caught.value, WorkerHarnessError)
 
 
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize("name", ["idle_spinner", "self_waking_spinner"])
+def test_threads_left_spinning_use_no_cpu_between_calls(mode, name):
+    """63 threads spin whenever no call is in flight; the self-waking one
+    also sends itself SIGCONT by a timer every millisecond."""
+    with Worker(library(name), sandbox=mode) as worker:
+        worker.set_faces(faces(), timeout_s=30)       # its threads spin in set_faces: its own call
+        worker.fetch(np.eye(3), timeout_s=30)
+        time.sleep(0.05)                               # the stop lands asynchronously
+        before = worker.cpu_ns()
+        time.sleep(0.5)
+        used = (worker.cpu_ns() - before) / 1e9
+        assert worker.fetch(np.eye(3), timeout_s=30).shape == (3, 3)    # resumed for the next call
+        printed = worker.output()
+    assert used < 0.05, f"{used:.3f} s of CPU time between calls"
+    if name == "self_waking_spinner":
+        assert "waker: 0" in printed, printed
+
+
 def test_a_worker_the_grader_ended_refuses_calls_as_the_graders_own_mistake():
     with Worker(library("pipe_filler"), sandbox=MODES_AVAILABLE[0]) as worker:
         worker.set_faces(faces())
