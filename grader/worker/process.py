@@ -219,6 +219,10 @@ class Worker:
     # falls back without one where the container refuses; `pid_namespace`
     # says which held). Tests turn it off to see the uid's wall alone.
     try_pid_namespace = True
+    # Between calls the worker is stopped (SIGSTOP): a submission costs CPU
+    # only while the grader is asking it something (issue 32). Tests that
+    # watch for a stop sent by another worker turn it off.
+    stop_between_calls = True
 
     def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
                  preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
@@ -263,9 +267,6 @@ class Worker:
         # raised the count is the kernel's, for the memory it held.
         self._cgroup: memory.GradingCgroup | None = None
         self._oom_before = 0
-        # Between calls the worker is stopped (SIGSTOP): a submission costs
-        # CPU only while the grader is asking it something (issue 32).
-        self.stop_between_calls = True
         self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
 
     @property

@@ -27,6 +27,14 @@ DROP = sandbox.privilege_drop_problem()
 ISOLATED = [pytest.param("sandbox", marks=pytest.mark.skipif(BWRAP is not None, reason=f"no bubblewrap: {BWRAP}")),
             pytest.param("privilege-drop", marks=pytest.mark.skipif(DROP is not None, reason=f"no privilege drop: {DROP}"))]
 
+@pytest.fixture(autouse=True)
+def victims_run_between_calls(monkeypatch):
+    """A worker stopped between calls (issue 32) would hide a SIGSTOP sent by
+    the worker beside it, and the grader's SIGCONT would undo it: here they
+    run between calls, so a stop can only be the attacker's."""
+    monkeypatch.setattr(Worker, "stop_between_calls", False)
+
+
 ATTACKER = r"""
 #define _GNU_SOURCE
 #include "submission_abi.h"
