@@ -145,6 +145,21 @@ def test_the_grading_cgroup_holds_the_worker_and_goes_with_the_grading():
     assert not group.path.exists()
 
 
+@needs_cgroup
+@pytest.mark.parametrize("isolation", [
+    pytest.param("bubblewrap", marks=pytest.mark.skipif(BWRAP is not None, reason=f"no bubblewrap: {BWRAP}")),
+    pytest.param("privilege-drop", marks=pytest.mark.skipif(DROP is not None, reason=f"no privilege drop: {DROP}")),
+    "none"])
+def test_every_compiler_step_is_charged_to_the_grading(isolation, tmp_path):
+    from grader.build import Deadline, _run
+    tmp_path.chmod(0o777)          # the scratch folder of the build uid too
+    with memory.grading_cgroup() as group:
+        step = _run(["/bin/sh", "-c", "cat /proc/self/oom_score_adj; ulimit -n"], tmp_path, Deadline.of(20), isolation)
+        charged = group.peak_bytes()
+    assert step.output.split() == ["1000", "256"], step.output
+    assert charged and charged > 0, "nothing ran in the grading's cgroup"
+
+
 def test_the_grader_lowers_its_own_oom_score_where_allowed():
     before = proc_field(os.getpid(), "oom_score_adj").strip()
     try:
