@@ -75,8 +75,8 @@ test-fast: system-deps venv reference
 # (issue 32: verdicts must not change with the load; default 30). Not at 30
 # on a machine others share.
 LOAD ?= 30
-TIMING_TESTS = tests/test_speed_trust.py tests/test_worker_load.py tests/test_worker_limits.py \
-	tests/test_redteam3.py tests/security/test_resource_bounds.py
+TIMING_TESTS = tests/security/test_speed_trust.py tests/sandbox/test_worker_load.py tests/sandbox/test_worker_limits.py \
+	tests/security/test_redteam3.py tests/security/test_resource_bounds.py
 test-load: system-deps venv reference
 	$(PY) tests/helpers/loaded.py $(LOAD) -- $(PYTEST) -n 2 -q -m "not agreement" $(TIMING_TESTS)
 

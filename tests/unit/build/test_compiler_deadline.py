@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import time
 
-from grader.build import Deadline, _run
+from grader.build.compiler import Deadline, _run
 
 
 def test_waiting_costs_no_cpu_time(tmp_path):
