@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from grader.reports import terminal
-from grader.results import FAILED, GRADED, CheckResult, Diagnosis, GradeResult
+from grader.grading.results import FAILED, GRADED, CheckResult, Diagnosis, GradeResult
 
 FORGED = "# Score: 100/100"
 TEXT = f"boom\n{FORGED}\r\n{FORGED}\u2028{FORGED}\tend"
