@@ -24,7 +24,12 @@ A check is a function registered with @check, check50 style:
     * `Needs(fn, passing=predicate, why="...")` also skips the dependent when
       the predicate on the prerequisite's finding is false ("failed" as far as
       this dependent is concerned), e.g. speed needs fetchColor to be right on
-      half the sweep: timing a lookup that returns black means nothing.
+      some of the sweep: timing a lookup that returns black means nothing.
+    * `Needs(fn, credit=share)`: the dependent earns `share(finding)` (0..1)
+      of what it finds, and its output says why (`share.words(finding)`):
+      robustness and speed count in proportion to how much of the sweep is
+      right, a line rather than a threshold, so one direction more or less
+      never moves many points (issue 30). score.apply multiplies it in.
   There are no default findings: a dependent never runs without its inputs.
 - Points, partial credit and visibility live in grader/grading/rubric.toml. The run
   order is the rubric's order (score.load_rubric refuses unknown or missing
@@ -57,6 +62,16 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 # Modules holding checks (import order only: the rubric orders the run).
 MODULES = ("read_texture", "fetch_sweep", "fetch_faces", "arrows", "stability", "renders", "speed")
 
+# Shares (of cases passed, of points earned) are printed to 0.01% and used as
+# printed: the numbers a student reads are the numbers that scored (issue 30).
+SHOWN_DIGITS = 4
+
+
+def shown(share: float) -> float:
+    """A share as reports print it and score.apply uses it."""
+    return round(float(share), SHOWN_DIGITS)
+
+
 # What a student reads when the harness failed on a check. The traceback goes
 # to CheckResult.error_log and the "grader.checks" log, for the instructor.
 HARNESS_ERROR_OUTPUT = N_("The grader itself failed on this check; this is not your fault. "
@@ -71,6 +86,16 @@ class Needs:
     check: Callable
     passing: Callable[[Any], bool] | None = None
     why: str | Callable[[], str] = ""
+    credit: "Credit | None" = None
+
+
+@dataclass(frozen=True)
+class Credit:
+    """How much of its points a dependent can earn after its prerequisite's
+    finding: `share(finding)` in 0..1, `words(finding)` saying why with the
+    numbers used (as shown)."""
+    share: Callable[[Any], float]
+    words: Callable[[Any], str]
 
 
 @dataclass(frozen=True)
@@ -194,6 +219,18 @@ def _refuse_unknown_ids(c: Check, result: CheckResult) -> None:
         log.error(result.error_log)
 
 
+def _apply_credit(c: Check, result: CheckResult, done: dict[str, Ran]) -> None:
+    """The share of its points a check can earn after its prerequisites'
+    findings (Needs.credit), and why, before what it found."""
+    for need in c.requires:
+        if need.credit is not None:
+            finding = done[check_of(need.check).name].finding
+            share = need.credit.share(finding)
+            if share < 1.0:
+                result.credit *= share
+                result.output = need.credit.words(finding) + ("\n\n" + result.output if result.output else "")
+
+
 def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) -> CheckRun:
     """Run `checks` in order, handing findings to dependents. `selected`
     (default: all) are reported; prerequisites they need run too, unreported."""
@@ -221,6 +258,8 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
                 log.error("check %s failed:\n%s", c.name, result.error_log)
             result.duration_s = time.monotonic() - t0
             _refuse_unknown_ids(c, result)
+            if ran.finished:
+                _apply_credit(c, result, done)
         done[c.name] = ran
         if c.name in chosen:
             out.results.append(result)

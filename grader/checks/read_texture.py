@@ -13,7 +13,7 @@ import numpy as np
 from ..envmap import oracle, library as reference
 from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
-from . import check
+from . import check, shown
 from .instruments import texture_model as tm
 from .instruments.compare import compare, explain, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
@@ -71,7 +71,7 @@ FACES = (0, 1, 2, 3, 4, 5)
 
 def generic(uv: np.ndarray, width: int, height: int) -> np.ndarray:
     """(n,) neither u nor v is 0, 1, a texel boundary or a centre, and no
-    lattice point is outside the face: the random points of sample_points
+    lattice point is outside the face: the generic points of sample_points
     inside the border texels, where (u, v) are like most of the judges' and
     an edge mistake reads nothing beyond the face (which differs by face:
     past the first and last it faults)."""
@@ -81,14 +81,21 @@ def generic(uv: np.ndarray, width: int, height: int) -> np.ndarray:
     return inside & (np.abs(steps - np.rint(steps)) > 1e-9).all(axis=1)
 
 
-def sample_points(width: int, height: int, seed: int) -> np.ndarray:
+# Points between boundaries and centres, the same for every grading: six
+# drawn per grading moved a share (an edge mistake's, by whether they fell in
+# a border texel) and the score with it by up to a point (issue 30). The
+# golden ratio's multiples: spread, and never a boundary or centre of any
+# face size. Nothing here can be memorised: the random faces are drawn per grading.
+GENERIC = tuple(np.modf(np.arange(1, 7) * (np.sqrt(5.0) - 1) / 2)[0])
+
+
+def sample_points(width: int, height: int) -> np.ndarray:
     """(n, 2) (u, v): exactly 0 and 1, every texel boundary k/W and centre
-    (k+0.5)/W, and random points, in every combination of u and v kinds."""
-    rng = np.random.default_rng(seed)
+    (k+0.5)/W, and generic points (GENERIC), in every combination of u and v kinds."""
 
     def axis(size):
         k = np.arange(size + 1)
-        return np.unique(np.concatenate([[0.0, 1.0], k / size, (k[:-1] + 0.5) / size, rng.random(6)]))
+        return np.unique(np.concatenate([[0.0, 1.0], k / size, (k[:-1] + 0.5) / size, GENERIC]))
 
     u, v = np.meshgrid(axis(width), axis(height), indexing="ij")
     return np.stack([u.ravel(), v.ravel()], axis=1)
@@ -222,10 +229,22 @@ def _best_size_per_face(matched: np.ndarray, total: np.ndarray) -> tuple[float, 
     return tuple(float(x) for x in share.min(axis=0))
 
 
+def earned(matched: int, given: int, total: int) -> float:
+    """The share of the calls the starting code gets wrong (`total - given`
+    of `total`: it reads the texel below-left of p, which is the handout's
+    answer only where alpha = beta = 0 or the clamp makes it so) that
+    readTexture put right, less any it broke: the starting code, and
+    whatever behaves as it does, earns nothing (issue 30), the handout's
+    earns everything, and each call put right is worth the same."""
+    if matched >= total:
+        return 1.0
+    return max(matched - given, 0) / (total - given) if total > given else 0.0
+
+
 @check()
 def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
-    total = matched = single = answered = 0
+    total = matched = single = answered = given = 0
     lines, diagnoses = [], []
     worked_at: tuple[int, float, float, np.ndarray] | None = None
     by_size = []
@@ -233,7 +252,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     face_matched = np.zeros((len(FACE_SIZES), 6), np.int64)
     for w, h in FACE_SIZES:
         size_total, size_matched = total, matched
-        uv = sample_points(w, h, ctx.seed)
+        uv = sample_points(w, h)
         like_judges = generic(uv, w, h)
         for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
             texels = np.ascontiguousarray(faces, np.float32)
@@ -241,11 +260,13 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
             for face in FACES:
                 expected = oracle.current().read_texture(texels, face, uv, "bilinear")
                 tol = tolerance(w, h, float(np.abs(faces[face]).max()))
+                given_here = int(compare(oracle.current().read_texture(texels, face, uv, "nearest"), expected, tol).ok.sum())
                 for placement in ("end", "start"):
                     outcome = ctx.lookups.read_texture(face, uv, placement)
                     cmp = compare(outcome.values, expected, tol)
                     total += len(uv)
                     matched += int(cmp.ok.sum())
+                    given += given_here
                     answered_here = like_judges & np.asarray(outcome.evaluated, bool) & np.isfinite(outcome.values).all(axis=1)
                     face_total[len(by_size), face] += int(answered_here.sum())
                     face_matched[len(by_size), face] += int((cmp.ok & answered_here).sum())
@@ -270,8 +291,9 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
                         lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
                                              outcome.values, expected, limit=3))
         by_size.append((matched - size_matched) / max(total - size_total, 1))
-    result.fraction = matched / total if total else 0.0
+    result.fraction = earned(matched, given, total)
     result.metrics["cases"] = total
+    result.metrics["given"] = given
     result.metrics["matched"] = matched
     # The lookup as a member of the model family: every mistake it makes, by
     # name (several at once), independent of any crash it also causes.
@@ -306,11 +328,15 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
             model_text = _("No lookup the grader can model reproduces your readTexture's answers.") + " " + (
                 worked_case(ctx.lookups, *worked_at) if worked_at is not None else "")
         result.output = (_("%(wrong)d of %(total)d readTexture calls differ from the reference bilinear filter.")
-                         % {"wrong": total - matched, "total": total}
+                         % {"wrong": total - matched, "total": total} + " "
+                         + _("The starting code already answers %(given)d of the %(total)d calls as the handout does, and points "
+                             "are for what differs from it: max(0, %(matched)d - %(given)d) / (%(total)d - %(given)d) = "
+                             "%(share)s.") % {"given": given, "matched": matched, "total": total,
+                                             "share": f"{shown(result.fraction):.2%}"}
                          + "\n\n" + model_text + "\n\n" + "\n".join(lines))
     else:
         result.output = _("All %(total)d readTexture calls match the reference (u, v at 0, 1, texel boundaries, "
-                          "centres and random points).") % {"total": total}
+                          "centres and points between them).") % {"total": total}
     return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit, fraction=result.fraction,
                               by_size=tuple(by_size),
                               by_face=_best_size_per_face(face_matched, face_total))

@@ -24,7 +24,7 @@ from . import Needs, check
 from .context import CheckContext, failure_diagnoses
 from .instruments.directions import random_directions
 from .read_texture import ReadTextureFinding, read_texture
-from .fetch_sweep import WORKING, SweepFinding, fetch_sweep
+from .fetch_sweep import WORKING, WORKING_CREDIT, SweepFinding, fetch_sweep
 
 BASELINE = PROJECT_ROOT / "build" / "reference_submission.so"
 ROUNDS = 5          # interleaved rounds: student, reference, null library; fresh directions each
@@ -64,10 +64,11 @@ def baseline_library():
     return BASELINE
 
 
-# Returning black is fast: speed only means something for a lookup that works.
-@check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.works,
-                       why=lambda: _("speed is scored once fetchColor matches the reference on at least "
-                                     "%(share)s of the sweep directions.") % {"share": f"{WORKING:.0%}"}),
+# Returning black is fast: speed only means something for a lookup that
+# works, and counts in proportion to how much of the sweep does (sweeps.WORKING).
+@check(requires=(Needs(fetch_sweep, passing=lambda sweep: sweep.working > 0, credit=WORKING_CREDIT,
+                       why=lambda: _("speed is scored once fetchColor matches the reference on more than "
+                                     "%(share)s of the sweep directions.") % {"share": f"{WORKING[0]:.0%}"}),
                  read_texture))
 def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
           texture: ReadTextureFinding | None = None) -> None:

@@ -69,6 +69,9 @@ class CheckResult:
     title: str                     # the sentence the student reads
     status: str = PASSED
     fraction: float = 1.0          # share of cases passed, 0..1 (score.py turns it into points)
+    # The share of its points the check can earn after its prerequisites'
+    # findings (grader.checks.Needs.credit), 0..1; score.py multiplies it in.
+    credit: float = 1.0
     output: str = ""               # Markdown, for the student
     diagnoses: list[Diagnosis] = field(default_factory=list)
     artifacts: dict[str, Path] = field(default_factory=dict)  # e.g. "render_submission": PNG path

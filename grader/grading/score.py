@@ -4,7 +4,8 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-from .results import ERROR, FAILED, GRADED, SKIPPED, UNGRADABLE, GradeResult
+from ..checks import shown
+from .results import ERROR, FAILED, GRADED, PASSED, SKIPPED, UNGRADABLE, GradeResult
 
 RUBRIC = Path(__file__).with_name("rubric.toml")
 VISIBILITIES = {"visible", "hidden", "after_due_date", "after_published"}
@@ -74,14 +75,21 @@ def apply(result: GradeResult, rubric: dict) -> GradeResult:
         check.number = str(number)
         if check.status in (ERROR, SKIPPED):
             check.score = 0.0
-        elif entry.get("partial", "fraction") == "all":
-            check.score = check.max_score if check.fraction >= 1.0 and check.status != FAILED else 0.0
+            continue
+        # Shares as the reports print them (grader.checks.shown): the numbers shown are the numbers used.
+        if entry.get("partial", "fraction") == "all":
+            found = 1.0 if check.fraction >= 1.0 and check.status != FAILED else 0.0
         else:
-            check.score = round(check.max_score * min(max(check.fraction, 0.0), 1.0), 2)
-            if check.status == FAILED and check.score >= check.max_score > 0:
-                # A failed check never shows full points: rounding made one wrong
-                # direction of 126,662 (or six black axes) 30 / 30.
-                check.score = round(max(check.max_score - 0.01, 0.0), 2)
+            found = shown(min(max(check.fraction, 0.0), 1.0))
+        # What it found, times what its prerequisites let it earn (grader.checks.Needs.credit).
+        credit = shown(min(max(check.credit, 0.0), 1.0))
+        check.score = round(check.max_score * found * credit, 2)
+        if credit < 1.0 and check.status == PASSED:
+            check.status = FAILED       # not all its points: reports show it partial, the output says why
+        if check.status == FAILED and check.score >= check.max_score > 0:
+            # A failed check never shows full points: rounding made one wrong
+            # direction of 126,662 (or six black axes) 30 / 30.
+            check.score = round(max(check.max_score - 0.01, 0.0), 2)
     # The checks that were run (all of them, unless grading was restricted to
     # some, e.g. the visible ones): hidden points never enter a student's total.
     names = {c.name for c in result.checks} or set(entries)

@@ -71,7 +71,7 @@ def record(path: Path, artifacts: Path, seed: int = KIT_SEED, quick: bool = Fals
         ctx = CheckContext(lookups=_AsTheHandout(recorder), seed=seed, artifacts=artifacts, quick=quick,
                            settings=score.load_rubric().get("checks", {}))   # as grader.grading.grade passes them
         run_checks(checks, ctx, [c.name for c in checks])
-        points = sample_points(*WORKED_SIZE, seed)
+        points = sample_points(*WORKED_SIZE)
         for face in FACES:
             worked_case(_NeverAnswers(recorder), face, *points[0], among=points)
     recorder.save(path)

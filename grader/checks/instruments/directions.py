@@ -4,7 +4,7 @@ Every set is a named (n, 3) float64 array. The deterministic sets cover what
 matters for a cube map: the whole sphere evenly (Fibonacci), each face on a
 grid, every edge and corner exactly (ties), the axes, and lengths far from
 1. The random set is seeded per grading run (grader.checks.context), so
-expected outputs cannot be memorised.
+expected outputs cannot be memorised; points are decided on the others.
 """
 from __future__ import annotations
 
@@ -81,17 +81,24 @@ def random_directions(n: int, seed: int) -> np.ndarray:
     return d / np.linalg.norm(d, axis=1, keepdims=True)
 
 
+# The one set drawn per grading run: judged and shown, never scored on its own
+# (grader.checks.sweeps says why).
+RANDOM_SET = N_("random (this run)")
+# The deterministic set it is held to: both are even over the sphere.
+FIBONACCI_SET = N_("Fibonacci sphere")
+
+
 def sweep_sets(seed: int, fibonacci: int = 100_000) -> dict[str, np.ndarray]:
     """Every set the sweep check runs, by name (the names appear in reports,
     read out with grader.i18n._; the English names are the keys)."""
     return {
-        N_("Fibonacci sphere"): fibonacci_sphere(fibonacci),
+        FIBONACCI_SET: fibonacci_sphere(fibonacci),
         N_("face grids"): face_grids(24),
         N_("axes"): axes(),
         N_("edges (ties)"): edges(16),
         N_("corners (ties)"): corners(),
         N_("lengths 1e-30 to 1e30"): scaled(fibonacci_sphere(500)),
-        N_("random (this run)"): random_directions(20_000, seed),
+        RANDOM_SET: random_directions(20_000, seed),
     }
 
 

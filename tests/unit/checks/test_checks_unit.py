@@ -201,9 +201,11 @@ def test_an_honest_read_texture_differs_alike_on_every_face(tmp_path):
 
 
 def test_robustness_needs_a_working_lookup(tmp_path):
-    """Black never crashes, but earns no robustness points (as for speed)."""
+    """Black never crashes, but earns no robustness points (as for speed):
+    what it finds is said, and it can earn none of it."""
     r = run(FakeLookups(fetch="black"), tmp_path, "stability")["stability"]
-    assert r.status == FAILED and r.fraction == 0.0 and "at least 50%" in r.output
+    assert r.status == FAILED and r.fraction > 0.0 and r.credit == 0.0
+    assert "nothing up to 30%" in r.output and "Your sweep: 0.00% right" in r.output
 
 
 # ---- fetchColor read back without a model of readTexture (issue 19) -----------
@@ -261,7 +263,7 @@ def test_texel_weights_say_which_texels_one_call_reads():
 def test_speed_is_not_timed_for_a_lookup_that_returns_black(tmp_path):
     results = run(FakeLookups(fetch="black"), tmp_path, "speed")
     assert results["speed"].status == SKIPPED and results["speed"].fraction == 0.0
-    assert "at least 50%" in results["speed"].output
+    assert "more than 30%" in results["speed"].output
 
 
 # ---- the runner's contract --------------------------------------------------
@@ -390,7 +392,9 @@ def test_the_fake_answers_like_a_real_correct_submission_in_its_worker(correct_b
 def test_worst_cases_say_where_the_lookup_landed(tmp_path):
     """fetch_sweep hands reports its worst cases as data: face, texel and (u, v)."""
     sweep = run(FakeLookups(fetch={"+X": "u-flipped"}), tmp_path, "fetch_sweep")["fetch_sweep"]
-    assert sweep.mismatches and sum(sweep.mismatch_counts.values()) == round((1 - sweep.fraction) * sweep.metrics["cases"])
+    from grader.checks.instruments.directions import RANDOM_SET
+    scored = {group: n for group, n in sweep.mismatch_counts.items() if group != RANDOM_SET}
+    assert sweep.mismatches and sum(scored.values()) == sweep.metrics["cases"] - sweep.metrics["matched"] > 0
     for m in sweep.mismatches:
         assert m.call.startswith("fetchColor(Vector3(") and m.group in sweep.mismatch_counts
         assert m.expected_at.face == m.got_at.face == "+X"
