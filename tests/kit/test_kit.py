@@ -29,6 +29,8 @@ from project_paths import TESTS
 CORRECT = sorted((TESTS / "submissions" / "correct").glob("*.cpp"))
 WRONG = TESTS / "submissions" / "wrong"
 TEMPLATE_SOURCE = PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp"
+# Some points, not all: FAIL_UNDER read as a percentage (the template now scores 0, issue 30).
+PARTLY_RIGHT = WRONG / "v-flipped-pos-z.cpp"
 # The heart of the reference lookup: these must be among the scanned names.
 KEY_NAMES = {"em_fetch", "em_read_texture", "em_direction_to_face", "FACE_AXES", "direction_face_uv", "read_bilinear", "u_sign"}
 VISIBLE_POINTS = sum(e["points"] for n, e in load_rubric()["checks"].items()
@@ -241,7 +243,8 @@ def test_selfcheck_of_the_template_in_the_kit_alone(alone, environment):
     assert summary["extra_data"]["max_score"] == VISIBLE_POINTS
     assert [t["extra_data"]["check"] for t in summary["tests"]] == [
         n for n, e in load_rubric()["checks"].items() if e.get("visibility", "visible") == "visible" and n not in NOT_IN_KIT]
-    assert 0 < summary["score"] < 20
+    # Nothing for the starting code (issue 30): 0 on every check, and why.
+    assert summary["score"] == 0 and {t["score"] for t in summary["tests"]} == {0}
     assert {"not-implemented", "nearest-neighbor"} <= ids(summary)
     # The grader's report, and the grader's results.json under the kit's name.
     out = alone / "build" / "selfcheck"
@@ -264,8 +267,8 @@ def test_fail_under_is_a_percentage_of_the_visible_points(alone):
     run, summary = selfcheck(alone, CORRECT[0], "FAIL_UNDER=100")
     assert run.returncode == 0, run.stdout + run.stderr
     assert summary["score"] == VISIBLE_POINTS and not summary["extra_data"]["diagnoses"]
-    run, summary = selfcheck(alone, TEMPLATE_SOURCE)
-    percent = 100 * summary["score"] / VISIBLE_POINTS       # 5.72 points of 95: 6.0 %
+    run, summary = selfcheck(alone, PARTLY_RIGHT)
+    percent = 100 * summary["score"] / VISIBLE_POINTS       # e.g. 80 points of 95: 84.2 %
     assert summary["score"] < int(percent) + 1 < 100
     # Read as points, FAIL_UNDER=<percent rounded down> would fail: as a percentage it passes.
     assert selfcheck(alone, None, f"FAIL_UNDER={int(percent)}")[0].returncode == 0
