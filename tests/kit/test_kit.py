@@ -509,7 +509,7 @@ def test_the_workflow_runs_in_a_repository_made_from_the_kit(alone, tmp_path, la
     kit = repo if layout == "kit-is-the-root" else repo / "student-kit"
     shutil.copytree(alone, kit, symlinks=True)
     shutil.rmtree(kit / "build" / "selfcheck", ignore_errors=True)
-    (kit / "EnvironmentMap.cpp").write_text(TEMPLATE_SOURCE.read_text())   # partial credit: 5.72 / 95
+    (kit / "EnvironmentMap.cpp").write_text(PARTLY_RIGHT.read_text())   # partial credit
     assert (kit / ".github" / "workflows" / "grade.yml").read_text() == WORKFLOW.read_text()   # the kit's own
     ran = run_workflow(repo)
     assert ran["failed"] == []

@@ -1,7 +1,8 @@
-"""One judge (issue 20): the kit's `make selfcheck`, unpacked alone and run on
-nothing but its own copy of the grader, gives what the grader gives on the
-kit's inputs (`grade --visible-only --kit-inputs`): the same points per check
-(to 0.01) and the same diagnosis ids, on submissions of every zoo.
+"""One judge (issues 20 and 30): the kit's `make selfcheck`, unpacked alone
+and run on nothing but its own copy of the grader, gives what the grader
+gives students (`grade --visible-only`, its random inputs drawn from the
+course secret, not the kit's public seed): the same points per check the kit
+runs (to 0.01) and the same diagnosis ids, on submissions of every zoo.
 
 `make test-all` runs SUBSET (one or two per zoo folder, about a minute on two
 cores), two of them also with a failing bwrap first on PATH (privilege-drop
@@ -108,7 +109,7 @@ def agree(kit: Path, source: Path, scratch: Path, env: dict) -> tuple[dict, dict
     kit_run = subprocess.Popen(["make", "-s", "selfcheck", f"SELFCHECK_PYTHON={sys.executable}"], cwd=folder,
                                env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     grader_out = scratch / "grader"
-    grader_run = subprocess.run([sys.executable, "-m", "grader", "grade", "--visible-only", "--kit-inputs",
+    grader_run = subprocess.run([sys.executable, "-m", "grader", "grade", "--visible-only",
                                  str(source), "--out", str(grader_out)], cwd=PROJECT_ROOT, env=env,
                                 capture_output=True, text=True, timeout=900)
     kit_log = kit_run.communicate(timeout=900)[0]
@@ -120,7 +121,9 @@ def agree(kit: Path, source: Path, scratch: Path, env: dict) -> tuple[dict, dict
 
 
 def assert_agree(got: dict, expected: dict) -> None:
-    assert list(got) == list(expected)
+    from grader.kit import NOT_IN_KIT
+    assert list(got) == [name for name in expected if name not in NOT_IN_KIT]
+    expected = {name: expected[name] for name in got}
     for name, (points, ids) in expected.items():
         assert abs(got[name][0] - points) <= 0.01 + 1e-9 and got[name][1] == ids, (name, got[name], (points, ids))
 
