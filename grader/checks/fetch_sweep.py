@@ -146,9 +146,9 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     table += ["", f"| {_('face')} | {_('directions')} | {_('match')} |", "|---|---:|---:|"]
     table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.2%} |" for k in range(6)]
     random_words = "\n\n" + (
-        _("The random directions (drawn for this grading) match on %(drawn)s, the Fibonacci sphere's %(even)s "
-          "less %(chance)s is more than chance allows: your fetchColor answers the fixed directions better than "
-          "others, so the sweep counts %(drawn)s.")
+        _("The random directions, drawn for this grading, match on %(drawn)s: short of the Fibonacci sphere's "
+          "%(even)s by more than chance allows (%(chance)s). Your fetchColor answers the fixed directions better "
+          "than others, so the sweep counts %(drawn)s.")
         if answers_differ else
         _("The points are on the fixed sets (%(total)d directions, the same for everyone); the random directions, "
           "drawn for this grading, are held to the Fibonacci sphere: %(drawn)s against %(even)s.")) % {
@@ -158,7 +158,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
         result.status = FAILED
         result.output = (_("%(wrong)d of %(total)d directions give a colour different from what your own "
                            "readTexture returns at the face and (u, v) the handout's table gives: %(share)s right.")
-                         % {"wrong": total - matched, "total": total, "share": f"{fraction:.2%}"}
+                         % {"wrong": total - matched, "total": total, "share": f"{shown(matched / total):.2%}"}
                          + "\n\n" + "\n".join(table) + random_words + not_earned)
     else:
         result.output = (_("All %(total)d directions match the reference.") % {"total": total} + "\n\n"
