@@ -1,20 +1,20 @@
 """How one mistake is charged (issue 30), written once in grader/rubric.toml's
 comments and copied, with why, into docs/scoring.md: the table holds for
 what the grader charges on the zoo's single-mistake submissions
-(tests/submissions/wrong/, graded as tests/test_grading_zoo.py grades them:
+(tests/submissions/wrong/, graded as tests/grading/test_grading_zoo.py grades them:
 the same gradings, once a session)."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import pytest
 
-from grader import PROJECT_ROOT, score
+from grader import score
 from grader.grade import GradeOptions
 from grading_cache import grade_once
+from project_paths import PROJECT_ROOT, SUBMISSIONS
 
-WRONG = Path(__file__).parent.parent / "submissions" / "wrong"
+WRONG = SUBMISSIONS / "wrong"
 # Not one mistake: three at once (the compound zoo's business).
 SEVERAL = {"combo-swapped-and-flipped"}
 

@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import itertools
 import json
-from pathlib import Path
 
 import pytest
 
 from grader.grade import GradeOptions
 from grading_cache import grade_once
+from project_paths import SUBMISSIONS
 
-ZOO = Path(__file__).parent.parent / "submissions" / "compound"
+ZOO = SUBMISSIONS / "compound"
 NAMES = sorted(p.stem for p in ZOO.glob("*.cpp"))
 
 

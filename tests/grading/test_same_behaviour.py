@@ -9,15 +9,14 @@ each kind of single mistake, a compound one and the starting code; `make
 test-all` grades every zoo file the same way."""
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
 
 from grader.grade import GradeOptions
 from grading_cache import grade_once
+from project_paths import PROJECT_ROOT, SUBMISSIONS
 
-SUBMISSIONS = Path(__file__).parent.parent / "submissions"
-TEMPLATE = Path(__file__).parent.parent.parent / "student_template" / "EnvironmentMap.cpp"
+TEMPLATE = PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp"
 COPIES = 5
 EVERY = sorted(p for p in SUBMISSIONS.rglob("*.cpp"))
 REPRESENTATIVE = [SUBMISSIONS / name for name in (
@@ -64,6 +63,7 @@ def test_the_representative_set_is_in_the_zoo():
     assert all(p.is_file() for p in REPRESENTATIVE)
 
 
+@pytest.mark.representative
 @pytest.mark.parametrize("source", REPRESENTATIVE, ids=_name)
 def test_copies_score_the_same(source, tmp_path):
     assert_same_scores(source, tmp_path)

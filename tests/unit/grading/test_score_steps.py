@@ -9,7 +9,7 @@ stability and speed, which earn a share of their points from it); speed's
 own verdict is taken as passed (its timing is not what is tested here), its
 credit is the runner's, as for stability.
 
-    PYTHONPATH=tests .venv/bin/python tests/grading/test_score_steps.py
+    PYTHONPATH=tests/helpers:. .venv/bin/python tests/unit/grading/test_score_steps.py
 prints the largest step found over a finer scan (the figure in issue 30's
 note); it runs on any version of the grader that has these checks."""
 from __future__ import annotations
@@ -21,11 +21,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from cases import cases
 from fake_lookups import FakeLookups
 from grader import score
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
 from grader.results import PASSED, CheckResult, GradeResult
+
+# Two sweeps a case, in-process (3 s): slow; two cases stand for them in `make test`.
+pytestmark = [pytest.mark.slow]
 
 STEP = 0.001            # 0.1% of the sphere
 POINT = 1.0             # the most a step may move the score
@@ -85,7 +89,7 @@ def largest_step(shares, folder: Path) -> tuple[float, float, float]:
 SHARES = (0.25, 0.2995, 0.35, 0.4995, 0.5, 0.55, 0.5995, 0.6, 2 / 3, 5 / 6)
 
 
-@pytest.mark.parametrize("right", SHARES)
+@pytest.mark.parametrize("right", cases(SHARES, representative={"0.4995", "0.5995"}))
 def test_a_tenth_of_a_percent_moves_the_score_by_a_point_at_most(right, tmp_path):
     a, b = points(right, tmp_path), points(right + STEP, tmp_path)
     assert abs(b - a) <= POINT, (right, a, b)
