@@ -34,6 +34,7 @@ WORKING = (0.3, 0.6)
 # Its share below the Fibonacci sphere's by more than STANDARD_ERRORS
 # standard errors (chance: 1 in 10^9) is not chance: then it is the share.
 STANDARD_ERRORS = 6.0
+MIN_ANSWERED = 1_000    # fewer random directions answered than this say nothing either way
 
 
 def working_share(fraction: float) -> float:
@@ -108,7 +109,9 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
         fresh_nan = np.flatnonzero(evaluated & ~np.isfinite(values).all(axis=1))
         if len(fresh_nan) and not nan_inputs:
             nan_inputs.append(dirs[fresh_nan[0]])
-        share_of[name] = float(ok.mean()) if len(dirs) else 1.0
+        # Over the directions it answered: where the worker gave up after a
+        # crash, no direction says anything about the set (the later sets lose most).
+        share_of[name] = (float(ok[evaluated].mean()), int(evaluated.sum())) if evaluated.any() else (1.0, 0)
         if name != RANDOM_SET:      # the points are on the fixed sets (RANDOM_SET's comment above)
             total += len(dirs)
             matched += int(ok.sum())
@@ -128,10 +131,9 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     fraction = shown(matched / total) if total else 0.0
     # The random set held to the Fibonacci sphere: both estimate the share of
     # the sphere that is right, the random one within its standard error.
-    drawn, even = share_of[RANDOM_SET], share_of[FIBONACCI_SET]
-    n = len(sets[RANDOM_SET])
-    by_chance = STANDARD_ERRORS * np.sqrt(max(even * (1 - even), 1.0 / n) / n)
-    answers_differ = drawn < even - by_chance and drawn < fraction
+    (drawn, n), even = share_of[RANDOM_SET], share_of[FIBONACCI_SET][0]
+    by_chance = STANDARD_ERRORS * np.sqrt(max(even * (1 - even), 1.0 / max(n, 1)) / max(n, 1))
+    answers_differ = n >= MIN_ANSWERED and drawn < even - by_chance and drawn < fraction
     if answers_differ:
         fraction = shown(drawn)
     result.fraction = fraction
@@ -146,12 +148,13 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     table += ["", f"| {_('face')} | {_('directions')} | {_('match')} |", "|---|---:|---:|"]
     table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.2%} |" for k in range(6)]
     random_words = "\n\n" + (
-        _("The random directions, drawn for this grading, match on %(drawn)s: short of the Fibonacci sphere's "
-          "%(even)s by more than chance allows (%(chance)s). Your fetchColor answers the fixed directions better "
-          "than others, so the sweep counts %(drawn)s.")
+        _("The random directions, drawn for this grading, match on %(drawn)s of those answered: short of the "
+          "Fibonacci sphere's %(even)s by more than chance allows (%(chance)s). Your fetchColor answers the fixed "
+          "directions better than others, so the sweep counts %(drawn)s.")
         if answers_differ else
         _("The points are on the fixed sets (%(total)d directions, the same for everyone); the random directions, "
-          "drawn for this grading, are held to the Fibonacci sphere: %(drawn)s against %(even)s.")) % {
+          "drawn for this grading, are held to the Fibonacci sphere: %(drawn)s against %(even)s of those "
+          "answered.")) % {
         "drawn": f"{shown(drawn):.2%}", "even": f"{shown(even):.2%}", "chance": f"{shown(by_chance):.2%}", "total": total}
     result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total or answers_differ:
