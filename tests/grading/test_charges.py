@@ -1,4 +1,4 @@
-"""How one mistake is charged (issue 30), written once in grader/rubric.toml's
+"""How one mistake is charged (issue 30), written once in grader/grading/rubric.toml's
 comments and copied, with why, into docs/scoring.md: the table holds for
 what the grader charges on the zoo's single-mistake submissions
 (tests/submissions/wrong/, graded as tests/grading/test_grading_zoo.py grades them:
@@ -9,8 +9,8 @@ import re
 
 import pytest
 
-from grader import score
-from grader.grade import GradeOptions
+from grader.grading import score
+from grader.grading.grade import GradeOptions
 from grading_cache import grade_once
 from project_paths import PROJECT_ROOT, SUBMISSIONS
 

@@ -14,7 +14,7 @@ import json
 
 import pytest
 
-from grader.grade import GradeOptions
+from grader.grading.grade import GradeOptions
 from grading_cache import grade_once
 from project_paths import SUBMISSIONS
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import pytest
 
-from grader.grade import GradeOptions
+from grader.grading.grade import GradeOptions
 from grading_cache import grade_once
 from project_paths import PROJECT_ROOT, SUBMISSIONS
 

@@ -9,7 +9,7 @@ from fake_lookups import FakeLookups
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
 from grader.checks.instruments.directions import RANDOM_SET, sweep_sets
-from grader.results import FAILED
+from grader.grading.results import FAILED
 
 
 class KnowsThePublicSets(FakeLookups):

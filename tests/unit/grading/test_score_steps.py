@@ -23,10 +23,10 @@ import pytest
 
 from cases import cases
 from fake_lookups import FakeLookups
-from grader import score
+from grader.grading import score
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
-from grader.results import PASSED, CheckResult, GradeResult
+from grader.grading.results import PASSED, CheckResult, GradeResult
 
 # Two sweeps a case, in-process (3 s): slow; two cases stand for them in `make test`.
 pytestmark = [pytest.mark.slow]
@@ -70,7 +70,7 @@ def points(right: float, folder: Path) -> float:
 
 
 def _sweep_finding(sweep: CheckResult):
-    from grader.checks.sweeps import SweepFinding
+    from grader.checks.fetch_sweep import SweepFinding
     return SweepFinding(fraction=sweep.fraction)
 
 
