@@ -247,13 +247,6 @@ def _render_groups(view: ReportView) -> dict[str, tuple[CheckResult, dict[str, P
     return groups
 
 
-def _metric(check: CheckResult, name: str, suffix: str) -> float | None:
-    for key in ([f"{name}_{suffix}", f"{name}:{suffix}"] if suffix else []) + [name]:
-        if key in check.metrics:
-            return check.metrics[key]
-    return None
-
-
 def _figures_line(items: list[tuple[str, float | None]]) -> str:
     parts = []
     for name, value in items:
