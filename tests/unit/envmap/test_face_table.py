@@ -60,3 +60,11 @@ def test_the_catalogues_examples_quote_the_table():
     assert {q[2] for q in quotes} == {"u-flipped", "v-flipped"}
     for formula, face, diagnosis in quotes:
         assert formula in formulas[face], f"{diagnosis} quotes {formula} on {face}; the table has {formulas[face]}"
+
+
+def test_lookup_c_comments_its_table_with_the_generated_formulas():
+    """lookup.c's FACE_AXES rows carry the formulas as comments: they say what the row does."""
+    source = (PROJECT_ROOT / "reference" / "src" / "lookup.c").read_text()
+    formula = r"\(1 [+-] [xyz]/m\)/2"
+    comments = re.findall(rf"/\* ([+-][XYZ]): u = ({formula}), v = ({formula}) \*/", source)
+    assert {face: (u, v) for face, u, v in comments} == geometry.face_uv_formulas()
