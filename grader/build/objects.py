@@ -17,9 +17,12 @@ from .compiler import CXX, _limited
 
 # ---- the libraries a submission may call -----------------------------------------
 
-_RUNTIME_LIBRARIES = ("libc.so.6", "libm.so.6", "libmvec.so.1", "libstdc++.so.6", "libgcc_s.so.1",
-                      "ld-linux-x86-64.so.2", "ld-linux-aarch64.so.1")
-_SANITIZER_LIBRARIES = ("libasan.so", "libubsan.so")
+# Once, for both walls: the symbols a student's object may leave undefined are
+# those these define, and the linked library may need (DT_NEEDED) only these.
+RUNTIME_LIBRARIES = ("libc.so.6", "libm.so.6", "libmvec.so.1", "libstdc++.so.6", "libgcc_s.so.1",
+                     "ld-linux-x86-64.so.2", "ld-linux-aarch64.so.1")
+# Sanitized builds (tests): also these, by prefix (the soname carries a version).
+SANITIZER_LIBRARIES = ("libasan.so", "libubsan.so")
 # Defined by the linker or the C runtime start files rather than a library.
 _LINKER_SYMBOLS = {"_GLOBAL_OFFSET_TABLE_", "__dso_handle", "_DYNAMIC", "__tls_get_addr",
                    "_ITM_registerTMCloneTable", "_ITM_deregisterTMCloneTable", "__gmon_start__"}
@@ -28,7 +31,7 @@ _LINKER_SYMBOLS = {"_GLOBAL_OFFSET_TABLE_", "__dso_handle", "_DYNAMIC", "__tls_g
 @functools.lru_cache(maxsize=None)
 def _library_paths(sanitize: bool) -> tuple[Path, ...]:
     paths = []
-    for name in _RUNTIME_LIBRARIES + (_SANITIZER_LIBRARIES if sanitize else ()):
+    for name in RUNTIME_LIBRARIES + (SANITIZER_LIBRARIES if sanitize else ()):
         out = subprocess.run([CXX, f"-print-file-name={name}"], capture_output=True, text=True,
                              stdin=subprocess.DEVNULL).stdout.strip()
         if out and os.path.isabs(out) and os.path.isfile(out):
@@ -142,12 +145,6 @@ def _parse_elf(data: bytes, e_type_wanted: int) -> tuple[list[str], list[tuple[s
         raise _BadObject(f"malformed object ({exc})") from None
 
 
-# What a built library may need at run time (sanitized builds: also these prefixes).
-RUNTIME_NEEDED = ("libstdc++.so.6", "libm.so.6", "libmvec.so.1", "libgcc_s.so.1", "libc.so.6",
-                  "ld-linux-x86-64.so.2", "ld-linux-aarch64.so.1")
-SANITIZER_NEEDED = ("libasan.so", "libubsan.so")
-
-
 def inspect_library(data: bytes, allowed: set[str], sanitize: bool) -> tuple[str, str] | None:
     """The linked library, checked as the worker will load it: it needs only
     the runtime libraries and imports only what they (and the linker) define."""
@@ -155,7 +152,7 @@ def inspect_library(data: bytes, allowed: set[str], sanitize: bool) -> tuple[str
         needed, undefined = _library_imports(data)
     except _BadObject as exc:
         return "forbidden-object", _("The library built from %(source)s could not be checked: %(why)s.") % {"source": SOURCE_NAME, "why": exc}
-    odd = [n for n in needed if n not in RUNTIME_NEEDED and not (sanitize and n.startswith(SANITIZER_NEEDED))]
+    odd = [n for n in needed if n not in RUNTIME_LIBRARIES and not (sanitize and n.startswith(SANITIZER_LIBRARIES))]
     unknown = [n for n in undefined if n not in allowed]
     if odd or unknown:
         return "forbidden-object", (_("The library built from %(source)s needs %(names)s, "

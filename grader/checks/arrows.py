@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import PROJECT_ROOT
 from ..envmap import oracle
-from ..i18n import N_, _, and_list, language
+from ..i18n import N_, _, and_list, language, languages
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
@@ -103,22 +103,6 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
         result.output += "\n\n" + _("(The arrow picture could not be drawn: %(error)s)") % {"error": e}
 
 
-# Fonts with Japanese glyphs (packages.txt installs one of them): the first
-# that exists. DejaVu has none, so Japanese captions would be tofu boxes.
-CJK_FONTS = (
-    "/usr/share/fonts/opentype/ipafont-gothic/ipag.ttf",
-    "/usr/share/fonts/truetype/fonts-japanese-gothic.ttf",
-    "/usr/share/fonts/opentype/noto/NotoSansCJK-Regular.ttc",
-    "/usr/share/fonts/opentype/noto/NotoSansCJKjp-Regular.otf",
-)
-
-
-def cjk_font() -> str | None:
-    """The path of a font with Japanese glyphs on this machine, or None."""
-    from pathlib import Path
-    return next((p for p in CJK_FONTS if Path(p).is_file()), None)
-
-
 # Latin fonts, first found: DejaVu (Debian's fonts-dejavu-core, or matplotlib's
 # copy where it is installed), else the Droid fonts OpenImageIO ships.
 LATIN_FONTS = ("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "DejaVuSans.ttf", "DroidSans")
@@ -146,10 +130,10 @@ def _font(candidates) -> str:
 
 
 def _fonts() -> tuple[str, str]:
-    """(titles, captions); for Japanese, a CJK font (cjk_font) for both."""
-    cjk = cjk_font() if language() == "ja" else None
-    if cjk is not None:
-        return cjk, cjk
+    """(titles, captions); a language whose glyphs the Latin fonts lack uses its own font for both."""
+    own = languages.glyph_font(language())
+    if own is not None:
+        return own, own
     return _font(LATIN_FONTS), _font(LATIN_MONO_FONTS)
 
 

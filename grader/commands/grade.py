@@ -20,6 +20,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from ..i18n.languages import CODES
 
 HELP = "grade one submission (a folder, a .cpp, a .zip or a .tar.gz) and write its reports"
 EXAMPLES = PROJECT_ROOT / "examples"
@@ -54,7 +55,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
                    help="grade even where student code cannot be isolated (no bubblewrap, not root): the "
                         "submission could then read the grader's environment and write its files")
-    p.add_argument("--lang", choices=("en", "ja"),
+    p.add_argument("--lang", choices=CODES,
                    help="language of the student-facing reports (default: the rubric's grading.language)")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--strict", action="store_true",

@@ -30,6 +30,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from ..i18n.languages import CODES
 
 HELP = "grade every submission in a folder (one sub-folder or archive per student)"
 
@@ -48,7 +49,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
                    help="grade even where student code cannot be isolated (no bubblewrap, not root): a "
                         "submission could then read the grader's environment and write its files")
-    p.add_argument("--lang", choices=("en", "ja"),
+    p.add_argument("--lang", choices=CODES,
                    help="language of what students read (default: the rubric's grading.language)")
     p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
     p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")

@@ -21,6 +21,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..i18n.languages import CODES
+
 HELP = "grade /grade/student for PrairieLearn's external grader (writes /grade/results/results.json)"
 
 
@@ -30,7 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--root", type=Path, default=Path("/grade"),
                    help="PrairieLearn's grading folder (default: /grade)")
     p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
-    p.add_argument("--lang", choices=("en", "ja"),
+    p.add_argument("--lang", choices=CODES,
                    help="language of what students read (default: the rubric's grading.language)")
     p.add_argument("--check-question", type=Path, metavar="INFO_JSON",
                    help="instead: check a question's info.json (timeout, entry point, serverFilesCourse)")

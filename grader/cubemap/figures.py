@@ -23,7 +23,7 @@ from .. import PROJECT_ROOT  # noqa: E402
 from ..envmap import library as reference
 from ..envmap.imaging import tone_map  # noqa: E402
 from .convert import faces_to_latlong  # noqa: E402
-from ..envmap.geometry import FACE_NAMES, cross_cells, face_frames, face_uv_to_direction  # noqa: E402
+from ..envmap.geometry import FACE_NAMES, cross_cells, face_frames, face_uv_formulas, face_uv_to_direction  # noqa: E402
 
 FIGURES_DIR = PROJECT_ROOT / "docs" / "figures"
 CUBEMAP_DIR = PROJECT_ROOT / "Cubemap"
@@ -144,12 +144,8 @@ def _draw_cube(ax) -> None:
     ax.set_title("The cube seen from outside (+x, +y, +z towards you)", fontsize=10)
 
 
-# docs/assignment.md's table, as text for the panels.
-UV_FORMULAS = {
-    "+X": ("(1 + z/m)/2", "(1 + y/m)/2"), "-X": ("(1 - z/m)/2", "(1 + y/m)/2"),
-    "+Y": ("(1 + x/m)/2", "(1 + z/m)/2"), "-Y": ("(1 + x/m)/2", "(1 - z/m)/2"),
-    "+Z": ("(1 + x/m)/2", "(1 - y/m)/2"), "-Z": ("(1 + x/m)/2", "(1 + y/m)/2"),
-}
+# The handout's table, as text for the panels: worded from the reference's frames.
+UV_FORMULAS = face_uv_formulas()
 
 
 def _corner_text(d: np.ndarray) -> str:

@@ -3,7 +3,8 @@
 Everything here stands on the reference library (reference/src/lookup.c,
 through grader.envmap.library): direction -> (face, u, v) *is* the C function, and
 the inverse uses each face's frame read off that same function (`face_frames`),
-so the face table of docs/assignment.md is written down in one place, lookup.c.
+so the face table is written down in one place, lookup.c; its text in
+docs/assignment.md, the student READMEs and the figures is face_uv_formulas().
 Faces are 0..5 = FACE_NAMES = +X -X +Y -Y +Z -Z (em_face). On a face, the
 plane coordinates a = 2u - 1, b = 2v - 1 lie in [-1, 1]:
 
@@ -51,6 +52,24 @@ def face_frames() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             a, b = 2 * uv[0] - 1
             u_axis[k, j], v_axis[k, j] = 2 * a, 2 * b
     return normal, u_axis, v_axis
+
+
+def face_uv_formulas() -> dict[str, tuple[str, str]]:
+    """The handout's (u, v) table, worded from face_frames(): face name ->
+    (u, v) as "(1 + z/m)/2", m = |major component|. The one source of the
+    table in docs/assignment.md, the student READMEs and the figures
+    (tests/unit/envmap/test_face_table.py holds each copy to it)."""
+    _, u_axis, v_axis = face_frames()
+
+    def formula(axis: np.ndarray) -> str:
+        j = int(np.flatnonzero(axis)[0])
+        return f"(1 {'+' if axis[j] > 0 else '-'} {'xyz'[j]}/m)/2"
+    return {name: (formula(u_axis[k]), formula(v_axis[k])) for k, name in enumerate(FACE_NAMES)}
+
+
+def face_table_rows() -> list[str]:
+    """face_uv_formulas() as the Markdown rows the documents print, in face order."""
+    return [f"| {name} | {u} | {v} |" for name, (u, v) in face_uv_formulas().items()]
 
 
 @cache

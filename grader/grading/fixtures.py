@@ -140,9 +140,6 @@ def generate(progress=print) -> dict:
         _write_atomic(fixture.path, buffer.getvalue())
         files.append(fixture.path)
         progress(f"  rendered {_rel(fixture.path)}")
-    for path in write_sweeps():
-        files.append(path)
-        progress(f"  wrote {_rel(path)}")
     manifest = {
         "generator_version": GENERATOR_VERSION,
         "environment": environment(),
@@ -152,27 +149,6 @@ def generate(progress=print) -> dict:
     }
     _write_atomic(MANIFEST, (json.dumps(manifest, indent=2, sort_keys=True) + "\n").encode())
     return manifest
-
-
-def write_sweeps() -> list[Path]:
-    """The deterministic sweep directions with the reference's colours on the
-    test map, as raw .npy (byte-stable): a regression net for the reference."""
-    from ..checks.instruments.directions import sweep_sets
-    test_map = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
-    if not test_map.exists():
-        return []
-    cube = reference.CubeMap.load_cross(test_map)
-    out = []
-    sets = {k: v for k, v in sweep_sets(seed=0, fibonacci=20_000).items() if "random" not in k}
-    dirs = np.concatenate(list(sets.values()))
-    rgb = cube.fetch(dirs, "bilinear").astype(np.float32)
-    for name, array in (("sweep_directions", dirs), ("sweep_expected_test_map", rgb)):
-        path = FIXTURES / "sweeps" / f"{name}.npy"
-        buffer = io.BytesIO()
-        np.save(buffer, array, allow_pickle=False)
-        _write_atomic(path, buffer.getvalue())
-        out.append(path)
-    return out
 
 
 def check_stale(project: Path = PROJECT_ROOT) -> None:

@@ -28,8 +28,7 @@ from collections.abc import Mapping
 from functools import lru_cache
 from pathlib import Path
 
-LANGUAGES = ("en", "ja")
-DEFAULT = "en"
+from .languages import CODES as LANGUAGES, DEFAULT  # one row per language
 DOMAIN = "grader"
 LOCALE_DIR = Path(__file__).resolve().parent / "locale"
 ENV = "GRADER_LANG"

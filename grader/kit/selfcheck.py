@@ -30,6 +30,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from ..i18n.languages import CODES
 from . import ANSWERS, KIT_SEED, NOT_IN_KIT, integrity
 
 SOURCE = Path("EnvironmentMap.cpp")
@@ -75,7 +76,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--fail-under", type=float, metavar="PERCENT",
                    help="exit with status 1 when the score is below PERCENT of the visible points")
     p.add_argument("--source", type=Path, default=SOURCE, help="the file to check (default: EnvironmentMap.cpp)")
-    p.add_argument("--lang", choices=("en", "ja"), help="the reports' language (default: the course's)")
+    p.add_argument("--lang", choices=CODES, help="the reports' language (default: the course's)")
     args = p.parse_args(argv)
     if args.fail_under is not None and not 0 <= args.fail_under <= 100:
         p.error("--fail-under is a percentage of the visible points, from 0 to 100")

@@ -38,9 +38,10 @@ import json
 import math
 from pathlib import Path
 
-from ..i18n import N_, _
+from ..i18n import _
 from ..grading.results import BUILD_ERROR, ERROR, PASSED, SKIPPED, CheckResult, GradeResult
 from . import markdown
+from .pictures import RENDER_PICTURES
 from .text import clean, inert_markdown, md_escape, truncate_middle
 from .view import (ISOLATION_TEXT, ReportView, build_view, check_label, check_output, group_diagnoses,
                    is_informational, is_visible)
@@ -51,7 +52,7 @@ SCHEMA_PATH = Path(__file__).with_name("schema") / "results.schema.json"
 GS_PASSED, GS_FAILED = "passed", "failed"
 # The pair of pictures the html output shows (the render check's artifacts:
 # the render that differs most, grader/checks/renders.py), with their captions.
-RENDER_PAIR = (("render_submission", N_("Your render")), ("render_reference", N_("The reference render")))
+RENDER_PAIR = tuple((name, RENDER_PICTURES[name].caption) for name in ("render_submission", "render_reference"))
 # Per picture, once encoded: results.json stays small (a 128 x 128 render is about 20 kB).
 MAX_PICTURE_BYTES = 60_000
 

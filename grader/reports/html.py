@@ -20,19 +20,14 @@ from markdown_it import MarkdownIt
 from ..i18n import N_, Translated, _, language, ngettext
 from ..grading.results import BUILD_ERROR, UNGRADABLE, CheckResult
 from .markdown import FINDINGS_SHOWN, all_correct, check_points, mistake_counts, mistake_heading
+from .pictures import RENDER_PICTURES
 from .text import clean, figure, inert_markdown, points, seconds, truncate_middle
 from .view import (GLOSSARY, STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
                    STATE_PASSED, STATE_SKIPPED, DiagnosisGroup, ReportView,
                    check_label, check_output, check_state, mismatch_groups)
 
 # Artifacts the page places in their own sections; others go with their check.
-RENDER_ARTIFACT = re.compile(r"^render_(reference|submission|difference|flip)(?:[_:./-](.+))?$")
-RENDER_ROLES = {   # (caption, note), read out through _()
-    "reference": (N_("Reference"), N_("the scene with the reference lookup")),
-    "submission": (N_("Your code"), N_("the same scene with your lookup")),
-    "difference": (N_("Difference"), N_("brighter where your render differs more")),
-    "flip": (N_("Where it looks different"), N_("brighter where a viewer sees a difference")),
-}
+RENDER_ARTIFACT = re.compile(rf"^({'|'.join(RENDER_PICTURES)})(?:[_:./-](.+))?$")
 ARROWS_ARTIFACT = "arrows"
 CHART_ARTIFACT = "speed_accuracy_chart"
 
@@ -252,13 +247,6 @@ def _render_groups(view: ReportView) -> dict[str, tuple[CheckResult, dict[str, P
     return groups
 
 
-def _metric(check: CheckResult, name: str, suffix: str) -> float | None:
-    for key in ([f"{name}_{suffix}", f"{name}:{suffix}"] if suffix else []) + [name]:
-        if key in check.metrics:
-            return check.metrics[key]
-    return None
-
-
 def _figures_line(items: list[tuple[str, float | None]]) -> str:
     parts = []
     for name, value in items:
@@ -279,8 +267,8 @@ def _renders(view: ReportView) -> str:
     for suffix in sorted(groups):
         check, paths = groups[suffix]
         title = f"<h3>{e(suffix.replace('_', ' '))}</h3>" if suffix else ""
-        figs = "".join(_figure(paths.get(role), _(caption), _(note), "pixels")
-                       for role, (caption, note) in RENDER_ROLES.items() if role in paths)
+        figs = "".join(_figure(paths.get(name), _(picture.caption), _(picture.note), "pixels")
+                       for name, picture in RENDER_PICTURES.items() if name in paths)
         blocks.append(f'<div class="render-set">{title}<div class="renders">{figs}</div></div>')
     return f"<section><h2>{e(_('Renders'))}</h2>{''.join(blocks)}</section>"
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from ..i18n import N_, _, language
+from ..i18n import N_, _, language, languages
 
 # (error column, panel title): the smooth part, where methods differ by their
 # order of accuracy, and the band along cube edges, where the per-face clamp
@@ -94,10 +94,7 @@ def _font_settings() -> dict:
     """Japanese labels need a font with Japanese glyphs (DejaVu has none):
     the one the arrow pictures use (grader/checks/arrows.py), DejaVu after
     it for any glyph it lacks."""
-    if language() != "ja":
-        return {}
-    from ..checks.arrows import cjk_font
-    font = cjk_font()
+    font = languages.glyph_font(language())
     if font is None:
         return {}
     from matplotlib import font_manager

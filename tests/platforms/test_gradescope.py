@@ -155,7 +155,7 @@ def test_html_output_embeds_the_render_that_differs_most(autograder, tmp_path):
     assert data["output_format"] == "html"
     assert "v runs the wrong way" in data["output"]
     urls = re.findall(r'<img src="data:image/png;base64,([A-Za-z0-9+/=]+)" alt="([^"]+)"', data["output"])
-    assert [alt for _, alt in urls] == ["Your render", "The reference render"]
+    assert [alt for _, alt in urls] == ["Your render", "Reference render"]
     images = autograder / "results" / "images"
     for (encoded, _), name in zip(urls, ("render_submission.png", "render_reference.png")):
         assert base64.b64decode(encoded) == (images / name).read_bytes()

@@ -199,6 +199,7 @@ PROVIDED_BY = {
     "git": "base: the clone itself (bench/bench_compare.py archives a commit)",
     "cmake": "optional: tests/kit/test_kit.py skips its CMake build without it",
     "hadolint": "optional: tests/platforms/test_prairielearn.py lints the Dockerfile with it when installed",
+    "dpkg": "optional: tests/unit/i18n/test_languages.py asks which package the font found came from, and skips without it",
 }
 CALLS = ("run", "Popen", "check_output", "check_call", "call")
 

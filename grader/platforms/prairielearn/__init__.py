@@ -45,17 +45,16 @@ from pathlib import Path
 
 from ...i18n import N_, Translated, _, ngettext
 from ...grading.results import BUILD_ERROR, UNGRADABLE
+from ...reports.pictures import RENDER_PICTURES
 
 DEFAULT_ROOT = Path("/grade")
 # PNGs the checks leave beside the reports (CheckResult.artifacts): shown
 # under these labels, in this order (the most useful first: the budget may
 # leave the last out); others follow by name.
 IMAGE_LABELS = Translated({
-    "render_submission": N_("Your render"),
-    "render_reference": N_("Reference render"),
-    "render_difference": N_("Difference (brighter is further off)"),
+    **{name: RENDER_PICTURES[name].caption for name in ("render_submission", "render_reference", "render_difference")},
     "arrows": N_("Axis arrows on each face"),
-    "render_flip": N_("Where it looks different (brighter is further off)"),
+    "render_flip": RENDER_PICTURES["render_flip"].caption,
     "speed_accuracy_chart": N_("Speed against accuracy (your lookup is the star)"),
 })
 MAX_RESULTS_BYTES = 1_000_000   # PrairieLearn's limit for the whole results.json

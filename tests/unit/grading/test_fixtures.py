@@ -30,6 +30,19 @@ def test_regenerating_gives_identical_bytes(tmp_path):
     assert changed == []
 
 
+def test_fixtures_holds_only_what_is_generated_and_read():
+    """Every file in fixtures/ is a render the checks load (named in the
+    manifest), the manifest, or the study's table: nothing written for no
+    reader (fixtures/sweeps/ was, 948 KB, until it went)."""
+    import json
+    from grader.study import STUDY_CSV
+    manifest = json.loads(fixtures.MANIFEST.read_text())
+    present = {p.relative_to(PROJECT_ROOT).as_posix() for p in fixtures.FIXTURES.rglob("*") if p.is_file()}
+    read = set(manifest["files"]) | {p.relative_to(PROJECT_ROOT).as_posix() for p in (fixtures.MANIFEST, STUDY_CSV)}
+    assert present == read
+    assert set(manifest["files"]) == {f.path.relative_to(PROJECT_ROOT).as_posix() for f in fixtures.render_fixtures()}
+
+
 @pytest.fixture
 def project_copy(tmp_path):
     project = tmp_path / "p"

@@ -221,8 +221,8 @@ def _draw_speed_chart(path: Path) -> list[str]:
 
 
 def test_the_speed_chart_has_japanese_labels_and_their_glyphs(japanese, tmp_path):
-    from grader.checks.arrows import cjk_font
-    if cjk_font() is None:
+    from grader.i18n.languages import glyph_font
+    if glyph_font("ja") is None:
         pytest.skip("no CJK font installed (packages.txt: fonts-ipafont-gothic|fonts-noto-cjk)")
     missing = _draw_speed_chart(tmp_path / "chart.svg")
     assert missing == []
@@ -235,8 +235,8 @@ def test_the_speed_chart_has_japanese_labels_and_their_glyphs(japanese, tmp_path
 
 def test_without_the_cjk_font_the_chart_would_miss_glyphs(japanese, tmp_path, monkeypatch):
     # What the check above guards against: DejaVu alone has no Japanese glyphs.
-    from grader.checks import arrows
-    monkeypatch.setattr(arrows, "cjk_font", lambda: None)
+    from grader.i18n import languages
+    monkeypatch.setattr(languages, "glyph_font", lambda code: None)
     assert _draw_speed_chart(tmp_path / "chart.svg")
 
 

@@ -374,7 +374,7 @@ def test_html_is_self_contained(results):
 def test_html_shows_every_part(results):
     page = render_all(results["diagnosed"])["report.html"]
     for text in ("Checks", "What to fix", "Renders", "Axis arrows", "Speed",
-                 "Reference", "Your code", "Difference", "Where it looks different",
+                 "Reference render", "Your render", "Difference", "Where it looks different",
                  "0.7123", "41.5", "1.31", "sandbox unavailable",
                  diagnoses.CATALOGUE["v-flipped"].title, diagnoses.CATALOGUE["v-flipped"].what_to_do,
                  "Compiler messages (warnings):", "student_42"):
