@@ -1,10 +1,11 @@
 """Where fetchColor samples, recovered face by face through the student's
 own readTexture, and the mistake that explains it.
 
-The faces handed over encode their positions; the read_texture check's
-fitted model of the student's readTexture (grader.checks.instruments.texture_model)
-says what each candidate fetchColor behaviour would return, so a wrong
-readTexture is never blamed on fetchColor (grader.checks.instruments.face_recovery).
+The faces handed over encode their positions; a fitted model of the
+student's readTexture (grader.checks.instruments.texture_model, fitted here
+when the read_texture check found readTexture wrong) says what each candidate
+fetchColor behaviour would return, so a wrong readTexture is never blamed on
+fetchColor (grader.checks.instruments.face_recovery).
 """
 from __future__ import annotations
 
@@ -23,10 +24,10 @@ DIAGNOSIS_IDS = tuple(sorted({i for c in CANDIDATES for i in c.ids} | set(_READ_
 @check(requires=(read_texture,))
 def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> None:
     """fetchColor samples the face the direction exits through, with u and v running the right way."""
-    fit = texture.fit
-    if fit is None:                 # readTexture matched the reference everywhere
-        from .instruments.texture_model import HANDOUT, Fit
-        fit = Fit(HANDOUT, HANDOUT, 1.0, 0)
+    from .instruments.texture_model import HANDOUT, Fit, fit
+    # Until fetchColor's requests are recorded (issue 29), its analysis reads
+    # through a model of readTexture; the handout's where readTexture is right.
+    fit = Fit(HANDOUT, HANDOUT, 1.0, 0) if texture.ok else fit(ctx.lookups, ctx.seed)
     analysis = analyse(ctx.lookups, fit, quick=ctx.quick)
     result.diagnoses = analysis.diagnoses()
     if not result.diagnoses:

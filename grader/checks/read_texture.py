@@ -1,11 +1,11 @@
-"""readTexture against the reference bilinear filter, and what is wrong when
-it differs: the lookup is fitted to a family of models (texture_model) to
-name its mistakes. The fetchColor checks judge through the student's own
-readTexture called live (instruments.own_read), not through the model, so a
-readTexture mistake never costs fetchColor's points and being hard to model
-buys nothing."""
+"""readTexture against the handout's equations (1)-(3), judged and described
+on its measured footprint (instruments.footprint): which texels it reads at
+each probed (u, v), with what weights, next to the handout's, measured the
+same way from the reference. A mistake is named only when the footprint
+proves it; otherwise one call is shown in numbers."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -13,330 +13,496 @@ import numpy as np
 from ..envmap import oracle, library as reference
 from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
-from . import check, shown
-from .instruments import texture_model as tm
-from .instruments.compare import compare, explain, tolerance
+from . import check
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .instruments.textures import coordinate_faces, random_faces
+from .instruments import footprint as fp
+from .instruments.compare import compare, tolerance
+from .instruments.textures import random_faces
 
 
 @dataclass(frozen=True)
 class ReadTextureFinding:
     """What the read_texture check tells the fetchColor checks."""
-    ok: bool                    # every readTexture call matched the reference
-    mistake: str | None = None  # the first diagnosis id of the fitted model's mistakes, if any
-    fit: tm.Fit | None = None   # the student's readTexture as a member of the model family
-    fraction: float = 1.0       # share of the check's calls that matched the handout's
-    by_size: tuple[float, ...] = ()   # that share per face size (FACE_SIZES)
-    by_face: tuple[float, ...] = ()   # per face (0-5), the share of the check's answers at generic (u, v) that differed, best size
+    ok: bool                    # every probe's footprint and answers are the handout's
+    mistake: str | None = None  # the first diagnosis id the footprint proves, if any
+    fraction: float = 1.0       # the check's share (see Probes.scored)
+    by_size: tuple[float, ...] = ()   # that share per face size (SIZES)
+    by_face: tuple[float, ...] = ()   # per face (0-5), the share of answers at generic (u, v) that differed, best size
 
     @property
     def mismatch(self) -> float:
-        """The smallest share of calls that differed from the handout's over
-        the face sizes tried: what the judges may expect on faces of their
-        own (a readTexture honest on some sizes and not on others is told
-        by its best size; instruments.own_read)."""
+        """The smallest share that differed from the handout's over the face
+        sizes tried: what the judges may expect on faces of their own (a
+        readTexture honest on some sizes and not on others is told by its
+        best size; instruments.own_read)."""
         return 1.0 - max(self.by_size or (self.fraction,))
 
     @property
     def face_mismatch(self) -> tuple[float, ...]:
-        """(6,) per face, the share of the check's answers at generic (u, v)
-        (neither on a texel boundary nor a centre nor in a border texel, as
-        most of the judges' are; crashes left out, as the judges leave them
-        out) that differed from the
-        handout's, on the face size where that share is smallest: about
-        what a readTexture that answers the same whoever calls it shows the
-        judges on that face (instruments.own_read)."""
+        """(6,) per face, the share of the check's answers on random texels at
+        generic (u, v) (neither on a texel boundary nor a centre nor in a
+        border texel, as most of the judges' are; crashes left out, as the
+        judges leave them out) that differed from the handout's, on the face
+        size where that share is smallest (instruments.own_read)."""
         return self.by_face or (1.0 - self.fraction,) * 6
 
-    @property
-    def model(self) -> tm.TextureModel | None:
-        """The member that reproduces every answer (the handout's when ok), or
-        None. For words only: fetchColor is judged through the student's own
-        readTexture called live (instruments.own_read), never through this."""
-        if self.ok:
-            return tm.HANDOUT
-        return self.fit.model if self.fit is not None and self.fit.fits else None
 
-
-# Square and non-square faces, so a W/H mix-up shows; faces one texel tall,
-# where every row is the last, so reading x = W faults on a guard page on
-# every row (rows are contiguous: elsewhere x = W reads the next row's x = 0).
-FACE_SIZES = ((16, 16), (13, 7), (9, 1))
-# Every face: a readTexture read on some faces only could answer otherwise
-# on the rest, where the judges would believe it (issue 18's red team). The
-# last face included: reading past its end leaves the buffer.
+# Face sizes, in the order measured. The worker keeps one process per
+# texel count (grader.worker.runner.set_faces), so 4x3 then 3x4 (and 8x6
+# then 6x8) run in one process: a size kept from an earlier call (a static)
+# shows there. The last 3x4 runs first in a fresh process: the two 3x4
+# footprints differ only if readTexture keeps something between calls.
+# Square and not, so a W/H mix-up and a transposed index show.
+SIZES = ((4, 3), (3, 4), (8, 6), (6, 8), (5, 5), (3, 4))
+STATE = (1, 5)           # the two 3x4 footprints: after 4x3 in one process, first in a fresh one
 FACES = (0, 1, 2, 3, 4, 5)
+PLACEMENTS = ("end", "start")
 
 
 def generic(uv: np.ndarray, width: int, height: int) -> np.ndarray:
     """(n,) neither u nor v is 0, 1, a texel boundary or a centre, and no
-    lattice point is outside the face: the generic points of sample_points
-    inside the border texels, where (u, v) are like most of the judges' and
-    an edge mistake reads nothing beyond the face (which differs by face:
-    past the first and last it faults)."""
+    lattice point is outside the face: (u, v) like most of the judges'."""
     steps = uv * (2 * width, 2 * height)
     p = uv * (width, height)
     inside = ((p >= 1) & (p < np.array([width, height]) - 1)).all(axis=1)
     return inside & (np.abs(steps - np.rint(steps)) > 1e-9).all(axis=1)
 
 
-# Points between boundaries and centres, the same for every grading: six
-# drawn per grading moved a share (an edge mistake's, by whether they fell in
-# a border texel) and the score with it by up to a point (issue 30). The
-# golden ratio's multiples: spread, and never a boundary or centre of any
-# face size. Nothing here can be memorised: the random faces are drawn per grading.
-GENERIC = tuple(np.modf(np.arange(1, 7) * (np.sqrt(5.0) - 1) / 2)[0])
+@dataclass
+class Measured:
+    """One face size: both footprints and what the random texture showed."""
+    student: fp.Footprint
+    handout: fp.Footprint
+    answered: np.ndarray    # (n,) every answer on the random texture was finite
+    right: np.ndarray       # (n,) every answer on the random texture was the handout's
+    linear: np.ndarray      # (n,) every finite answer was the footprint's blend of the texels
+    unlinear_case: tuple | None     # (face, placement, i, predicted, actual) where it was not
+    face_total: np.ndarray  # (6,) generic (u, v) answered, per face
+    face_wrong: np.ndarray  # (6,) of those, how many differed from the handout's
+
+    @property
+    def matched(self) -> np.ndarray:
+        """(n,) the footprint is the handout's and every answer is too."""
+        return self.student.equals(self.handout) & self.right
+
+    @property
+    def blends(self) -> np.ndarray:
+        """(n,) the handout reads more than one texel here."""
+        return (np.abs(self.handout.weights) > fp.TAP).sum(axis=(1, 2)) > 1
+
+    def counted(self) -> tuple[int, int]:
+        """(matched, counted): a probe where the handout blends counts; one
+        where it reads a single texel counts only when yours differs (there
+        the starting code already answers as the handout does, and a score
+        there would be points for the code students were given)."""
+        counted = self.blends | ~self.matched
+        return int((self.matched & counted).sum()), int(counted.sum())
 
 
-def sample_points(width: int, height: int) -> np.ndarray:
-    """(n, 2) (u, v): exactly 0 and 1, every texel boundary k/W and centre
-    (k+0.5)/W, and generic points (GENERIC), in every combination of u and v kinds."""
+def _measure(ctx: CheckContext, size: tuple[int, int], failures: list) -> Measured:
+    w, h = size
+    uv = fp.probe_points(w, h, ctx.seed)
 
-    def axis(size):
-        k = np.arange(size + 1)
-        return np.unique(np.concatenate([[0.0, 1.0], k / size, (k[:-1] + 0.5) / size, GENERIC]))
+    def theirs(faces):
+        ctx.lookups.set_faces(faces)
+        out = ctx.lookups.read_texture(fp.FACE, uv, "end")
+        failures.extend(out.failures)
+        values = np.asarray(out.values, np.float64).copy()
+        values[~np.asarray(out.evaluated, bool)] = np.nan
+        return values
 
-    u, v = np.meshgrid(axis(width), axis(height), indexing="ij")
-    return np.stack([u.ravel(), v.ravel()], axis=1)
+    def handout(faces):
+        return oracle.current().read_texture(faces, fp.FACE, uv, "bilinear")
 
-
-# Every id mistake_diagnoses can give (tests/unit/grading/test_diagnosis_catalogue.py).
-DIAGNOSIS_IDS = tm.MISTAKE_IDS
-
-
-def mistake_diagnoses(model: tm.TextureModel) -> list[Diagnosis]:
-    """One diagnosis per part of the fitted model that differs from the
-    handout, each saying what the code does."""
-    words = tm.describe_model(model)
-    px, py = tm.axis_formula(model.x, 0), tm.axis_formula(model.y, 1)
-    where = f"p = ({px}, {py})"
-    detail = {   # %(where)s: the position the fitted model reads at, a formula
-        "nearest-neighbor": N_("readTexture returns one texel and never blends (nearest neighbour, or weights that are always 0); it reads at %(where)s."),
-        "weights-swapped": N_("readTexture blends with swapped weights: alpha goes to c00 and (1 - alpha) to c10 (or beta to c0)."),
-        "constant-weights": N_("readTexture blends with weights that do not follow p (the same weight wherever p is)."),
-        "half-texel-offset": N_("readTexture samples half a texel off: it uses %(where)s instead of p = (uW, vH)."),
-        "texel-offset": N_("readTexture reads a whole texel off: it uses %(where)s instead of p = (uW, vH)."),
-        "truncation-of-negatives": N_("readTexture rounds a negative p toward zero with (int): for p between -1 and 0 it takes x0 = 0 and a negative weight."),
-        "unclamped-edge": N_("readTexture does not clamp its lattice points: at the edges it reads the next row, the texels before the face, or past the face."),
-        "wrapped-edge": N_("readTexture wraps its lattice points around the face (x = W reads x = 0) instead of clamping them."),
-        "scaled-by-size-minus-one": N_("readTexture uses %(where)s: the lattice is scaled by W - 1 instead of W."),
-        "scaled-by-size-plus-one": N_("readTexture uses %(where)s: the lattice is scaled by W + 1 instead of W."),
-        "rows-flipped": N_("readTexture reads row H-1-y: y = 0 must be the bottom row (v = 0)."),
-        "columns-flipped": N_("readTexture reads column W-1-x: x = 0 must be the left column (u = 0)."),
-        "texture-u-flipped": N_("readTexture runs u from right to left (it uses 1 - u)."),
-        "texture-v-flipped": N_("readTexture runs v from top to bottom (it uses 1 - v; v = 0 must be the bottom row)."),
-        "texture-uv-swapped": N_("readTexture uses u for the vertical position and v for the horizontal one."),
-        "width-height-swapped": N_("readTexture mixes up the face width and height (u is scaled by the height or v by the width)."),
-    }
-    return [Diagnosis(i, _(detail[i]) % {"where": where} if i in detail else words) for i in tm.mistake_ids(model)]
-
-
-# ---- readTexture described by measurement -------------------------------------
-
-# A fit explaining at least this share of the answers is named (with the
-# share); below it no model is stated, only what was measured.
-NAMED_FIT = 0.9
-WORKED_SIZE = (16, 16)
+    student, ref = fp.measure(theirs, size, uv), fp.measure(handout, size, uv)
+    texels = np.ascontiguousarray(random_faces(w, h, ctx.seed), np.float32)
+    ctx.lookups.set_faces(texels)
+    answered, right, linear = np.ones(len(uv), bool), np.ones(len(uv), bool), np.ones(len(uv), bool)
+    unlinear_case = None
+    like_judges = generic(uv, w, h)
+    face_total, face_wrong = np.zeros(6, np.int64), np.zeros(6, np.int64)
+    for face in FACES:
+        expected = oracle.current().read_texture(texels, face, uv, "bilinear")
+        predicted = fp.predict(student, texels[face])
+        tol = tolerance(w, h, float(np.abs(texels[face]).max()))
+        for placement in PLACEMENTS:
+            out = ctx.lookups.read_texture(face, uv, placement)
+            failures.extend(out.failures)
+            values = np.asarray(out.values, np.float64)
+            finite = np.asarray(out.evaluated, bool) & np.isfinite(values).all(axis=1)
+            same = compare(values, expected, tol).ok & finite
+            with np.errstate(invalid="ignore"):
+                blend = (np.abs(values - predicted) <= tol).all(axis=1)
+            odd = finite & student.answered & ~blend
+            if unlinear_case is None and odd.any():
+                i = int(np.flatnonzero(odd)[0])
+                unlinear_case = (face, placement, i, predicted[i], values[i])
+            answered &= finite
+            right &= same
+            linear &= ~odd
+            here = like_judges & finite
+            face_total[face] += int(here.sum())
+            face_wrong[face] += int((here & ~same).sum())
+    return Measured(student, ref, answered, right, linear, unlinear_case, face_total, face_wrong)
 
 
-def texel_weights(read, face: int, w: int, h: int) -> np.ndarray | None:
-    """(h, w) the weight of each texel of `face` in one readTexture answer,
-    measured with impulse textures (one texel 1 per channel, the rest 0;
-    three texels per texture): `read(faces)` returns that answer (3,), or
-    None when it crashed."""
-    n = w * h
-    weights = np.zeros(n)
-    for first in range(0, n, 3):
-        faces = np.zeros((6, h, w, 3), np.float32)
-        flat = faces[face].reshape(-1, 3)
-        for c in range(min(3, n - first)):
-            flat[first + c, c] = 1.0
-        rgb = read(faces)
-        if rgb is None or not np.isfinite(rgb).all():
-            return None
-        weights[first:first + 3] = rgb[:min(3, n - first)]
-    return weights.reshape(h, w)
+# ---- readTexture described from its footprint -------------------------------
+
+@dataclass(frozen=True)
+class Lattice:
+    """A statement about one axis of the footprint: the lattice point below
+    t = S * c + offset, with c the face parameter `source` (0: u, 1: v),
+    flipped to 1 - c or not, S the face size `size` (0: W, 1: H) plus
+    `scale`, and the texels counted from the far end (`flip` "index")."""
+    source: int
+    size: int
+    scale: int = 0
+    offset: float = 0.0
+    flip: str = ""
+
+    def cost(self, which: int) -> float:
+        return ((self.source != which) + (self.size != which) + (self.scale != 0) + (self.flip != "")
+                + (0 if self.offset == 0 else 1))
+
+    def formula(self, which: int) -> str:
+        c = "uv"[self.source]
+        if self.flip == "coordinate":
+            c = f"(1 - {c})"
+        n = "WH"[self.size]
+        n = n if self.scale == 0 else f"({n} {'-' if self.scale < 0 else '+'} 1)"
+        text = f"{c}{n}"
+        if self.offset:
+            text += f" {'-' if self.offset < 0 else '+'} {abs(self.offset):g}"
+        return text
+
+
+LATTICES = tuple(Lattice(source, size, scale, offset, flip)
+                 for source in (0, 1) for size in (0, 1) for scale in (0, -1, 1)
+                 for offset in (0.0, -0.5, 0.5, -1.0, 1.0) for flip in ("", "index", "coordinate"))
+# How the weight of the texel above the lattice point follows f = t - floor(t).
+MODES = ("linear", "swapped", "constant", "nearest")
+
+
+def _lattice_point(lattice: Lattice, which: int, m: Measured) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(L, f, inside): the lattice point below t, t - L, and whether L and
+    L + 1 both lie on the face, at each probe of `m`."""
+    w, h = m.student.size
+    c = m.student.uv[:, lattice.source]
+    if lattice.flip == "coordinate":
+        c = 1.0 - c
+    t = ((w, h)[lattice.size] + lattice.scale) * c + lattice.offset
+    low = np.floor(t)
+    return low, t - low, (low >= 0) & (low <= (w, h)[which] - 2)
+
+
+def _axis_modes(lattice: Lattice, which: int, measured: list[Measured],
+                other: Lattice | None = None) -> tuple[set[str], int]:
+    """(the weight modes consistent with every probe where `lattice` puts
+    both taps inside the face, how many such probes): the footprint summed
+    over the other axis reads only the lattice point L and L + 1. With
+    `other`, the other axis's statement, only where that one's taps are
+    inside the face too (an edge read on one axis moves the other's)."""
+    modes, seen = set(MODES), 0
+    for m in measured:
+        low, f, inside = _lattice_point(lattice, which, m)
+        if other is not None:
+            inside &= _lattice_point(other, 1 - which, m)[2]
+        axis = m.student.axis(which)
+        if lattice.flip == "index":
+            axis = axis[:, ::-1]
+        rows = np.flatnonzero(inside & m.student.separable)
+        if not len(rows):
+            continue
+        seen += len(rows)
+        low = low[rows].astype(np.int64)
+        a = axis[rows]
+        at0, at1 = a[np.arange(len(rows)), low], a[np.arange(len(rows)), low + 1]
+        rest = np.abs(a).sum(axis=1) - np.abs(at0) - np.abs(at1)
+        if (rest > fp.TAP).any():
+            return set(), seen
+        f = f[rows]
+        near = lambda x, y: bool((np.abs(x - y) <= fp.WEIGHT_TOL).all())   # noqa: E731
+        checks = {"linear": near(at1, f) and near(at0, 1 - f), "swapped": near(at1, 1 - f) and near(at0, f),
+                  "constant": near(at0, 0.5) and near(at1, 0.5), "nearest": near(at0, 1.0) and near(at1, 0.0)}
+        modes &= {k for k, ok in checks.items() if ok}
+        if not modes:
+            return set(), seen
+    return modes, seen
+
+
+def axis_statement(which: int, measured: list[Measured], other: Lattice | None = None) -> tuple[Lattice, str] | None:
+    """The simplest lattice and weight mode that every probe of every size
+    agrees with, along x (which = 0) or y (1), or None."""
+    best = None
+    for lattice in LATTICES:
+        modes, seen = _axis_modes(lattice, which, measured, other)
+        if seen < 8:
+            continue
+        for mode in modes:
+            # A nearest texel at t + 0.5 is the rounded one: no offset in the code.
+            cost = lattice.cost(which) + (mode != "linear") - (mode == "nearest" and lattice.offset == 0.5) * 0.9
+            if best is None or cost < best[0]:
+                best = (cost, lattice, mode)
+    return None if best is None else (best[1], best[2])
+
+
+def lattice_ids(which: int, lattice: Lattice, mode: str) -> list[str]:
+    """What one axis statement proves, as catalogue ids."""
+    ids = []
+    if mode == "swapped":
+        ids.append("weights-swapped")
+    if mode == "constant":
+        ids.append("constant-weights")
+    if lattice.offset in (-0.5, 0.5) and not (mode == "nearest" and lattice.offset == 0.5):
+        ids.append("half-texel-offset")
+    if lattice.offset in (-1.0, 1.0):
+        ids.append("texel-offset")
+    if lattice.scale:
+        ids.append("scaled-by-size-minus-one" if lattice.scale < 0 else "scaled-by-size-plus-one")
+    if lattice.flip == "index":
+        ids.append(("columns-flipped", "rows-flipped")[which])
+    if lattice.flip == "coordinate":
+        ids.append(("texture-u-flipped", "texture-v-flipped")[which])
+    if lattice.source != which:
+        ids.append("texture-uv-swapped")
+    if lattice.size != which:
+        ids.append("width-height-swapped")
+    return ids
+
+
+def transposed(measured: list[Measured]) -> bool:
+    """Every answered probe reads the handout's texels (x, y) at flat index
+    x * W + y instead of y * W + x (where that index is inside the face),
+    and the footprint is not the handout's: a transposed texel index."""
+    agree = 0
+    for m in measured:
+        w, h = m.student.size
+        n = w * h
+        ref = m.handout.weights.reshape(len(m.handout.uv), h, w)
+        mapped = np.zeros((len(ref), n))
+        inside = np.ones(len(ref), bool)
+        ys, xs = np.meshgrid(np.arange(h), np.arange(w), indexing="ij")
+        k = (xs * w + ys).ravel()
+        flat = ref.reshape(len(ref), -1)
+        for j, target in enumerate(k):
+            col = flat[:, j]
+            if target >= n:
+                inside &= np.abs(col) <= fp.TAP
+            else:
+                mapped[:, target] += col
+        rows = inside & m.student.answered
+        with np.errstate(invalid="ignore"):
+            same = (np.abs(m.student.weights.reshape(len(ref), -1)[rows] - mapped[rows]) <= fp.WEIGHT_TOL).all(axis=1)
+        if not same.all():
+            return False
+        agree += int(rows.sum())
+    return agree > 0 and not all(m.student.equals(m.handout).all() for m in measured)
+
+
+def _number(x: float) -> str:
+    return f"{x:.4g}"
 
 
 def _coordinate(c: float, n: int) -> str:
     k = c * n
-    return f"{int(round(k))}/{n}" if abs(k - round(k)) < 1e-9 else f"{c:.4g}"
+    if abs(k - round(k)) >= 1e-9:
+        return _number(c)
+    return {0: "0", n: "1"}.get(int(round(k)), f"{int(round(k))}/{n}")
 
 
-def _texels_in_words(weights: np.ndarray) -> str:
-    ys, xs = np.nonzero(np.abs(weights) > 0.005)
-    items = sorted(zip(xs, ys, weights[ys, xs]), key=lambda t: (-abs(t[2]), t[1], t[0]))
-    if not items:
+def texels_in_words(taps: list[tuple[int, int, float]]) -> str:
+    if not taps:
         return _("reads no texel of the face (every weight is 0)")
-    if len(items) == 1 and abs(items[0][2] - 1) < 0.005:
-        return _("reads texel (%(x)s, %(y)s) alone") % {"x": items[0][0], "y": items[0][1]}
-    shown = items[:6]
-    texels = and_list([f"({x}, {y})" for x, y, _w in shown])
-    wts = and_list([f"{wt:.2f}" for _x, _y, wt in shown])
-    text = _("mixes %(texels)s with weights %(weights)s") % {"texels": texels, "weights": wts}
-    if len(items) > 6:
-        text += _(" (and %(count)d more texels)") % {"count": len(items) - 6}
+    if len(taps) == 1 and abs(taps[0][2] - 1) <= fp.WEIGHT_TOL:
+        return _("reads texel (%(x)s, %(y)s) alone") % {"x": taps[0][0], "y": taps[0][1]}
+    shown = taps[:6]
+    text = _("mixes %(texels)s with weights %(weights)s") % {
+        "texels": and_list([f"({x}, {y})" for x, y, _w in shown]),
+        "weights": and_list([f"{wt:.4g}" for _x, _y, wt in shown])}
+    if len(taps) > 6:
+        text += _(" (and %(count)d more texels)") % {"count": len(taps) - 6}
     return text
 
 
-def worked_case(lookups, face: int, u: float, v: float, among: np.ndarray | None = None) -> str:
-    """One readTexture call in numbers: which texels the handout reads at
-    (u, v) and which the student's does, with their weights. `among`: the
-    (m, 2) points (u, v) was drawn from; the handout is asked at all of them,
-    so the question (grader.envmap.oracle) is the same whichever point failed."""
-    w, h = WORKED_SIZE
-    points = np.array([[u, v]]) if among is None else np.asarray(among, np.float64)
-    at = int(np.flatnonzero((points == [u, v]).all(axis=1))[0])
-
-    def theirs(faces):
-        lookups.set_faces(faces)
-        out = lookups.read_texture(face, np.array([[u, v]]))
-        return np.asarray(out.values, np.float64)[0] if bool(np.asarray(out.evaluated)[0]) else None
-
-    def handout(faces):
-        return oracle.current().read_texture(faces, face, points, "bilinear")[at]
-
-    ref, sub = texel_weights(handout, face, w, h), texel_weights(theirs, face, w, h)
-    values = {"u": _coordinate(u, w), "v": _coordinate(v, h), "w": w, "h": h, "handout": _texels_in_words(ref)}
-    if sub is None:
-        return _("At u = %(u)s, v = %(v)s on a %(w)d x %(h)d face the handout %(handout)s; yours crashes there.") % values
+def worked_case(m: Measured, i: int) -> str:
+    """Probe i in numbers: the texels and weights the handout's equations
+    read, and the student's."""
+    w, h = m.student.size
+    u, v = m.student.uv[i]
+    values = {"u": _coordinate(u, w), "v": _coordinate(v, h), "w": w, "h": h,
+              "handout": texels_in_words(m.handout.taps(i))}
+    if not m.student.answered[i]:
+        return _("At u = %(u)s, v = %(v)s on a %(w)d x %(h)d face the handout %(handout)s; "
+                 "yours crashes there.") % values
     return _("At u = %(u)s, v = %(v)s on a %(w)d x %(h)d face the handout %(handout)s; yours %(yours)s.") % {
-        **values, "yours": _texels_in_words(sub)}
+        **values, "yours": texels_in_words(m.student.taps(i))}
 
 
-def _single_texel(values: np.ndarray, texels: np.ndarray) -> np.ndarray:
-    """(n,) each answer is exactly one texel's colour (a lookup that never blends)."""
-    flat = texels.reshape(-1, 3).astype(np.float64)
-    values = np.asarray(values, np.float64)
-    with np.errstate(invalid="ignore"):
-        # The red channel first, over every (answer, texel) pair; green and blue only where red is close.
-        i, t = np.nonzero(np.abs(values[:, None, 0] - flat[None, :, 0]) <= 1e-6)
-        close = (np.abs(values[i, 1:] - flat[t, 1:]) <= 1e-6).all(axis=1)
-    single = np.zeros(len(values), bool)
-    single[i[close]] = True
-    return single
+def _first_wrong(measured: list[Measured]) -> tuple[Measured, int] | None:
+    """The first probe whose footprint differs, preferring one where the
+    handout blends inside the face (the plainest case to read)."""
+    for want_blend in (True, False):
+        for m in measured:
+            wrong = ~m.student.equals(m.handout) & (m.blends if want_blend else True)
+            if wrong.any():
+                return m, int(np.flatnonzero(wrong)[0])
+    return None
 
 
-def _best_size_per_face(matched: np.ndarray, total: np.ndarray) -> tuple[float, ...]:
-    """(6,) per face, the smallest share differing over the sizes with
-    generic calls: a readTexture honest on one size and not another tells
-    them apart (issue 18), so the judges expect its best."""
-    sizes = total.sum(axis=1) > 0
-    if not sizes.any():
-        return ()
-    share = 1.0 - matched[sizes] / np.maximum(total[sizes], 1)
-    return tuple(float(x) for x in share.min(axis=0))
+def edge_ids(measured: list[Measured], failures: list) -> list[Diagnosis]:
+    """What the footprint shows at the face's edges, where the handout
+    clamps its lattice points: texels from both ends of one row or column
+    (wrapped), the next row's first texel after a row's last (unclamped),
+    or a read outside the face the worker caught at a border (u, v)."""
+    found = []
+    for m in measured:
+        w, h = m.student.size
+        read = np.abs(np.nan_to_num(m.student.weights)) > fp.TAP      # (n, H, W)
+        # Both ends of one row, in the same rows (columns), as x mod W reads them.
+        wraps_x = (read[:, :, 0].any(axis=1) & (read[:, :, 0] == read[:, :, w - 1]).all(axis=1)) if w >= 3 else None
+        wraps_y = (read[:, 0, :].any(axis=1) & (read[:, 0, :] == read[:, h - 1, :]).all(axis=1)) if h >= 3 else None
+        for wraps in (wraps_x, wraps_y):
+            if wraps is not None and wraps.any():
+                found.append(("wrapped-edge", m, int(np.flatnonzero(wraps)[0])))
+        # A row's last texel with the next row's first: x = W (or x = -1) read as the memory lies.
+        jump = (read[:, :-1, w - 1] & read[:, 1:, 0]).any(axis=1) if w >= 3 else np.zeros(len(read), bool)
+        if jump.any():
+            found.append(("unclamped-edge", m, int(np.flatnonzero(jump)[0])))
+    out = []
+    for ident, m, i in found:
+        if ident not in {d.id for d in out}:
+            detail = {"wrapped-edge": N_("readTexture reads both ends of a row or column at once: it wraps its "
+                                         "lattice points around the face instead of clamping them."),
+                      "unclamped-edge": N_("readTexture reads a row's last texel together with the next row's "
+                                           "first: x = W (or x = -1) is not clamped to the face.")}[ident]
+            out.append(Diagnosis(ident, _(detail) + " " + worked_case(m, i)))
+    outside = [f for f in failures if f.kind == "out-of-bounds-read"]
+    if outside and "unclamped-edge" not in {d.id for d in out}:
+        out.append(Diagnosis("unclamped-edge", _("readTexture reads outside the face (the worker caught %(call)s "
+                                                 "reading memory before or after the face's texels): its lattice "
+                                                 "points are not clamped to the face.") % {"call": outside[0].input}))
+    return out
 
 
-def earned(matched: int, given: int, total: int) -> float:
-    """The share of the calls the starting code gets wrong (`total - given`
-    of `total`: it reads the texel below-left of p, which is the handout's
-    answer only where alpha = beta = 0 or the clamp makes it so) that
-    readTexture put right, less any it broke: the starting code, and
-    whatever behaves as it does, earns nothing (issue 30), the handout's
-    earns everything, and each call put right is worth the same."""
-    if matched >= total:
-        return 1.0
-    return max(matched - given, 0) / (total - given) if total > given else 0.0
+# Every id the description can give (tests/unit/grading/test_diagnosis_catalogue.py).
+DIAGNOSIS_IDS = ("nearest-neighbor", "weights-swapped", "constant-weights", "half-texel-offset", "texel-offset",
+                 "truncation-of-negatives", "unclamped-edge", "wrapped-edge", "scaled-by-size-minus-one",
+                 "scaled-by-size-plus-one", "rows-flipped", "columns-flipped", "texture-u-flipped",
+                 "texture-v-flipped", "texture-uv-swapped", "width-height-swapped", "texel-index-transposed",
+                 "not-a-blend", "kept-between-calls")
+
+
+def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis], list[str]]:
+    """The diagnoses the footprints prove, and the sentences that show them."""
+    found: list[Diagnosis] = []
+    lines: list[str] = []
+    first, again = measured[STATE[0]], measured[STATE[1]]
+    kept = first.student.answered & again.student.answered & ~first.student.equals(again.student)
+    naming = measured
+    if kept.any():
+        i = int(np.flatnonzero(kept)[0])
+        w, h = first.student.size
+        u, v = first.student.uv[i]
+        found.append(Diagnosis("kept-between-calls", _(
+            "On the same %(w)d x %(h)d face and texels, readTexture reads differently after a %(pw)d x %(ph)d face "
+            "in the same process than it does first in a fresh one: at u = %(u)s, v = %(v)s it %(after)s after "
+            "it, and %(fresh)s when fresh. Something is kept from an earlier call (a static, a cache).") % {
+            "w": w, "h": h, "pw": measured[STATE[0] - 1].student.size[0], "ph": measured[STATE[0] - 1].student.size[1],
+            "u": _coordinate(u, w), "v": _coordinate(v, h),
+            "after": texels_in_words(first.student.taps(i)), "fresh": texels_in_words(again.student.taps(i))}))
+        # Describe it from the sizes each process saw first.
+        naming = [m for k, m in enumerate(measured) if k == 0 or SIZES[k][0] * SIZES[k][1] != SIZES[k - 1][0] * SIZES[k - 1][1]]
+    unlinear = [m for m in measured if m.unlinear_case is not None]
+    if unlinear:
+        m = unlinear[0]
+        face, placement, i, predicted, actual = m.unlinear_case
+        w, h = m.student.size
+        u, v = m.student.uv[i]
+        found.append(Diagnosis("not-a-blend", _(
+            "readTexture's answer is not a fixed blend of the texels it reads: at u = %(u)s, v = %(v)s on face "
+            "%(face)s of a %(w)d x %(h)d random texture, the weights measured with one-texel textures (it %(taps)s) "
+            "give %(predicted)s, and it returned %(actual)s.") % {
+            "u": _coordinate(u, w), "v": _coordinate(v, h), "face": reference.FACE_NAMES[face], "w": w, "h": h,
+            "taps": texels_in_words(m.student.taps(i)),
+            "predicted": "(" + ", ".join(_number(x) for x in predicted) + ")",
+            "actual": "(" + ", ".join(_number(x) for x in actual) + ")"}))
+    answered = [m for m in naming if m.student.answered.any()]
+    single = all(((np.abs(m.student.weights[m.student.answered]) > fp.TAP).sum(axis=(1, 2)) == 1).all()
+                 for m in answered)
+    if answered and single:
+        found.append(Diagnosis("nearest-neighbor", _(
+            "readTexture never blends: at every one of the %(count)d (u, v) probed it reads a single texel.")
+            % {"count": sum(int(m.student.answered.sum()) for m in answered)}))
+    if answered and transposed(answered):
+        found.append(Diagnosis("texel-index-transposed", _(
+            "readTexture reads the texels the handout reads at (x, y) from index x * W + y: the texel index is "
+            "transposed (on a square face it reads texel (y, x); on others, texels of other rows or past the face).")))
+    else:
+        statements = [axis_statement(which, answered) if answered else None for which in (0, 1)]
+        for which in (0, 1):
+            if statements[which] is None and statements[1 - which] is not None:
+                statements[which] = axis_statement(which, answered, statements[1 - which][0])
+        if all(s is not None for s in statements):
+            ids = []
+            for which, (lattice, mode) in enumerate(statements):
+                ids += [i for i in lattice_ids(which, lattice, mode) if i not in ids]
+            if ids:
+                (lx, mx), (ly, my) = statements
+                where = f"p = ({lx.formula(0)}, {ly.formula(1)})"
+                weights = {"linear": _("weights that follow p"), "swapped": _("swapped weights"),
+                           "constant": _("the same weight for both texels"), "nearest": _("no blend (one texel)")}
+                sentence = _("Measured on every face size: along x your readTexture reads around %(where)s with "
+                             "%(wx)s; along y with %(wy)s.") % {"where": where, "wx": weights[mx], "wy": weights[my]}
+                for i in ids:
+                    if i == "nearest-neighbor" and any(d.id == i for d in found):
+                        continue
+                    found.append(Diagnosis(i, sentence))
+                negative = [m for m in answered if (np.nan_to_num(m.student.weights) < -fp.TAP).any()]
+                if negative and any(lat.offset < 0 for lat in (lx, ly)):
+                    m = negative[0]
+                    i = int(np.flatnonzero((np.nan_to_num(m.student.weights) < -fp.TAP).any(axis=(1, 2)))[0])
+                    found.append(Diagnosis("truncation-of-negatives", _(
+                        "readTexture gives a texel a negative weight where p is below 0: (int) truncates toward "
+                        "zero. ") + worked_case(m, i)))
+    found += [d for d in edge_ids(measured, failures) if d.id not in {f.id for f in found}]
+    wrong = _first_wrong(measured)
+    if wrong is not None:
+        lines.append(worked_case(*wrong))
+    return found, lines
 
 
 @check()
 def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
-    total = matched = single = answered = given = 0
-    lines, diagnoses = [], []
-    worked_at: tuple[int, float, float, np.ndarray] | None = None
-    by_size = []
-    face_total = np.zeros((len(FACE_SIZES), 6), np.int64)   # generic (u, v) answered, per size and face
-    face_matched = np.zeros((len(FACE_SIZES), 6), np.int64)
-    for w, h in FACE_SIZES:
-        size_total, size_matched = total, matched
-        uv = sample_points(w, h)
-        like_judges = generic(uv, w, h)
-        for kind, faces in (("random", random_faces(w, h, ctx.seed)), ("coordinate", coordinate_faces(w, h))):
-            texels = np.ascontiguousarray(faces, np.float32)
-            ctx.lookups.set_faces(texels)
-            for face in FACES:
-                expected = oracle.current().read_texture(texels, face, uv, "bilinear")
-                tol = tolerance(w, h, float(np.abs(faces[face]).max()))
-                given_here = int(compare(oracle.current().read_texture(texels, face, uv, "nearest"), expected, tol).ok.sum())
-                for placement in ("end", "start"):
-                    outcome = ctx.lookups.read_texture(face, uv, placement)
-                    cmp = compare(outcome.values, expected, tol)
-                    total += len(uv)
-                    matched += int(cmp.ok.sum())
-                    given += given_here
-                    answered_here = like_judges & np.asarray(outcome.evaluated, bool) & np.isfinite(outcome.values).all(axis=1)
-                    face_total[len(by_size), face] += int(answered_here.sum())
-                    face_matched[len(by_size), face] += int((cmp.ok & answered_here).sum())
-                    diagnoses += failure_diagnoses(outcome.failures)
-                    ran = np.asarray(outcome.evaluated, bool) & np.isfinite(outcome.values).all(axis=1)
-                    if kind == "random":
-                        answered += int(ran.sum())
-                        single += int(_single_texel(outcome.values[ran], faces[face]).sum())
-                    if worked_at is None and (w, h) == WORKED_SIZE and kind == "coordinate" and placement == "end":
-                        wrong = [i for i in cmp.failures if ran[i]]
-                        if wrong:
-                            worked_at = (face, float(uv[wrong[0], 0]), float(uv[wrong[0], 1]), uv)
-                    if cmp.fraction < 1.0 and len(lines) < 6:
-                        name = reference.FACE_NAMES[face]
-                        values = {"face": name, "w": w, "h": h}
-                        lines.append(_({
-                            ("random", "end"): N_("Face %(face)s, %(w)dx%(h)d random texels, inaccessible memory right after them:"),
-                            ("random", "start"): N_("Face %(face)s, %(w)dx%(h)d random texels, inaccessible memory right before them:"),
-                            ("coordinate", "end"): N_("Face %(face)s, %(w)dx%(h)d coordinate texels, inaccessible memory right after them:"),
-                            ("coordinate", "start"): N_("Face %(face)s, %(w)dx%(h)d coordinate texels, inaccessible memory right before them:"),
-                        }[kind, placement]) % values)
-                        lines.append(explain(cmp, lambda i: f"readTexture(face {name}, u = {uv[i, 0]:.6g}, v = {uv[i, 1]:.6g})",
-                                             outcome.values, expected, limit=3))
-        by_size.append((matched - size_matched) / max(total - size_total, 1))
-    result.fraction = earned(matched, given, total)
-    result.metrics["cases"] = total
-    result.metrics["given"] = given
+    failures: list = []
+    measured = [_measure(ctx, size, failures) for size in SIZES]
+    counts = [m.counted() for m in measured]
+    matched, counted = sum(c[0] for c in counts), sum(c[1] for c in counts)
+    probes = sum(len(m.student.uv) for m in measured)
+    exact = all(m.matched.all() for m in measured) and not failures
+    result.fraction = matched / counted if counted else 1.0
+    result.metrics["cases"] = counted
     result.metrics["matched"] = matched
-    # The lookup as a member of the model family: every mistake it makes, by
-    # name (several at once), independent of any crash it also causes.
-    fit = tm.fit(ctx.lookups, ctx.seed) if matched < total else None
-    found = mistake_diagnoses(fit.model) if fit is not None and fit.fits else []
-    named = fit is not None and not fit.fits and not fit.constant and fit.share >= NAMED_FIT
-    if named:
-        # Near fits are named, with the share they explain (never at a low fit).
-        found = [Diagnosis(d.id, d.detail + _(" (The closest lookup the grader can model explains "
-                                              "%(share)s of your readTexture's answers.)") % {"share": f"{fit.share:.0%}"})
-                 for d in mistake_diagnoses(fit.closest)]
-    if (fit is not None and not fit.fits and answered and single == answered
-            and not any(d.id == "nearest-neighbor" for d in found)):
-        # Measured, not modelled: every answer on random texels is one texel's colour.
-        found.append(Diagnosis("nearest-neighbor", _("readTexture never blends: each of its %(count)d answers on "
-                                                     "random texels is exactly one texel's colour (nearest neighbour, or weights "
-                                                     "that are always 0 or 1).") % {"count": answered}))
-    result.diagnoses = unique_diagnoses(found + diagnoses)
+    by_size = tuple(c[0] / c[1] if c[1] else 1.0 for c in counts)
+    face_share = [m.face_wrong / np.maximum(m.face_total, 1) for m in measured if m.face_total.sum()]
+    by_face = tuple(float(x) for x in np.min(face_share, axis=0)) if face_share else ()
+    if exact:
+        result.output = _("At all %(total)d (u, v) probed on %(sizes)d face sizes, readTexture reads the texels the "
+                          "handout reads with its weights (u, v at 0, 1, just below 1, texel edges, centres, quarters "
+                          "and random points), and blends random texels as those weights say.") % {
+            "total": probes, "sizes": len(set(SIZES))}
+        return ReadTextureFinding(ok=True, fraction=result.fraction, by_size=by_size, by_face=by_face)
+    found, lines = describe(measured, failures)
+    result.status = FAILED
+    result.diagnoses = unique_diagnoses(found + failure_diagnoses(failures))
+    sizes = and_list([f"{w} x {h}" for w, h in dict.fromkeys(SIZES)])
+    result.output = "\n\n".join([
+        _("Of the %(counted)d (u, v) probes that count, %(wrong)d read other texels or weights than the handout's "
+          "(faces %(sizes)s; the weights of every texel were measured with textures that are 1 on one texel and 0 "
+          "elsewhere). A probe counts where the handout blends texels, and where it reads one texel only if yours "
+          "differs.") % {"counted": counted, "wrong": counted - matched, "sizes": sizes},
+        *([_("What the measurements prove:") + "\n" + "\n".join(f"- {d.detail}" for d in found)] if found else
+          [_("No single mistake explains every measurement; one of them, in numbers:")]),
+        *lines])
     mistake = found[0].id if found else None
-    if matched < total:
-        result.status = FAILED
-        if fit is None or fit.constant:
-            model_text = _("readTexture returns the same colour wherever it reads.")
-        elif fit.fits:
-            model_text = (_("What your readTexture does, found from textures that encode their positions.") + " "
-                          + tm.describe_model(fit.model))
-        elif named:
-            model_text = (_("No lookup the grader can model reproduces all your readTexture's answers. The closest "
-                            "explains %(share)s of them:") % {"share": f"{fit.share:.0%}"} + " " + tm.describe_model(fit.closest))
-        else:
-            # Below NAMED_FIT a model would be a guess: one call, measured.
-            model_text = _("No lookup the grader can model reproduces your readTexture's answers.") + " " + (
-                worked_case(ctx.lookups, *worked_at) if worked_at is not None else "")
-        result.output = (_("%(wrong)d of %(total)d readTexture calls differ from the reference bilinear filter.")
-                         % {"wrong": total - matched, "total": total} + " "
-                         + _("The starting code already answers %(given)d of the %(total)d calls as the handout does, and points "
-                             "are for what differs from it: max(0, %(matched)d - %(given)d) / (%(total)d - %(given)d) = "
-                             "%(share)s.") % {"given": given, "matched": matched, "total": total,
-                                             "share": f"{shown(result.fraction):.2%}"}
-                         + "\n\n" + model_text + "\n\n" + "\n".join(lines))
-    else:
-        result.output = _("All %(total)d readTexture calls match the reference (u, v at 0, 1, texel boundaries, "
-                          "centres and points between them).") % {"total": total}
-    return ReadTextureFinding(ok=matched == total, mistake=mistake, fit=fit, fraction=result.fraction,
-                              by_size=tuple(by_size),
-                              by_face=_best_size_per_face(face_matched, face_total))
+    return ReadTextureFinding(ok=False, mistake=mistake, fraction=result.fraction, by_size=by_size, by_face=by_face)

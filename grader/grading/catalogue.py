@@ -456,6 +456,39 @@ _ENTRIES = [
     ),
     # ---- filtering (readTexture) -----------------------------------------
     DiagnosisInfo(
+        "kept-between-calls", "filtering",
+        N_("readTexture keeps something from an earlier call"),
+        N_("On the same face size and texels, your readTexture read other texels "
+        "after it had been called on a face of another size than it does when it "
+        "is called first. Something computed once is reused: a face size kept in "
+        "a static variable, a cache, a lookup table built on the first call."),
+        N_("Compute everything readTexture needs from its arguments and "
+        "`m_FaceWidth`, `m_FaceHeight` on every call: no `static` variables, no "
+        "caches."),
+    ),
+    DiagnosisInfo(
+        "not-a-blend", "filtering",
+        N_("readTexture's answer is not a blend of the texels it reads"),
+        N_("The grader measured which texels your readTexture reads, and with what "
+        "weights, on textures that are 1 on one texel and 0 elsewhere. On a random "
+        "texture its answer was not those weights applied to the texels: the "
+        "answer depends on the texels' values in another way (a test on the "
+        "colour, a maximum, a channel mixed with another), on the face, or on "
+        "earlier calls."),
+        N_("Return `(1-beta) c0 + beta c1` with `c0`, `c1` from equations (1) and "
+        "(2): weights that depend on u and v only, the same for R, G and B, and no "
+        "test on the texels' values."),
+    ),
+    DiagnosisInfo(
+        "texel-index-transposed", "filtering",
+        N_("readTexture's texel index is transposed"),
+        N_("Your readTexture reads the texel the handout reads at (x, y) from "
+        "`addr[3 * (x * W + y)]`: on a square face that is texel (y, x), on other "
+        "faces a texel of another row, or memory past the face."),
+        N_("Index the texel at `addr[3 * (y * m_FaceWidth + x)]`: y selects the "
+        "row (y = 0 the bottom row), x the column."),
+    ),
+    DiagnosisInfo(
         "nearest-neighbor", "filtering",
         N_("readTexture still returns the nearest texel"),
         N_("readTexture returns a single texel, as the starting code does, so "

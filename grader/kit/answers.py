@@ -4,10 +4,9 @@ the grader's own checks with the kit's seed, so that the kit can run those
 same checks (grader.envmap.oracle.Replay) without the lookup.
 
 Almost every question a check asks depends on the seed alone (directions,
-(u, v) points, textures), not on the submission's answers, so one run down
-each path records them: a submission answering as the handout does, and one
-whose readTexture never answers (read_texture's worked case, asked per face
-over the whole sample set). tests/unit/envmap/test_oracle.py replays submissions the
+(u, v) points, textures), not on the submission's answers, so one run of a
+submission answering as the handout does records them (read_texture's worked
+cases come from footprints it measured already). tests/unit/envmap/test_oracle.py replays submissions the
 recording never saw and finds every answer. Speed is left out (grader.kit.NOT_IN_KIT): it
 times the live reference, which the kit cannot do.
 """
@@ -21,7 +20,6 @@ from ..envmap import oracle
 from ..grading import score
 from ..checks import all_checks, run_checks
 from ..checks.context import CheckContext
-from ..checks.read_texture import FACES, WORKED_SIZE, sample_points, worked_case
 from ..worker.runner import Outcome
 from . import ANSWERS, KIT_SEED, NOT_IN_KIT  # noqa: F401 (grade --kit-inputs reads them here)
 
@@ -50,13 +48,7 @@ class _AsTheHandout:
         raise NotImplementedError
 
 
-class _NeverAnswers(_AsTheHandout):
-    def read_texture(self, face, uv, placement="end"):
-        uv = np.asarray(uv, np.float64).reshape(-1, 2)
-        return Outcome(values=np.full((len(uv), 3), np.nan), evaluated=np.zeros(len(uv), bool))
 
-
-def kit_checks() -> list:
     return [c for c in all_checks().values() if c.name not in NOT_IN_KIT]
 
 
@@ -71,8 +63,5 @@ def record(path: Path, artifacts: Path, seed: int = KIT_SEED, quick: bool = Fals
         ctx = CheckContext(lookups=_AsTheHandout(recorder), seed=seed, artifacts=artifacts, quick=quick,
                            settings=score.load_rubric().get("checks", {}))   # as grader.grading.grade passes them
         run_checks(checks, ctx, [c.name for c in checks])
-        points = sample_points(*WORKED_SIZE)
-        for face in FACES:
-            worked_case(_NeverAnswers(recorder), face, *points[0], among=points)
     recorder.save(path)
     return len(recorder.answers)
