@@ -270,6 +270,41 @@ def lattice_ids(which: int, lattice: Lattice, mode: str) -> list[str]:
     return ids
 
 
+# What each axis statement proves, one sentence per id (the measurement follows it).
+PROVES = {
+    "weights-swapped": N_("readTexture gives the texel nearer to p the smaller weight."),
+    "constant-weights": N_("readTexture gives the texels it blends the same weight wherever p is."),
+    "half-texel-offset": N_("readTexture reads half a texel away from p = (uW, vH)."),
+    "texel-offset": N_("readTexture reads a whole texel away from p = (uW, vH)."),
+    "scaled-by-size-minus-one": N_("readTexture scales u or v by the size minus 1."),
+    "scaled-by-size-plus-one": N_("readTexture scales u or v by the size plus 1."),
+    "rows-flipped": N_("readTexture counts rows from the top (row H - 1 - y)."),
+    "columns-flipped": N_("readTexture counts columns from the right (column W - 1 - x)."),
+    "texture-u-flipped": N_("readTexture runs u from right to left (1 - u)."),
+    "texture-v-flipped": N_("readTexture runs v from top to bottom (1 - v)."),
+    "texture-uv-swapped": N_("readTexture picks the column with v and the row with u."),
+    "width-height-swapped": N_("readTexture scales one coordinate by the other axis's size."),
+}
+
+
+def axis_words(lattice: Lattice, mode: str, which: int) -> str:
+    """One axis of the footprint in words: where and how it reads."""
+    t = lattice.formula(which)
+    if mode == "nearest":
+        if lattice.offset == 0.5:
+            t = Lattice(lattice.source, lattice.size, lattice.scale, 0.0, lattice.flip).formula(which)
+            text = _("reads the one texel nearest to %(t)s") % {"t": t}
+        else:
+            text = _("reads the one texel at floor(%(t)s)") % {"t": t}
+    else:
+        text = {"linear": _("blends the two texels around %(t)s with weights that follow it"),
+                "swapped": _("blends the two texels around %(t)s with the weights swapped"),
+                "constant": _("blends the two texels around %(t)s with equal weights")}[mode] % {"t": t}
+    if lattice.flip == "index":
+        text += " " + (_("(columns counted from the right)"), _("(rows counted from the top)"))[which]
+    return text
+
+
 def transposed(measured: list[Measured]) -> bool:
     """Every answered probe reads the handout's texels (x, y) at flat index
     x * W + y instead of y * W + x (where that index is inside the face),
@@ -451,15 +486,10 @@ def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis],
                 ids += [i for i in lattice_ids(which, lattice, mode) if i not in ids]
             if ids:
                 (lx, mx), (ly, my) = statements
-                where = f"p = ({lx.formula(0)}, {ly.formula(1)})"
-                weights = {"linear": _("weights that follow p"), "swapped": _("swapped weights"),
-                           "constant": _("the same weight for both texels"), "nearest": _("no blend (one texel)")}
-                sentence = _("Measured on every face size: along x your readTexture reads around %(where)s with "
-                             "%(wx)s; along y with %(wy)s.") % {"where": where, "wx": weights[mx], "wy": weights[my]}
+                measured_words = _("Measured on every face size, along x it %(x)s; along y it %(y)s.") % {
+                    "x": axis_words(lx, mx, 0), "y": axis_words(ly, my, 1)}
                 for i in ids:
-                    if i == "nearest-neighbor" and any(d.id == i for d in found):
-                        continue
-                    found.append(Diagnosis(i, sentence))
+                    found.append(Diagnosis(i, _(PROVES[i]) + " " + measured_words))
                 negative = [m for m in answered if (np.nan_to_num(m.student.weights) < -fp.TAP).any()]
                 if negative and any(lat.offset < 0 for lat in (lx, ly)):
                     m = negative[0]
