@@ -59,6 +59,57 @@ FACES = (0, 1, 2, 3, 4, 5)
 PLACEMENTS = ("end", "start")
 
 
+# A face larger than any measured, checked on answers alone (a footprint
+# there would take a thousand textures): code that answers otherwise on
+# large faces, as the judges' are, than on small ones shows here.
+BIG = (96, 80)
+
+
+def big_points(width: int, height: int, seed: int) -> np.ndarray:
+    """(n, 2) (u, v) on a big face where the handout blends: random points
+    whose lattice points are inside the face, and the same with one
+    coordinate at 0, 1, just below 1 or a texel edge."""
+    rng = np.random.default_rng([seed, width, height, 1])
+
+    def inner(n, size):
+        return (1 + rng.random(n) * (size - 2)) / size
+
+    edges_u = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], rng.integers(1, width, 9) / width])
+    edges_v = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], rng.integers(1, height, 9) / height])
+    return np.concatenate([np.stack([inner(300, width), inner(300, height)], axis=1),
+                           np.stack([np.repeat(edges_u, 8), inner(8 * len(edges_u), height)], axis=1),
+                           np.stack([inner(8 * len(edges_v), width), np.repeat(edges_v, 8)], axis=1)])
+
+
+@dataclass
+class Answers:
+    """The big face: where every answer on random texels was the handout's."""
+    uv: np.ndarray
+    right: np.ndarray           # (n,)
+    case: tuple | None          # (face, i, expected, actual) of the first that was not
+
+
+def _answers(ctx: CheckContext, failures: list) -> Answers:
+    w, h = BIG
+    uv = big_points(w, h, ctx.seed)
+    texels = np.ascontiguousarray(random_faces(w, h, ctx.seed), np.float32)
+    ctx.lookups.set_faces(texels)
+    right, case = np.ones(len(uv), bool), None
+    for face in FACES:
+        expected = oracle.current().read_texture(texels, face, uv, "bilinear")
+        tol = tolerance(w, h, float(np.abs(texels[face]).max()))
+        for placement in PLACEMENTS:
+            out = ctx.lookups.read_texture(face, uv, placement)
+            failures.extend(out.failures)
+            values = np.asarray(out.values, np.float64)
+            same = compare(values, expected, tol).ok & np.asarray(out.evaluated, bool)
+            if case is None and not same.all():
+                i = int(np.flatnonzero(~same)[0])
+                case = (face, i, expected[i], values[i])
+            right &= same
+    return Answers(uv, right, case)
+
+
 def generic(uv: np.ndarray, width: int, height: int) -> np.ndarray:
     """(n,) neither u nor v is 0, 1, a texel boundary or a centre, and no
     lattice point is outside the face: (u, v) like most of the judges'."""
@@ -427,7 +478,7 @@ DIAGNOSIS_IDS = ("nearest-neighbor", "weights-swapped", "constant-weights", "hal
                  "truncation-of-negatives", "unclamped-edge", "wrapped-edge", "scaled-by-size-minus-one",
                  "scaled-by-size-plus-one", "rows-flipped", "columns-flipped", "texture-u-flipped",
                  "texture-v-flipped", "texture-uv-swapped", "width-height-swapped", "texel-index-transposed",
-                 "not-a-blend", "kept-between-calls")
+                 "not-a-blend", "kept-between-calls", "face-size-dependent")
 
 
 def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis], list[str]]:
@@ -511,31 +562,47 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
     failures: list = []
     measured = [_measure(ctx, size, failures) for size in SIZES]
-    counts = [m.counted() for m in measured]
+    big = _answers(ctx, failures)
+    counts = [m.counted() for m in measured] + [(int(big.right.sum()), len(big.uv))]
     matched, counted = sum(c[0] for c in counts), sum(c[1] for c in counts)
-    probes = sum(len(m.student.uv) for m in measured)
-    exact = all(m.matched.all() for m in measured) and not failures
-    result.fraction = matched / counted if counted else 1.0
+    probes = sum(len(m.student.uv) for m in measured) + len(big.uv)
+    exact = all(m.matched.all() for m in measured) and big.right.all() and not failures
+    # Scored on the face size where it does worst: code right on some sizes
+    # only (a static, a path for small faces) is not right on the judges'.
+    result.fraction = min(c[0] / c[1] for c in counts if c[1]) if counted else 1.0
     result.metrics["cases"] = counted
     result.metrics["matched"] = matched
-    by_size = tuple(c[0] / c[1] if c[1] else 1.0 for c in counts)
+    by_size = tuple(c[0] / c[1] if c[1] else 1.0 for c in counts[:len(SIZES)])
     face_share = [m.face_wrong / np.maximum(m.face_total, 1) for m in measured if m.face_total.sum()]
     by_face = tuple(float(x) for x in np.min(face_share, axis=0)) if face_share else ()
     if exact:
         result.output = _("At all %(total)d (u, v) probed on %(sizes)d face sizes, readTexture reads the texels the "
                           "handout reads with its weights (u, v at 0, 1, just below 1, texel edges, centres, quarters "
-                          "and random points), and blends random texels as those weights say.") % {
-            "total": probes, "sizes": len(set(SIZES))}
+                          "and random points), and blends random texels as those weights say; on a %(w)d x %(h)d face "
+                          "of random texels it answers as the handout does.") % {
+            "total": probes, "sizes": len(set(SIZES)), "w": BIG[0], "h": BIG[1]}
         return ReadTextureFinding(ok=True, fraction=result.fraction, by_size=by_size, by_face=by_face)
     found, lines = describe(measured, failures)
+    if big.case is not None and all(m.matched.all() for m in measured):
+        face, i, expected, actual = big.case
+        found.append(Diagnosis("face-size-dependent", _(
+            "readTexture answers as the handout does on every small face measured, and otherwise on a "
+            "%(w)d x %(h)d face: at u = %(u)s, v = %(v)s on face %(face)s of random texels the handout gives "
+            "%(expected)s, yours %(actual)s.") % {
+            "w": BIG[0], "h": BIG[1], "u": _number(big.uv[i, 0]), "v": _number(big.uv[i, 1]),
+            "face": reference.FACE_NAMES[face], "expected": "(" + ", ".join(_number(x) for x in expected) + ")",
+            "actual": "(" + ", ".join(_number(x) for x in actual) + ")"}))
     result.status = FAILED
     result.diagnoses = unique_diagnoses(found + failure_diagnoses(failures))
     sizes = and_list([f"{w} x {h}" for w, h in dict.fromkeys(SIZES)])
     result.output = "\n\n".join([
         _("Of the %(counted)d (u, v) probes that count, %(wrong)d read other texels or weights than the handout's "
           "(faces %(sizes)s; the weights of every texel were measured with textures that are 1 on one texel and 0 "
-          "elsewhere). A probe counts where the handout blends texels, and where it reads one texel only if yours "
-          "differs.") % {"counted": counted, "wrong": counted - matched, "sizes": sizes},
+          "elsewhere), or answered otherwise on a %(w)d x %(h)d face of random texels. A probe counts where the "
+          "handout blends texels, and where it reads one texel only if yours differs. The score is the share right "
+          "on the face size where it is lowest (%(worst)s).") % {
+            "counted": counted, "wrong": counted - matched, "sizes": sizes, "w": BIG[0], "h": BIG[1],
+            "worst": f"{result.fraction:.1%}"},
         *([_("What the measurements prove:") + "\n" + "\n".join(f"- {d.detail}" for d in found)] if found else
           [_("No single mistake explains every measurement; one of them, in numbers:")]),
         *lines])

@@ -467,6 +467,16 @@ _ENTRIES = [
         "caches."),
     ),
     DiagnosisInfo(
+        "face-size-dependent", "filtering",
+        N_("readTexture answers otherwise on large faces"),
+        N_("On every small face the grader measured, your readTexture answered as "
+        "the handout's equations do; on a large face of random texels it did not. "
+        "The code takes another path for some face sizes (a test on m_FaceWidth "
+        "or m_FaceHeight, a size limit, an array of fixed size)."),
+        N_("Use one computation for every face size: p = (u*W, v*H), the four "
+        "lattice points clamped to the face, equations (1)-(3)."),
+    ),
+    DiagnosisInfo(
         "not-a-blend", "filtering",
         N_("readTexture's answer is not a blend of the texels it reads"),
         N_("The grader measured which texels your readTexture reads, and with what "

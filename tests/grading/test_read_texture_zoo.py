@@ -29,7 +29,9 @@ from grader.worker.lookups import open_lookups
 from grading_cache import grade_once
 
 ZOO = Path(__file__).resolve().parent.parent / "submissions" / "footprint"
-NAMES = sorted(p.stem for p in ZOO.glob("*.cpp"))
+# blind/: shapes graded blind (truth committed before the first grading);
+# attacks/: a motivated student's attacks on the footprint.
+NAMES = sorted(p.relative_to(ZOO).with_suffix("").as_posix() for p in ZOO.rglob("*.cpp"))
 ONLY = GradeOptions(quick=True, only=("read_texture",))
 
 
@@ -143,7 +145,39 @@ def brightest_of_four(face, u, v):
     return texels[np.arange(len(u)), np.argmax(sums, axis=1)]
 
 
+def pbrt_bilerp(face, u, v):
+    h, w = face.shape[:2]
+    x = (u.astype(np.float32) * np.float32(w) - np.float32(0.5)).astype(np.float64)
+    y = (v.astype(np.float32) * np.float32(h) - np.float32(0.5)).astype(np.float64)
+    xi, yi = np.floor(x).astype(int), np.floor(y).astype(int)
+    cx = lambda i: np.clip(i, 0, w - 1)   # noqa: E731
+    cy = lambda i: np.clip(i, 0, h - 1)   # noqa: E731
+    return _bilinear(face, x, y, cx(xi), cx(xi + 1), cy(yi), cy(yi + 1), x - xi, y - yi)
+
+
+def engine_repeat_sampler(face, u, v):
+    h, w = face.shape[:2]
+    x, y = u * w - 0.5, v * h - 0.5
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    return _bilinear(face, x, y, np.mod(x0, w), np.mod(x0 + 1, w), np.mod(y0, h), np.mod(y0 + 1, h), x - x0, y - y0)
+
+
+def bilinear_on_impulses_only(face, u, v):
+    """On random texels (never exactly 0 or 1): the texel (x0, y0)."""
+    return assignment_model.read_nearest(face[None], np.zeros(len(u), int), u, v)
+
+
+def bilinear_on_small_faces_only(face, u, v):
+    h, w = face.shape[:2]
+    read = assignment_model.read_nearest if w >= 32 or h >= 32 else assignment_model.read_bilinear
+    return read(face[None], np.zeros(len(u), int), u, v)
+
+
 READS = {
+    "blind/pbrt-bilerp_switch": pbrt_bilerp,
+    "blind/engine-repeat-sampler_table": engine_repeat_sampler,
+    "attacks/bilinear-on-impulses-only_if-chain": bilinear_on_impulses_only,
+    "attacks/bilinear-on-small-faces-only_switch": bilinear_on_small_faces_only,
     "nearest-round-size-minus-one_if-chain": nearest_round_size_minus_one,
     "box-quarter-weights-top-down_table": box_quarter_weights_top_down,
     "single-texel-last-row-column_switch": single_texel_last_row_column,
@@ -164,11 +198,11 @@ def truth(name: str) -> dict:
 
 
 def test_every_file_has_both_truths():
-    assert set(NAMES) == set(READS) == {p.stem for p in ZOO.glob("*.json")}
+    assert set(NAMES) == set(READS) == {p.relative_to(ZOO).with_suffix("").as_posix() for p in ZOO.rglob("*.json")}
 
 
 # (W, H): square and not; one size per worker process, so a static is fresh.
-SIZES = ((7, 5), (4, 10), (6, 6))
+SIZES = ((7, 5), (4, 10), (6, 6), (40, 33))
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -194,6 +228,14 @@ def test_the_restated_read_is_the_code_and_is_wrong(name, rng):
             handout = assignment_model.read_bilinear(faces, np.full(len(uv), 2), uv[:, 0], uv[:, 1])
             differs |= not np.allclose(got[known], handout[known], atol=1e-4)
     assert differs or name == "static-face-size_table", name   # a static is right in a fresh process
+
+
+@pytest.mark.parametrize("name", [n for n in NAMES if n.startswith("attacks/")])
+def test_an_attack_on_the_footprint_earns_no_more_than_the_starting_code(name, tmp_path):
+    attack = grade_once(ZOO / f"{name}.cpp", tmp_path / "a", ONLY, write_reports=False)
+    template = grade_once(Path(__file__).resolve().parents[2] / "student_template" / "EnvironmentMap.cpp",
+                          tmp_path / "b", ONLY, write_reports=False)
+    assert attack.checks[0].score <= template.checks[0].score == 0.0, attack.checks[0].output
 
 
 def filtering(ids) -> set:

@@ -1,0 +1,132 @@
+"""readTexture's measured footprint (grader/checks/instruments/footprint.py)
+and the read_texture check that judges and describes it, on in-process
+fakes (tests/fake_lookups.py): milliseconds, no compiler. Expected weights
+are worked out here by hand from the handout's equations (1)-(3)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fake_lookups import FakeLookups
+from grader import reference
+from grader.checks import read_texture as rt
+from grader.checks.context import CheckContext
+from grader.checks.instruments import footprint as fp
+from grader.results import FAILED, PASSED, CheckResult
+
+
+def reference_read(uv):
+    return lambda faces: reference.CubeMap(faces).read_texture(fp.FACE, uv, "bilinear")
+
+
+def test_impulses_measure_the_handouts_weights():
+    # 4 x 3 face. u = 1.5/4: p.x = 1.5, columns 1 and 2, half each; v = 1.25/3:
+    # p.y = 1.25, rows 1 and 2 with 0.75 and 0.25. u = 1, v = 0: the clamped corner.
+    uv = np.array([[1.5 / 4, 1.25 / 3], [1.0, 0.0]])
+    print_ = fp.measure(reference_read(uv), (4, 3), uv)
+    expected = np.zeros((2, 3, 4))
+    expected[0, 1, 1:3], expected[0, 2, 1:3] = 0.375, 0.125
+    expected[1, 0, 3] = 1.0
+    np.testing.assert_allclose(print_.weights, expected, atol=1e-6)
+    assert print_.taps(1) == [(3, 0, 1.0)]
+    assert print_.separable.all() and print_.answered.all()
+
+
+def test_a_linear_read_is_predicted_on_any_texels(rng):
+    uv = fp.probe_points(5, 4, seed=3)
+    print_ = fp.measure(reference_read(uv), (5, 4), uv)
+    texels = rng.random((6, 4, 5, 3), dtype=np.float32)
+    np.testing.assert_allclose(fp.predict(print_, texels[fp.FACE]), reference_read(uv)(texels), atol=1e-6)
+
+
+def test_probes_include_where_lookups_differ():
+    c = fp.probe_coordinates(4, np.random.default_rng(0))
+    for want in (0.0, 1.0, 1 - 2.0 ** -20, 0.25, 0.75, 0.125, 0.875, 0.0625):
+        assert np.isclose(c, want, rtol=0, atol=1e-12).any(), want
+
+
+def run_check(lookups) -> tuple[CheckResult, rt.ReadTextureFinding]:
+    ctx = CheckContext(lookups=lookups, seed=11, artifacts=Path("/nonexistent"), quick=True)
+    result = CheckResult(name="read_texture", title="")
+    finding = rt.read_texture(ctx, result)
+    return result, finding
+
+
+def test_the_handouts_read_passes_with_every_probe():
+    result, finding = run_check(FakeLookups())
+    assert (result.status, result.fraction, result.diagnoses) == (PASSED, 1.0, []) and finding.ok
+    assert finding.face_mismatch == (0.0,) * 6
+
+
+def test_the_starting_codes_nearest_texel_scores_nothing():
+    result, finding = run_check(FakeLookups(texture="nearest"))
+    assert result.status == FAILED and result.fraction == 0.0
+    assert [d.id for d in result.diagnoses] == ["nearest-neighbor"] and finding.mistake == "nearest-neighbor"
+
+
+@pytest.mark.parametrize("texture, ids", [
+    ("half-texel", ["half-texel-offset"]),
+    ("size-minus-one", ["scaled-by-size-minus-one"]),
+    ("u-flipped", ["texture-u-flipped"]),
+    ("v-flipped", ["texture-v-flipped"]),
+    ("uv-swapped", ["texture-uv-swapped"]),      # the fake reads at (v, u): x = vW, y = uH
+    ("out-of-bounds", ["unclamped-edge", "out-of-bounds-read"]),
+])
+def test_a_mistake_is_named_from_its_footprint(texture, ids):
+    result, _finding = run_check(FakeLookups(texture=texture))
+    assert sorted(d.id for d in result.diagnoses) == sorted(ids), result.output
+
+
+class ContentDependent(FakeLookups):
+    """The handout's read, except that an answer above 0.5 in red is halved:
+    a test on the colour, invisible on impulses whose 1 is in G or B."""
+
+    def read_texture(self, face, uv, placement="end"):
+        out = super().read_texture(face, uv, placement)
+        values = out.values.copy()
+        values[values[:, 0] > 0.5, 0] *= 0.5
+        out.values = values
+        return out
+
+
+def test_answers_that_are_no_blend_of_the_texels_are_said_to_be_none():
+    result, _finding = run_check(ContentDependent())
+    assert [d.id for d in result.diagnoses][:1] == ["not-a-blend"], result.output
+    assert result.fraction < 1.0
+
+
+class SizeKept(FakeLookups):
+    """The face size of the first call kept, as a static would."""
+
+    def __init__(self):
+        super().__init__()
+        self.kept = None
+
+    def set_faces(self, faces):
+        if self.kept is None or faces.shape[1] * faces.shape[2] != self.faces.shape[1] * self.faces.shape[2]:
+            self.kept = faces.shape[1:3]      # a new texel count: a new worker process, a fresh static
+        super().set_faces(faces)
+
+    def read_texture(self, face, uv, placement="end"):
+        h, w = self.faces.shape[1:3]
+        kh, kw = self.kept
+        flat = self.faces[face].reshape(-1, 3)
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        # The handout's bilinear with (kw, kh) for (W, H), indexing the flat face with kw.
+        px, py = uv[:, 0] * kw, uv[:, 1] * kh
+        x0, y0 = np.floor(px), np.floor(py)
+        a, b = (px - x0)[:, None], (py - y0)[:, None]
+        cx = lambda x: np.clip(x, 0, kw - 1).astype(int)   # noqa: E731
+        cy = lambda y: np.clip(y, 0, kh - 1).astype(int)   # noqa: E731
+        at = lambda x, y: flat[np.minimum(cy(y) * kw + cx(x), w * h - 1)].astype(np.float64)   # noqa: E731
+        values = (1 - b) * ((1 - a) * at(x0, y0) + a * at(x0 + 1, y0)) + b * ((1 - a) * at(x0, y0 + 1) + a * at(x0 + 1, y0 + 1))
+        return self._outcome(values, np.zeros(len(uv), bool), None, "readTexture")
+
+
+def test_a_size_kept_from_an_earlier_call_shows_on_the_second_size_in_a_process():
+    result, finding = run_check(SizeKept())
+    assert [d.id for d in result.diagnoses] == ["kept-between-calls"], result.output
+    # Right on the first size of each process, wrong on 3 x 4 after 4 x 3: scored there.
+    assert finding.by_size[0] == 1.0 and finding.by_size[1] < 0.5 and result.fraction == min(finding.by_size)
