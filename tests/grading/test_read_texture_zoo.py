@@ -15,6 +15,7 @@ Measure (any version of the grader):
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +26,9 @@ from grader import diagnoses as catalogue
 from grader.build import build_submission
 from grader.grade import GradeOptions
 from grader.results import GRADED
+from grader.worker import sandbox
 from grader.worker.lookups import open_lookups
+from fake_bwrap import write_failing_bwrap
 from grading_cache import grade_once
 
 ZOO = Path(__file__).resolve().parent.parent / "submissions" / "footprint"
@@ -280,3 +283,36 @@ def exact_share(names=NAMES) -> list[str]:
 
 if __name__ == "__main__":
     print("\n".join(exact_share()))
+
+
+# ---- both production isolation modes -------------------------------------------
+
+@pytest.fixture(params=["bubblewrap", "privilege-drop"])
+def mode(request, tmp_path, monkeypatch):
+    """Bubblewrap as it runs here, and privilege-drop (root with a failing
+    `bwrap` first on PATH, as in a container without user namespaces)."""
+    if request.param == "bubblewrap" and sandbox.sandbox_problem() is not None:
+        pytest.skip(f"bubblewrap does not run here: {sandbox.sandbox_problem()}")
+    if request.param == "privilege-drop":
+        if os.geteuid() != 0:
+            pytest.skip("privilege-drop mode needs root")
+        monkeypatch.setenv("PATH", f"{write_failing_bwrap(tmp_path / 'fakebin')}:{os.environ.get('PATH', '/usr/bin:/bin')}")
+    sandbox.sandbox_problem.cache_clear()
+    yield request.param
+    sandbox.sandbox_problem.cache_clear()
+
+
+# What depends on the worker: state kept across sizes in one process, reads
+# past the face caught by guard pages, and the attacks.
+IN_BOTH_MODES = ("static-face-size_table", "transposed-index-clamped_if-chain",
+                 "attacks/bilinear-on-impulses-only_if-chain", "attacks/bilinear-on-small-faces-only_switch")
+
+
+@pytest.mark.parametrize("name", IN_BOTH_MODES)
+def test_the_verdict_is_the_same_in_both_isolation_modes(name, mode, tmp_path):
+    result = grade_once(ZOO / f"{name}.cpp", tmp_path, ONLY, write_reports=False)
+    assert result.isolation == mode
+    check = result.checks[0]
+    causes = {i for i, _ in truth(name)["causes"]}
+    assert causes <= {d.id for d in check.diagnoses} <= causes | set(truth(name)["symptoms"]), check.output
+    assert check.score < check.max_score and (check.score == 0.0 or not name.startswith("attacks/"))
