@@ -41,6 +41,7 @@ SUBSET = [SUBMISSIONS / name for name in (
     "compound/float-args_wh-swapped.cpp",
     "correct/idiomatic.cpp",
     "correct_lead/if_chains.cpp",
+    "footprint/box-quarter-weights-top-down_table.cpp",
     "hostile/read_secrets.cpp",
     "offmodel/attack18/half-texel-fetch_handout-read.cpp",
     "patterns/rotated-90-every-face_table.cpp",
