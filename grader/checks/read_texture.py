@@ -5,7 +5,6 @@ same way from the reference. A mistake is named only when the footprint
 proves it; otherwise one call is shown in numbers."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,10 +123,8 @@ class Measured:
     """One face size: both footprints and what the random texture showed."""
     student: fp.Footprint
     handout: fp.Footprint
-    answered: np.ndarray    # (n,) every answer on the random texture was finite
     right: np.ndarray       # (n,) every answer on the random texture was the handout's
-    linear: np.ndarray      # (n,) every finite answer was the footprint's blend of the texels
-    unlinear_case: tuple | None     # (face, placement, i, predicted, actual) where it was not
+    unlinear_case: tuple | None     # (face, placement, i, predicted, actual): an answer no blend of the footprint
     face_total: np.ndarray  # (6,) generic (u, v) answered, per face
     face_wrong: np.ndarray  # (6,) of those, how many differed from the handout's
 
@@ -168,7 +165,7 @@ def _measure(ctx: CheckContext, size: tuple[int, int], failures: list) -> Measur
     student, ref = fp.measure(theirs, size, uv), fp.measure(handout, size, uv)
     texels = np.ascontiguousarray(random_faces(w, h, ctx.seed), np.float32)
     ctx.lookups.set_faces(texels)
-    answered, right, linear = np.ones(len(uv), bool), np.ones(len(uv), bool), np.ones(len(uv), bool)
+    right = np.ones(len(uv), bool)
     unlinear_case = None
     like_judges = generic(uv, w, h)
     face_total, face_wrong = np.zeros(6, np.int64), np.zeros(6, np.int64)
@@ -188,13 +185,11 @@ def _measure(ctx: CheckContext, size: tuple[int, int], failures: list) -> Measur
             if unlinear_case is None and odd.any():
                 i = int(np.flatnonzero(odd)[0])
                 unlinear_case = (face, placement, i, predicted[i], values[i])
-            answered &= finite
             right &= same
-            linear &= ~odd
             here = like_judges & finite
             face_total[face] += int(here.sum())
             face_wrong[face] += int((here & ~same).sum())
-    return Measured(student, ref, answered, right, linear, unlinear_case, face_total, face_wrong)
+    return Measured(student, ref, right, unlinear_case, face_total, face_wrong)
 
 
 # ---- readTexture described from its footprint -------------------------------
@@ -565,7 +560,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     big = _answers(ctx, failures)
     counts = [m.counted() for m in measured] + [(int(big.right.sum()), len(big.uv))]
     matched, counted = sum(c[0] for c in counts), sum(c[1] for c in counts)
-    probes = sum(len(m.student.uv) for m in measured) + len(big.uv)
+    probes = sum(len(m.student.uv) for m in measured)
     exact = all(m.matched.all() for m in measured) and big.right.all() and not failures
     # Scored on the face size where it does worst: code right on some sizes
     # only (a static, a path for small faces) is not right on the judges'.
@@ -578,9 +573,9 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     if exact:
         result.output = _("At all %(total)d (u, v) probed on %(sizes)d face sizes, readTexture reads the texels the "
                           "handout reads with its weights (u, v at 0, 1, just below 1, texel edges, centres, quarters "
-                          "and random points), and blends random texels as those weights say; on a %(w)d x %(h)d face "
-                          "of random texels it answers as the handout does.") % {
-            "total": probes, "sizes": len(set(SIZES)), "w": BIG[0], "h": BIG[1]}
+                          "and random points), and blends random texels as those weights say; at all %(big)d (u, v) on a "
+                          "%(w)d x %(h)d face of random texels it answers as the handout does.") % {
+            "total": probes, "sizes": len(set(SIZES)), "big": len(big.uv), "w": BIG[0], "h": BIG[1]}
         return ReadTextureFinding(ok=True, fraction=result.fraction, by_size=by_size, by_face=by_face)
     found, lines = describe(measured, failures)
     if big.case is not None and all(m.matched.all() for m in measured):

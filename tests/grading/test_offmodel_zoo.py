@@ -94,7 +94,8 @@ def test_an_unfittable_read_texture_buys_fetch_color_no_points(tmp_path):
     85.94 against 44.82 in quick mode)."""
     attack = grade_once(ATTACKS / "half-texel-fetch_one-point-read.cpp", tmp_path / "a", GradeOptions(quick=True))
     control = grade_once(ATTACKS / "half-texel-fetch_handout-read.cpp", tmp_path / "b", GradeOptions(quick=True))
-    assert "No lookup the grader can model" in {c.name: c for c in attack.checks}["read_texture"].output
+    texture = {c.name: c for c in attack.checks}["read_texture"]
+    assert texture.diagnoses == [] and "At u = " in texture.output   # nothing proved: one call in numbers
     assert attack.score <= control.score, (attack.score, control.score)
     assert fetch_points(attack) <= fetch_points(control) + 0.1
 
