@@ -588,7 +588,19 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
             "face": reference.FACE_NAMES[face], "expected": "(" + ", ".join(_number(x) for x in expected) + ")",
             "actual": "(" + ", ".join(_number(x) for x in actual) + ")"}))
     result.status = FAILED
-    result.diagnoses = unique_diagnoses(found + failure_diagnoses(failures))
+    caught = failure_diagnoses(failures)
+    explains = [d for d in found if d.id in ("texel-index-transposed", "kept-between-calls")]
+    if explains:
+        # Its reads past the face are what the proven mistake reads there:
+        # the worker's words ("clamp the lattice points") would send the fix
+        # elsewhere. The observation stays, in the mistake's detail.
+        outside = [d for d in caught if d.id == "out-of-bounds-read"]
+        if outside:
+            first = explains[0]
+            found[found.index(first)] = Diagnosis(first.id, first.detail + " " + _(
+                "This is also why it reads outside the face: %(caught)s") % {"caught": outside[0].detail})
+        caught = [d for d in caught if d.id != "out-of-bounds-read"]
+    result.diagnoses = unique_diagnoses(found + caught)
     sizes = and_list([f"{w} x {h}" for w, h in dict.fromkeys(SIZES)])
     result.output = "\n\n".join([
         _("Of the %(counted)d (u, v) probes that count, %(wrong)d read other texels or weights than the handout's "
