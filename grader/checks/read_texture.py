@@ -65,19 +65,25 @@ BIG = (96, 80)
 
 
 def big_points(width: int, height: int, seed: int) -> np.ndarray:
-    """(n, 2) (u, v) on a big face where the handout blends: random points
-    whose lattice points are inside the face, and the same with one
-    coordinate at 0, 1, just below 1 or a texel edge."""
+    """(n, 2) (u, v) on a big face where the handout blends: a random point
+    in each of a fixed set of texels whose lattice points are inside the
+    face, and the same with one coordinate at 0, 1, just below 1 or a texel
+    edge. The texels are fixed, so where the points fall (and the score of a
+    mistake made in some texels only) does not depend on the draw."""
     rng = np.random.default_rng([seed, width, height, 1])
 
-    def inner(n, size):
-        return (1 + rng.random(n) * (size - 2)) / size
+    def inside(cells, size):
+        return (cells + 0.05 + 0.9 * rng.random(len(cells))) / size
 
-    edges_u = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], rng.integers(1, width, 9) / width])
-    edges_v = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], rng.integers(1, height, 9) / height])
-    return np.concatenate([np.stack([inner(300, width), inner(300, height)], axis=1),
-                           np.stack([np.repeat(edges_u, 8), inner(8 * len(edges_u), height)], axis=1),
-                           np.stack([inner(8 * len(edges_v), width), np.repeat(edges_v, 8)], axis=1)])
+    cols = np.tile(np.arange(1, width - 1), 3)
+    rows = 1 + (cols * np.repeat([7, 11, 13], width - 2)) % (height - 2)
+    edges_u = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], np.arange(1, 10) * (width // 10) / width])
+    edges_v = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], np.arange(1, 10) * (height // 10) / height])
+    across_v = 1 + np.arange(8) * (height - 2) // 8
+    across_u = 1 + np.arange(8) * (width - 2) // 8
+    return np.concatenate([np.stack([inside(cols, width), inside(rows, height)], axis=1),
+                           np.stack([np.repeat(edges_u, 8), inside(np.tile(across_v, len(edges_u)), height)], axis=1),
+                           np.stack([inside(np.tile(across_u, len(edges_v)), width), np.repeat(edges_v, 8)], axis=1)])
 
 
 @dataclass

@@ -116,10 +116,12 @@ def probe_coordinates(n: int, rng: np.random.Generator) -> np.ndarray:
     """Face parameters along an axis of n texels, where lookups differ: 0 and
     1, just below 1, every texel edge k/n, centre (k + 0.5)/n and quarter
     (k + 0.25)/n (a weight of 0.25 tells swapped weights from right ones),
-    and two random points (answers cannot be learnt by heart)."""
+    and a random point in every texel (answers cannot be learnt by heart;
+    one per texel, so how many fall in the border texels, and with them the
+    score of a mistake made there, does not depend on the draw)."""
     k = np.arange(n)
     return np.unique(np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], np.arange(1, n) / n, (k + 0.5) / n,
-                                     (k + 0.25) / n, rng.random(2)]))
+                                     (k + 0.25) / n, (k + 0.05 + 0.9 * rng.random(n)) / n]))
 
 
 def probe_points(width: int, height: int, seed: int) -> np.ndarray:
