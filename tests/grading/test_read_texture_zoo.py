@@ -10,7 +10,7 @@ Each file's truth was written from its code before grading, twice:
   independent model tests/assignment_model.py (the code is wrong).
 
 Measure (any version of the grader):
-    PYTHONPATH=.:tests .venv/bin/python tests/grading/test_read_texture_zoo.py
+    PYTHONPATH=.:tests/helpers .venv/bin/python tests/grading/test_read_texture_zoo.py
 """
 from __future__ import annotations
 
@@ -30,8 +30,9 @@ from grader.worker import sandbox
 from grader.worker.lookups import open_lookups
 from fake_bwrap import write_failing_bwrap
 from grading_cache import grade_once
+from project_paths import PROJECT_ROOT, SUBMISSIONS
 
-ZOO = Path(__file__).resolve().parent.parent / "submissions" / "footprint"
+ZOO = SUBMISSIONS / "footprint"
 # blind/: shapes graded blind (truth committed before the first grading);
 # attacks/: a motivated student's attacks on the footprint.
 NAMES = sorted(p.relative_to(ZOO).with_suffix("").as_posix() for p in ZOO.rglob("*.cpp"))
@@ -236,7 +237,7 @@ def test_the_restated_read_is_the_code_and_is_wrong(name, rng):
 @pytest.mark.parametrize("name", [n for n in NAMES if n.startswith("attacks/")])
 def test_an_attack_on_the_footprint_earns_no_more_than_the_starting_code(name, tmp_path):
     attack = grade_once(ZOO / f"{name}.cpp", tmp_path / "a", ONLY, write_reports=False)
-    template = grade_once(Path(__file__).resolve().parents[2] / "student_template" / "EnvironmentMap.cpp",
+    template = grade_once(PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp",
                           tmp_path / "b", ONLY, write_reports=False)
     assert attack.checks[0].score <= template.checks[0].score == 0.0, attack.checks[0].output
 
