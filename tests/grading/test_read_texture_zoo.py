@@ -22,10 +22,10 @@ import numpy as np
 import pytest
 
 import assignment_model
-from grader import diagnoses as catalogue
+from grader.grading import catalogue
 from grader.build import build_submission
-from grader.grade import GradeOptions
-from grader.results import GRADED
+from grader.grading.grade import GradeOptions
+from grader.grading.results import GRADED
 from grader.worker import sandbox
 from grader.worker.lookups import open_lookups
 from fake_bwrap import write_failing_bwrap
@@ -266,7 +266,7 @@ def test_the_read_texture_check_names_exactly_what_the_code_does(name, tmp_path)
 
 def exact_share(names=NAMES) -> list[str]:
     """A line per file, graded now: exact or what is missing and false."""
-    from grader.grade import grade
+    from grader.grading.grade import grade
     import tempfile
     lines = []
     for name in names:
@@ -326,7 +326,7 @@ def test_a_mistake_in_the_border_texels_scores_the_same_whatever_the_draw(name, 
     """Mistakes made in some texels only: the random probes fall one per
     texel, so the share does not hinge on the seed (2.4 of 25 points apart
     over five seeds when two random points per axis were drawn)."""
-    from grader.grade import grade
+    from grader.grading.grade import grade
     scores = {grade(ZOO / f"{name}.cpp", tmp_path / str(seed), GradeOptions(quick=True, only=("read_texture",), seed=seed),
                     write_reports=False).checks[0].score for seed in (1, 2, 3)}
     assert len(scores) == 1 and 0 < scores.pop() < 25, scores

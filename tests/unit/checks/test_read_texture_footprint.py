@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
-from grader import reference
+from grader.envmap import library as reference
 from grader.checks import read_texture as rt
 from grader.checks.context import CheckContext
 from grader.checks.instruments import footprint as fp
-from grader.results import FAILED, PASSED, CheckResult
+from grader.grading.results import FAILED, PASSED, CheckResult
 
 
 def reference_read(uv):
