@@ -12,7 +12,7 @@ import numpy as np
 from ..envmap import oracle, library as reference
 from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
-from . import check
+from . import check, shown
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments import footprint as fp
 from .instruments.compare import compare, tolerance
@@ -615,7 +615,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
           "handout blends texels, and where it reads one texel only if yours differs. The score is the share right "
           "on the face size where it is lowest (%(worst)s).") % {
             "counted": counted, "wrong": counted - matched, "sizes": sizes, "w": BIG[0], "h": BIG[1],
-            "worst": f"{result.fraction:.1%}"},
+            "worst": f"{shown(result.fraction):.2%}"},
         *([_("What the measurements prove:") + "\n" + "\n".join(f"- {d.detail}" for d in found)] if found else
           [_("No single mistake explains every measurement; one of them, in numbers:")]),
         *lines])
