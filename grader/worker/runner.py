@@ -35,6 +35,7 @@ import numpy as np
 from ..i18n import _
 from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, from_crash, hint
 from .process import Limits, Worker, WorkerHarnessError
+from .protocol import RECORD_ROW
 from .sandbox import ISOLATION, resolve_mode
 
 
@@ -202,6 +203,18 @@ class SubmissionRunner:
 
         return self._run_batch(len(dirs), run, placement, "fetchColor", lambda i: describe_fetch(dirs[i]))
 
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray) -> Outcome:
+        """fetchColor for each direction (n, 3) on a map that records its
+        readTexture calls and answers them with `tags` (protocol.RECORD_FETCH):
+        values are rows (n, protocol.RECORD_ROW), NaN where nothing ran."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+
+        def run(worker: Worker, lo: int, hi: int) -> np.ndarray:
+            return worker.record_fetch(dirs[lo:hi], tags, timeout_s=self._timeout(hi - lo))
+
+        return self._run_batch(len(dirs), run, "end", "fetchColor", lambda i: describe_fetch(dirs[i]),
+                               width=RECORD_ROW)
+
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
         """readTexture on face `face` (its own guarded copy) for each (u, v) (n, 2)."""
         uv = np.ascontiguousarray(uv, dtype=np.float64).reshape(-1, 2)
@@ -270,8 +283,8 @@ class SubmissionRunner:
         return self.timeout_s + self.per_input_s * n
 
     def _run_batch(self, n: int, run: Callable[[Worker, int, int], np.ndarray], placement: str | None,
-                   function: str, describe: Callable[[int], str]) -> Outcome:
-        outcome = Outcome(values=np.full((n, 3), np.nan), evaluated=np.zeros(n, bool),
+                   function: str, describe: Callable[[int], str], width: int = 3) -> Outcome:
+        outcome = Outcome(values=np.full((n, width), np.nan), evaluated=np.zeros(n, bool),
                           warnings=self.warnings)
         began = time.monotonic()
 

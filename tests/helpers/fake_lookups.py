@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader.envmap import library as reference
+from grader.worker.protocol import RECORD_ROW
 from grader.worker.runner import Failure, Outcome
 
 FACES = reference.FACE_NAMES
@@ -86,11 +87,39 @@ class FakeLookups:
     def fetch(self, dirs: np.ndarray, placement: str = "end") -> Outcome:
         self.calls += 1
         dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        if self.fetch_mistakes == "black":
+            return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
+        faces, uv = self._requests(dirs)
+        values, failed = self._read(faces, uv)
+        # Degenerate directions: the reference returns *something*; keep it finite.
+        values[~np.isfinite(dirs).all(axis=1) | ~dirs.any(axis=1)] = 0.0
+        return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
+                             "fetchColor")
+
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray) -> Outcome:
+        """The shim's recording map: one readTexture call per direction, at
+        the fake's (face, u, v), answered with tags[0] and returned; "black"
+        and degenerate directions make no call and return black; with the
+        "crash-alone" readTexture, fetchColor reads the texels itself (no call)."""
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        itself = self.fetch(dirs).values
+        rows = np.full((len(dirs), RECORD_ROW), np.nan)
+        h, w = self.faces.shape[1:3]
+        faces, uv = self._requests(dirs)
+        calls = (np.isfinite(dirs).all(axis=1) & dirs.any(axis=1) & (self.fetch_mistakes != "black")
+                 & (self.texture != "crash-alone"))
+        rows[:, :3] = np.where(calls[:, None], np.asarray(tags, np.float64)[0], itself)
+        rows[:, 3] = calls
+        rows[calls, 4] = faces[calls]
+        rows[calls, 5] = faces[calls] * (w * h * 3)
+        rows[calls, 6:8] = uv[calls]
+        return Outcome(values=rows, evaluated=np.ones(len(dirs), bool))
+
+    def _requests(self, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The (face, u, v) this fake's fetchColor asks readTexture for."""
         faces, uv = reference.direction_to_face(dirs)
         faces, uv = faces.copy(), uv.copy()
         mistakes = self.fetch_mistakes
-        if mistakes == "black":
-            return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
         if mistakes == "inset":
             # 1.5 texels in from every border, on every face.
             size = np.array(self.faces.shape[2:0:-1], np.float64)
@@ -111,11 +140,7 @@ class FakeLookups:
                     faces[rows] = FACES.index(mistake.split(":", 1)[1])
                 else:
                     uv[rows] = UV_MISTAKES[mistake](uv[rows])
-        values, failed = self._read(faces, np.clip(uv, 0, 1))
-        # Degenerate directions: the reference returns *something*; keep it finite.
-        values[~np.isfinite(dirs).all(axis=1) | ~dirs.any(axis=1)] = 0.0
-        return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
-                             "fetchColor")
+        return faces, np.clip(uv, 0, 1)
 
     def time_fetch(self, passes: list[np.ndarray]):
         """grader.worker.runner.TimedPasses at ns_per_lookup, with the fake's colours."""

@@ -1,0 +1,168 @@
+"""What fetchColor asks readTexture, recorded, and fetchColor judged on it.
+
+readTexture is virtual in the EnvironmentMap.h the grader compiles against;
+the shim's recording map (grader/shim/shim.cpp, sub_record_fetch_batch)
+overrides it: each call fetchColor makes is logged (the face whose first
+texel the address is, or none; u; v; how many calls) and answered with a
+tag colour chosen here. Nothing is inferred from colours and the student's
+readTexture is never called: fetchColor is judged as if its readTexture were
+the handout's (the reference's bilinear at the recorded face and (u, v),
+computed here), so a readTexture mistake never costs fetchColor anything and
+a readTexture that lies buys nothing (issue 29).
+
+Where fetchColor makes no readTexture call (it reads the texels itself, or
+calls EnvironmentMap::readTexture qualified), the record says so and its
+colours are judged end to end against the reference on the same faces.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ... import oracle, reference
+from ...results import TexelHit
+from ...worker.protocol import RECORDED_CALLS
+from .compare import Mismatches, compare, tied_face_uv
+
+# What the recording readTexture answers to call k of each direction: exact
+# in float (a fetchColor that goes through float keeps them), distinct per
+# call in every channel, and ordinary colours (no zeros, no ones, no pattern
+# across channels).
+TAGS = np.array([[0.359375, 0.6171875, 0.2265625],
+                 [0.7265625, 0.1953125, 0.5390625],
+                 [0.4453125, 0.8203125, 0.6640625],
+                 [0.2890625, 0.4140625, 0.9296875]], np.float64)
+assert TAGS.shape == (RECORDED_CALLS, 3) and (TAGS == TAGS.astype(np.float32)).all()
+
+# How far a recorded (u, v) may be from the table's: a fetchColor that
+# computes in float (or in another order) is a few float ulps of 1 away.
+UV_TOLERANCE = 4.0 * 2.0 ** -24
+
+# The cases of a direction's record.
+READ = "read"                    # one tag returned: judged at that call's face and (u, v)
+READS_ITSELF = "reads-itself"    # no readTexture call: judged end to end
+NOT_RETURNED = "not-returned"    # readTexture called, its answer not returned as it came
+NO_FACE_START = "no-face-start"  # the tag returned came from an address that is no face's start
+FAILED = "failed"                # fetchColor crashed, threw or timed out on the recording map
+
+
+@dataclass
+class Record:
+    """The recording map's observations for n directions."""
+    values: np.ndarray      # (n, 3) what fetchColor returned (a tag, or its own colour)
+    calls: np.ndarray       # (n,) readTexture calls made (-1: fetchColor did not finish)
+    faces: np.ndarray       # (n, RECORDED_CALLS) face of each call's address (-1: no face start, or no call)
+    offsets: np.ndarray     # (n, RECORDED_CALLS) the address, in floats from face 0's first texel
+    uv: np.ndarray          # (n, RECORDED_CALLS, 2) (u, v) of each call
+    outcome: object         # the runner's Outcome (failures)
+
+    @property
+    def returned(self) -> np.ndarray:
+        """(n,) which call's tag fetchColor returned unchanged (-1: none)."""
+        same = (self.values[:, None, :] == TAGS[None, :, :]).all(axis=2)          # (n, K)
+        made = np.arange(RECORDED_CALLS)[None, :] < self.calls[:, None]
+        same &= made
+        return np.where(same.any(axis=1), same.argmax(axis=1), -1)
+
+    def case(self) -> np.ndarray:
+        """(n,) one of READ, READS_ITSELF, NOT_RETURNED, NO_FACE_START, FAILED."""
+        returned = self.returned
+        face = np.take_along_axis(self.faces, np.maximum(returned, 0)[:, None], axis=1)[:, 0]
+        out = np.full(len(self.calls), NOT_RETURNED, object)
+        out[self.calls == 0] = READS_ITSELF
+        out[(returned >= 0) & (face >= 0)] = READ
+        out[(returned >= 0) & (face < 0)] = NO_FACE_START
+        out[self.calls < 0] = FAILED
+        return out
+
+    def request(self) -> tuple[np.ndarray, np.ndarray]:
+        """(faces (n,), uv (n, 2)) of the call whose tag was returned (-1, NaN: none)."""
+        returned = self.returned
+        k = np.maximum(returned, 0)
+        faces = np.where(returned >= 0, np.take_along_axis(self.faces, k[:, None], axis=1)[:, 0], -1)
+        uv = np.where((faces >= 0)[:, None], self.uv[np.arange(len(k)), k], np.nan)
+        return faces, uv
+
+
+def record(lookups, dirs: np.ndarray) -> Record:
+    """fetchColor on the recording map for each direction (n, 3), on the faces currently set."""
+    dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+    got = lookups.record_fetch(dirs, TAGS)
+    rows = np.asarray(got.values, np.float64).reshape(len(dirs), -1)
+    evaluated = np.asarray(got.evaluated, bool)
+    calls = np.where(evaluated & np.isfinite(rows[:, 3]), np.nan_to_num(rows[:, 3], nan=-1), -1).astype(np.int64)
+    logged = rows[:, 4:].reshape(len(dirs), RECORDED_CALLS, 4)
+    made = np.arange(RECORDED_CALLS)[None, :] < calls[:, None]
+    with np.errstate(invalid="ignore"):
+        faces = np.where(made & np.isin(logged[..., 0], np.arange(6)), logged[..., 0], -1).astype(np.int64)
+    uv = np.where(made[..., None], logged[..., 2:4], np.nan)
+    values = np.where(evaluated[:, None], rows[:, :3], np.nan)
+    return Record(values=values, calls=calls, faces=faces, offsets=np.where(made, logged[..., 1], np.nan), uv=uv,
+                  outcome=got)
+
+
+@dataclass
+class Judgement(Mismatches):
+    """fetchColor judged on its record."""
+    ok: np.ndarray            # (n,) what it asked for (or, reading itself, returned) is right
+    expected: np.ndarray      # (n, 3) the reference's colour for the direction
+    actual: np.ndarray        # (n, 3) the handout's readTexture at the recorded request (or its own colour)
+    error: np.ndarray         # (n,) distance to the nearest acceptable colour
+    case: np.ndarray          # (n,) Record.case()
+    unreadable: np.ndarray    # (n,) always False: the student's readTexture is never asked
+    requested: tuple          # (faces (n,), uv (n, 2)) the recorded request (-1, NaN: none)
+    table: tuple              # (faces (n,), uv (n, 2)) the reference's face and (u, v) (docs/assignment.md)
+
+
+def handout_read(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """The handout's readTexture (the reference's bilinear) at faces[i], uv[i]; NaN where no face or (u, v)."""
+    out = np.full((len(uv), 3), np.nan)
+    rows = (faces >= 0) & np.isfinite(uv).all(axis=1)
+    if rows.any():
+        out[rows] = oracle.current().read_texture(texels, faces[rows], uv[rows], "bilinear")
+    return out
+
+
+def judge(rec: Record, dirs: np.ndarray, texels: np.ndarray, tol) -> Judgement:
+    """Each direction's record against the table: the recorded face is one
+    the direction touches and (u, v) is the table's within UV_TOLERANCE.
+    Where fetchColor reads the texels itself, its colour against the
+    handout's readTexture at the table's (face, u, v), within float-level
+    `tol`. The error orders the worst cases: texels off for a request
+    (inf: another face), the colour's distance otherwise."""
+    dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+    case = rec.case()
+    req_faces, req_uv = rec.request()
+    actual = handout_read(texels, req_faces, req_uv)
+    itself = case == READS_ITSELF
+    actual[itself] = rec.values[itself]
+    faces, uv = tied_face_uv(dirs)
+    n, k = faces.shape
+    acceptable = handout_read(texels, faces.reshape(-1), uv.reshape(-1, 2)).reshape(n, k, 3)
+    cmp = compare(actual, acceptable, tol)
+    size = np.array(texels.shape[2:0:-1], np.float64)            # (W, H)
+    with np.errstate(invalid="ignore"):
+        off = np.abs(req_uv[:, None, :] - uv)                     # (n, k, 2)
+        texels_off = np.where(faces == req_faces[:, None], (off * size).max(axis=2), np.inf)
+        near = (faces == req_faces[:, None]) & (off <= UV_TOLERANCE).all(axis=2) & (faces >= 0)
+    texels_off[np.isnan(texels_off)] = np.inf
+    read = case == READ
+    ok = np.where(read, near.any(axis=1), itself & cmp.ok)
+    error = np.where(read, texels_off.min(axis=1), cmp.error)
+    return Judgement(ok=ok, expected=acceptable[:, 0], actual=actual, error=error, case=case,
+                     unreadable=np.zeros(n, bool), requested=(req_faces, req_uv), table=(faces[:, 0], uv[:, 0]))
+
+
+def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit | None, TexelHit | None]:
+    """(where the table says, where fetchColor asked) for direction i, as the
+    table's and the recorded (u, v) (never computed back from a colour)."""
+    w, h = size
+
+    def at(face, uv):
+        if face < 0 or not np.isfinite(uv).all():
+            return None
+        return TexelHit(reference.FACE_NAMES[face], (float(uv[0]) * w, float(uv[1]) * h), (float(uv[0]), float(uv[1])))
+
+    return at(int(judgement.table[0][i]), judgement.table[1][i]), at(int(judgement.requested[0][i]),
+                                                                      judgement.requested[1][i])
