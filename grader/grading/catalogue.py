@@ -665,6 +665,23 @@ _ENTRIES = [
         "from earlier calls."),
     ),
     DiagnosisInfo(
+        "fetch-not-returned", "mapping",
+        N_("fetchColor does not return the colour readTexture gives it"),
+        N_("The grader watched every readTexture call your fetchColor makes and "
+        "answered each with a colour of its own: fetchColor returned something "
+        "else (a changed, mixed or made-up colour, or black)."),
+        N_("Return readTexture's answer unchanged: `return readTexture(faceAddress(face), u, v);`."),
+    ),
+    DiagnosisInfo(
+        "address-not-face-start", "mapping",
+        N_("fetchColor passes readTexture an address where no face starts"),
+        N_("readTexture expects the first texel of one face (docs/assignment.md: face k "
+        "starts k * W * H * 3 floats into the buffer). Your fetchColor passed an "
+        "address inside a face, or outside the buffer."),
+        N_("Pass faceAddress(face) (or m_Texels + face * m_FaceWidth * m_FaceHeight * 3): "
+        "the face's first texel, nothing added for u or v."),
+    ),
+    DiagnosisInfo(
         "texture-context-dependent", "filtering",
         N_("Your readTexture answers differently on the faces fetchColor is judged on"),
         N_("fetchColor is judged through your own readTexture, called on its own at "

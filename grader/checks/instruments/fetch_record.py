@@ -85,6 +85,13 @@ class Record:
         return faces, uv
 
 
+def concatenate(records: list[Record]) -> Record:
+    """Several records as one, in order (their outcomes as a list)."""
+    return Record(values=np.concatenate([r.values for r in records]), calls=np.concatenate([r.calls for r in records]),
+                  faces=np.concatenate([r.faces for r in records]), offsets=np.concatenate([r.offsets for r in records]),
+                  uv=np.concatenate([r.uv for r in records]), outcome=[r.outcome for r in records])
+
+
 def record(lookups, dirs: np.ndarray) -> Record:
     """fetchColor on the recording map for each direction (n, 3), on the faces currently set."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
