@@ -673,6 +673,17 @@ _ENTRIES = [
         N_("Return readTexture's answer unchanged: `return readTexture(faceAddress(face), u, v);`."),
     ),
     DiagnosisInfo(
+        "asks-otherwise", "mapping",
+        N_("fetchColor asks for other texels depending on who answers readTexture"),
+        N_("The grader records every readTexture call your fetchColor makes twice: "
+        "answered by your own readTexture, and answered with colours of its own. "
+        "fetchColor made different calls (or, reading texels itself, returned "
+        "different colours) in the two, so what it asks for cannot be judged and "
+        "those directions count as wrong."),
+        N_("fetchColor must compute its face and (u, v) from the direction alone and "
+        "call readTexture once with them, whatever readTexture answers."),
+    ),
+    DiagnosisInfo(
         "address-not-face-start", "mapping",
         N_("fetchColor passes readTexture an address where no face starts"),
         N_("readTexture expects the first texel of one face (docs/assignment.md: face k "

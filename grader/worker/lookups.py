@@ -75,7 +75,7 @@ class BudgetedRunner(SubmissionRunner):
             return self._nothing(len(np.reshape(dirs, (-1, 3))), "fetchColor")
         return self._budgeted(lambda: SubmissionRunner.fetch(self, dirs, placement))
 
-    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray) -> Outcome:
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Outcome:
         if self._left() <= 0:
             n = len(np.reshape(dirs, (-1, 3)))
             nothing = self._nothing(n, "fetchColor")

@@ -516,9 +516,10 @@ class Worker:
         _, payload = self._call(protocol.FETCH, n, dirs.tobytes(), n, n * 24, timeout_s, "fetchColor")
         return protocol.decode_doubles(payload, n)
 
-    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray, timeout_s: float = 10.0) -> np.ndarray:
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None, timeout_s: float = 10.0) -> np.ndarray:
         """fetchColor for each direction (n, 3) with its readTexture calls
-        recorded and answered with `tags` -> rows (n, protocol.RECORD_ROW)."""
+        recorded and answered with `tags` (None: with the student's
+        readTexture) -> rows (n, protocol.RECORD_ROW)."""
         dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
         n = len(dirs)
         _, payload = self._call(protocol.RECORD_FETCH, n, protocol.record_payload(tags, dirs), n,

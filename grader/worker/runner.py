@@ -203,9 +203,10 @@ class SubmissionRunner:
 
         return self._run_batch(len(dirs), run, placement, "fetchColor", lambda i: describe_fetch(dirs[i]))
 
-    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray) -> Outcome:
-        """fetchColor for each direction (n, 3) on a map that records its
-        readTexture calls and answers them with `tags` (protocol.RECORD_FETCH):
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Outcome:
+        """fetchColor for each direction (n, 3) with its readTexture calls
+        recorded and answered with `tags` (None: with the student's
+        readTexture) (protocol.RECORD_FETCH):
         values are rows (n, protocol.RECORD_ROW), NaN where nothing ran."""
         dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
 

@@ -127,9 +127,10 @@ static struct {
 } sub;
 
 /* RECORD_FETCH's reply, per direction: rgb, the number of readTexture calls,
- * then the first SUB_RECORDED_CALLS calls (face, offset, u, v). */
+ * the call whose answer was returned, then the first SUB_RECORDED_CALLS calls
+ * (face, offset, u, v). */
 _Static_assert(SUB_RECORDED_CALLS == 4, "protocol.py's RECORDED_CALLS");
-#define RECORD_ROW (4 + 4 * SUB_RECORDED_CALLS)
+#define RECORD_ROW (5 + 4 * SUB_RECORDED_CALLS)
 
 static void *map;
 static int face_w, face_h;
@@ -405,17 +406,20 @@ static void fetch(const char *payload, uint64_t size, uint64_t n, int timed, int
 }
 
 /* RECORD_FETCH: fetchColor for n directions with readTexture's calls logged
- * and answered with the request's tags (submission_abi.h), one input per
- * call as in FETCH; a row of RECORD_ROW doubles per direction. */
+ * and answered with the request's tags, or (tagged = 0) with the student's
+ * readTexture (submission_abi.h); one input per call as in FETCH; a row of
+ * RECORD_ROW doubles per direction. */
 static void record_fetch(const char *payload, uint64_t size, uint64_t n)
 {
-    const size_t tag_bytes = 3 * SUB_RECORDED_CALLS * sizeof(double);
-    if (size < tag_bytes || size - tag_bytes != n * 3 * sizeof(double) || !six.data) {
+    uint64_t tagged;
+    const size_t head = sizeof tagged + 3 * SUB_RECORDED_CALLS * sizeof(double);
+    if (size < head || size - head != n * 3 * sizeof(double) || !six.data) {
         reply_text(ST_BAD_REQUEST, six.data ? "RECORD_FETCH size mismatch" : "RECORD_FETCH before SET_FACES");
         return;
     }
-    double tags[3 * SUB_RECORDED_CALLS];
-    memcpy(tags, payload, tag_bytes);
+    memcpy(&tagged, payload, sizeof tagged);
+    static double tags[3 * SUB_RECORDED_CALLS];
+    memcpy(tags, payload + sizeof tagged, sizeof tags);
     double *dirs = malloc(n * 3 * sizeof(double) + 1), *rows = malloc(n * RECORD_ROW * sizeof(double) + 1);
     if (!dirs || !rows || faults_begin(n) != 0) {
         reply_text(ST_BAD_REQUEST, "out of memory for the batch");
@@ -423,12 +427,9 @@ static void record_fetch(const char *payload, uint64_t size, uint64_t n)
         free(rows);
         return;
     }
-    memcpy(dirs, payload + tag_bytes, n * 3 * sizeof(double));
+    memcpy(dirs, payload + head, n * 3 * sizeof(double));
     volatile int status = SUB_OK;
     for (volatile uint64_t k = 0; k < n && status == SUB_OK; k++) {
-        double *row = rows + RECORD_ROW * k;
-        for (int c = 0; c < RECORD_ROW; c++)
-            row[c] = __builtin_nan("");
         *progress = k;
         message[0] = 0;
         if (sigsetjmp(lookup_escape, 0)) {
@@ -437,9 +438,12 @@ static void record_fetch(const char *payload, uint64_t size, uint64_t n)
                 rows[RECORD_ROW * k + c] = __builtin_nan("");
             continue;
         }
+        double *row = rows + RECORD_ROW * k;
+        for (int c = 0; c < RECORD_ROW; c++)
+            row[c] = __builtin_nan("");
         in_lookup = 1;
-        status = sub.record_fetch_batch(map, dirs + 3 * k, 1, tags, row, row + 3,
-                                        (struct sub_texture_call *)(row + 4), message, sizeof message);
+        status = sub.record_fetch_batch(map, dirs + 3 * k, 1, tagged ? tags : NULL, row, row + 3,
+                                        (struct sub_texture_call *)(row + 5), message, sizeof message);
         in_lookup = 0;
     }
     faults_end();

@@ -96,11 +96,12 @@ class FakeLookups:
         return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
                              "fetchColor")
 
-    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray) -> Outcome:
-        """The shim's recording map: one readTexture call per direction, at
-        the fake's (face, u, v), answered with tags[0] and returned; "black"
-        and degenerate directions make no call and return black; with the
-        "crash-alone" readTexture, fetchColor reads the texels itself (no call)."""
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Outcome:
+        """The shim's recording: one readTexture call per direction, at the
+        fake's (face, u, v), answered with tags[0] (tags None: the fake's
+        readTexture) and returned; "black" and degenerate directions make no
+        call and return black; with the "crash-alone" readTexture, fetchColor
+        reads the texels itself (no call)."""
         dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
         itself = self.fetch(dirs).values
         rows = np.full((len(dirs), RECORD_ROW), np.nan)
@@ -108,11 +109,13 @@ class FakeLookups:
         faces, uv = self._requests(dirs)
         calls = (np.isfinite(dirs).all(axis=1) & dirs.any(axis=1) & (self.fetch_mistakes != "black")
                  & (self.texture != "crash-alone"))
-        rows[:, :3] = np.where(calls[:, None], np.asarray(tags, np.float64)[0], itself)
+        answer = itself if tags is None else np.broadcast_to(np.asarray(tags, np.float64)[0], itself.shape)
+        rows[:, :3] = np.where(calls[:, None], answer, itself)
         rows[:, 3] = calls
-        rows[calls, 4] = faces[calls]
-        rows[calls, 5] = faces[calls] * (w * h * 3)
-        rows[calls, 6:8] = uv[calls]
+        rows[:, 4] = np.where(calls, 0, -1)
+        rows[calls, 5] = faces[calls]
+        rows[calls, 6] = faces[calls] * (w * h * 3)
+        rows[calls, 7:9] = uv[calls]
         return Outcome(values=rows, evaluated=np.ones(len(dirs), bool))
 
     def _requests(self, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -56,10 +56,11 @@ int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_
     return SUB_OK;
 }
 
-/* The reference's fetchColor as the recording map would see it: one
- * readTexture call at the table's face and (u, v), its tag returned. */
+/* The reference's fetchColor as a recording would see it: one readTexture
+ * call at the table's face and (u, v), its answer (the tag, or the
+ * reference's bilinear) returned. */
 int sub_record_fetch_batch(void *map, const double *dirs, size_t n, const double *tags, double *rgb,
-                           double *counts, struct sub_texture_call *calls, char *message, size_t message_size)
+                           double *summary, struct sub_texture_call *calls, char *message, size_t message_size)
 {
     (void)message; (void)message_size;
     const reference_map *m = map;
@@ -67,11 +68,14 @@ int sub_record_fetch_batch(void *map, const double *dirs, size_t n, const double
     for (size_t i = 0; i < n; ++i) {
         double u, v;
         int face = em_direction_to_face(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], &u, &v);
-        struct sub_texture_call *call = calls + SUB_RECORDED_CALLS * i;
-        counts[i] = face >= 0;
+        summary[2 * i] = face >= 0;
+        summary[2 * i + 1] = face >= 0 ? 0 : -1;
         if (face >= 0) {
-            *call = (struct sub_texture_call){ face, face * face_floats, u, v };
-            memcpy(rgb + 3 * i, tags, 3 * sizeof(double));
+            calls[SUB_RECORDED_CALLS * i] = (struct sub_texture_call){ face, face * face_floats, u, v };
+            if (tags)
+                memcpy(rgb + 3 * i, tags, 3 * sizeof(double));
+            else
+                em_read_texture(&m->cube, EM_FILTER_BILINEAR, face, u, v, rgb + 3 * i);
         } else {
             rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.0;
         }

@@ -39,14 +39,16 @@ int sub_read_texture_batch(void *map, const float *addr, const double *uv,
  * no face's start), addr's distance from face 0's first texel in floats, u, v. */
 #define SUB_RECORDED_CALLS 4
 struct sub_texture_call { double face, offset, u, v; };
-/* fetchColor for n directions on a map whose readTexture records instead of
- * reading (readTexture is virtual in the grader's EnvironmentMap.h): call k
- * of direction i is answered with tags[3*(k % SUB_RECORDED_CALLS)..+2] (never
- * the student's readTexture), the first SUB_RECORDED_CALLS are logged in
- * calls[SUB_RECORDED_CALLS*i + k] and counts[i] says how many there were;
- * rgb (n*3) is what fetchColor returned. */
+/* fetchColor for n directions with its readTexture calls recorded
+ * (readTexture is virtual in the grader's EnvironmentMap.h): call k of
+ * direction i is answered with tags[3*(k % SUB_RECORDED_CALLS)..+2] (never
+ * the student's readTexture) or, when tags is NULL, with the student's own
+ * readTexture; the first SUB_RECORDED_CALLS are logged in
+ * calls[SUB_RECORDED_CALLS*i + k]; summary[2*i] is how many calls there were
+ * and summary[2*i+1] which logged call's answer fetchColor returned, bit for
+ * bit (-1: none); rgb (n*3) is what it returned. */
 int sub_record_fetch_batch(void *map, const double *dirs, size_t n, const double *tags, double *rgb,
-                           double *counts, struct sub_texture_call *calls, char *message, size_t message_size);
+                           double *summary, struct sub_texture_call *calls, char *message, size_t message_size);
 /* loadFromCrossHDR(path): 1 on success, 0 on failure. */
 int sub_load_cross(void *map, const char *path, char *message, size_t message_size);
 

@@ -43,70 +43,88 @@ UV_TOLERANCE = 4.0 * 2.0 ** -24
 READ = "read"                    # one tag returned: judged at that call's face and (u, v)
 READS_ITSELF = "reads-itself"    # no readTexture call: judged end to end
 NOT_RETURNED = "not-returned"    # readTexture called, its answer not returned as it came
-NO_FACE_START = "no-face-start"  # the tag returned came from an address that is no face's start
-FAILED = "failed"                # fetchColor crashed, threw or timed out on the recording map
+NO_FACE_START = "no-face-start"  # the answer returned came from an address that is no face's start
+ASKS_OTHERWISE = "asks-otherwise"  # other calls (or colours) when answered by the student's own readTexture
+FAILED = "failed"                # fetchColor crashed, threw or timed out while recorded
 
 
 @dataclass
 class Record:
-    """The recording map's observations for n directions."""
-    values: np.ndarray      # (n, 3) what fetchColor returned (a tag, or its own colour)
+    """One recording's observations for n directions."""
+    values: np.ndarray      # (n, 3) what fetchColor returned
     calls: np.ndarray       # (n,) readTexture calls made (-1: fetchColor did not finish)
+    returned: np.ndarray    # (n,) the logged call whose answer fetchColor returned unchanged (-1: none)
     faces: np.ndarray       # (n, RECORDED_CALLS) face of each call's address (-1: no face start, or no call)
     offsets: np.ndarray     # (n, RECORDED_CALLS) the address, in floats from face 0's first texel
     uv: np.ndarray          # (n, RECORDED_CALLS, 2) (u, v) of each call
-    outcome: object         # the runner's Outcome (failures)
-
-    @property
-    def returned(self) -> np.ndarray:
-        """(n,) which call's tag fetchColor returned unchanged (-1: none)."""
-        same = (self.values[:, None, :] == TAGS[None, :, :]).all(axis=2)          # (n, K)
-        made = np.arange(RECORDED_CALLS)[None, :] < self.calls[:, None]
-        same &= made
-        return np.where(same.any(axis=1), same.argmax(axis=1), -1)
-
-    def case(self) -> np.ndarray:
-        """(n,) one of READ, READS_ITSELF, NOT_RETURNED, NO_FACE_START, FAILED."""
-        returned = self.returned
-        face = np.take_along_axis(self.faces, np.maximum(returned, 0)[:, None], axis=1)[:, 0]
-        out = np.full(len(self.calls), NOT_RETURNED, object)
-        out[self.calls == 0] = READS_ITSELF
-        out[(returned >= 0) & (face >= 0)] = READ
-        out[(returned >= 0) & (face < 0)] = NO_FACE_START
-        out[self.calls < 0] = FAILED
-        return out
+    outcome: object         # the runner's Outcome (failures), or a list of them
 
     def request(self) -> tuple[np.ndarray, np.ndarray]:
-        """(faces (n,), uv (n, 2)) of the call whose tag was returned (-1, NaN: none)."""
-        returned = self.returned
-        k = np.maximum(returned, 0)
-        faces = np.where(returned >= 0, np.take_along_axis(self.faces, k[:, None], axis=1)[:, 0], -1)
+        """(faces (n,), uv (n, 2)) of the call whose answer was returned (-1, NaN: none)."""
+        k = np.maximum(self.returned, 0)
+        faces = np.where(self.returned >= 0, np.take_along_axis(self.faces, k[:, None], axis=1)[:, 0], -1)
         uv = np.where((faces >= 0)[:, None], self.uv[np.arange(len(k)), k], np.nan)
         return faces, uv
 
 
 def concatenate(records: list[Record]) -> Record:
     """Several records as one, in order (their outcomes as a list)."""
-    return Record(values=np.concatenate([r.values for r in records]), calls=np.concatenate([r.calls for r in records]),
-                  faces=np.concatenate([r.faces for r in records]), offsets=np.concatenate([r.offsets for r in records]),
-                  uv=np.concatenate([r.uv for r in records]), outcome=[r.outcome for r in records])
+    return Record(**{name: np.concatenate([getattr(r, name) for r in records])
+                     for name in ("values", "calls", "returned", "faces", "offsets", "uv")},
+                  outcome=[r.outcome for r in records])
 
 
-def record(lookups, dirs: np.ndarray) -> Record:
-    """fetchColor on the recording map for each direction (n, 3), on the faces currently set."""
+def record(lookups, dirs: np.ndarray, tagged: bool = True) -> Record:
+    """fetchColor for each direction (n, 3) on the faces currently set, its
+    readTexture calls answered with TAGS (tagged) or by the student's own
+    readTexture."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
-    got = lookups.record_fetch(dirs, TAGS)
+    got = lookups.record_fetch(dirs, TAGS if tagged else None)
     rows = np.asarray(got.values, np.float64).reshape(len(dirs), -1)
-    evaluated = np.asarray(got.evaluated, bool)
-    calls = np.where(evaluated & np.isfinite(rows[:, 3]), np.nan_to_num(rows[:, 3], nan=-1), -1).astype(np.int64)
-    logged = rows[:, 4:].reshape(len(dirs), RECORDED_CALLS, 4)
+    evaluated = np.asarray(got.evaluated, bool) & np.isfinite(rows[:, 3])
+    calls = np.where(evaluated, np.nan_to_num(rows[:, 3], nan=-1), -1).astype(np.int64)
+    logged = rows[:, 5:].reshape(len(dirs), RECORDED_CALLS, 4)
     made = np.arange(RECORDED_CALLS)[None, :] < calls[:, None]
     with np.errstate(invalid="ignore"):
         faces = np.where(made & np.isin(logged[..., 0], np.arange(6)), logged[..., 0], -1).astype(np.int64)
-    uv = np.where(made[..., None], logged[..., 2:4], np.nan)
+        returned = np.where(evaluated & (rows[:, 4] >= 0) & (rows[:, 4] < np.minimum(calls, RECORDED_CALLS)),
+                            rows[:, 4], -1).astype(np.int64)
     values = np.where(evaluated[:, None], rows[:, :3], np.nan)
-    return Record(values=values, calls=calls, faces=faces, offsets=np.where(made, logged[..., 1], np.nan), uv=uv,
+    if tagged:
+        # The worker's index is the submission's word: the tag itself must have come back.
+        same = (values == TAGS[np.maximum(returned, 0) % RECORDED_CALLS]).all(axis=1)
+        returned = np.where(same, returned, -1)
+    return Record(values=values, calls=calls, returned=returned, faces=faces,
+                  offsets=np.where(made, logged[..., 1], np.nan), uv=np.where(made[..., None], logged[..., 2:4], np.nan),
                   outcome=got)
+
+
+def cases(tagged: Record, plain: Record) -> np.ndarray:
+    """(n,) each direction's case: READ, READS_ITSELF, NOT_RETURNED,
+    NO_FACE_START, ASKS_OTHERWISE or FAILED. `plain` is the same directions
+    answered by the student's own readTexture: where it ran, its calls must
+    be the tagged run's (fetchColor cannot ask otherwise when it is answered
+    otherwise) and it must return an answer too; where it did not (the
+    student's readTexture crashed), the tagged run alone decides."""
+    face = np.where(tagged.returned >= 0,
+                    np.take_along_axis(tagged.faces, np.maximum(tagged.returned, 0)[:, None], axis=1)[:, 0], -1)
+    out = np.full(len(tagged.calls), NOT_RETURNED, object)
+    out[tagged.calls == 0] = READS_ITSELF
+    out[(tagged.returned >= 0) & (face >= 0)] = READ
+    out[(tagged.returned >= 0) & (face < 0)] = NO_FACE_START
+    ran = plain.calls >= 0
+    same_calls = (plain.calls == tagged.calls)
+    for array in ("faces", "offsets", "uv"):
+        a, b = getattr(plain, array), getattr(tagged, array)
+        same = (a == b) | (np.isnan(a) & np.isnan(b)) if a.dtype.kind == "f" else a == b
+        same_calls &= same.reshape(len(same), -1).all(axis=1)
+    itself = tagged.calls == 0
+    with np.errstate(invalid="ignore"):
+        same_colour = ~itself | ((plain.values == tagged.values) | (np.isnan(plain.values) & np.isnan(tagged.values))).all(axis=1)
+    out[ran & (out == READ) & (plain.returned < 0)] = NOT_RETURNED
+    out[ran & ~(same_calls & same_colour)] = ASKS_OTHERWISE
+    out[tagged.calls < 0] = FAILED
+    return out
 
 
 @dataclass
@@ -116,7 +134,7 @@ class Judgement(Mismatches):
     expected: np.ndarray      # (n, 3) the reference's colour for the direction
     actual: np.ndarray        # (n, 3) the handout's readTexture at the recorded request (or its own colour)
     error: np.ndarray         # (n,) distance to the nearest acceptable colour
-    case: np.ndarray          # (n,) Record.case()
+    case: np.ndarray          # (n,) cases()
     unreadable: np.ndarray    # (n,) always False: the student's readTexture is never asked
     requested: tuple          # (faces (n,), uv (n, 2)) the recorded request (-1, NaN: none)
     table: tuple              # (faces (n,), uv (n, 2)) the reference's face and (u, v) (docs/assignment.md)
@@ -131,7 +149,7 @@ def handout_read(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.nd
     return out
 
 
-def judge(rec: Record, dirs: np.ndarray, texels: np.ndarray, tol) -> Judgement:
+def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, tol) -> Judgement:
     """Each direction's record against the table: the recorded face is one
     the direction touches and (u, v) is the table's within UV_TOLERANCE.
     Where fetchColor reads the texels itself, its colour against the
@@ -139,11 +157,11 @@ def judge(rec: Record, dirs: np.ndarray, texels: np.ndarray, tol) -> Judgement:
     `tol`. The error orders the worst cases: texels off for a request
     (inf: another face), the colour's distance otherwise."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
-    case = rec.case()
-    req_faces, req_uv = rec.request()
+    case = cases(tagged, plain)
+    req_faces, req_uv = tagged.request()
     actual = handout_read(texels, req_faces, req_uv)
     itself = case == READS_ITSELF
-    actual[itself] = rec.values[itself]
+    actual[itself] = tagged.values[itself]
     faces, uv = tied_face_uv(dirs)
     n, k = faces.shape
     acceptable = handout_read(texels, faces.reshape(-1), uv.reshape(-1, 2)).reshape(n, k, 3)
