@@ -179,6 +179,15 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
                      unreadable=np.zeros(n, bool), requested=(req_faces, req_uv), table=(faces[:, 0], uv[:, 0]))
 
 
+def observe(lookups, dirs: np.ndarray, texels: np.ndarray, tol) -> tuple[Record, Judgement]:
+    """fetchColor recorded twice on `texels` (the faces currently set: tagged,
+    then answered by the student's own readTexture) and judged: (the tagged
+    record, whose outcome has fetchColor's own failures; the judgement)."""
+    tagged = record(lookups, dirs)
+    plain = record(lookups, dirs, tagged=False)
+    return tagged, judge(tagged, plain, dirs, texels, tol)
+
+
 def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit | None, TexelHit | None]:
     """(where the table says, where fetchColor asked) for direction i, as the
     table's and the recorded (u, v) (never computed back from a colour)."""
