@@ -14,7 +14,7 @@ from ..envmap import oracle, library as reference
 from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
-from .instruments import texture_model as tm
+from .instruments import fetch_record, texture_model as tm
 from .instruments.compare import compare, explain, tolerance
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.textures import coordinate_faces, random_faces
@@ -242,6 +242,7 @@ def earned(matched: int, given: int, total: int) -> float:
 
 
 @check()
+@fetch_record.judged_in_context
 def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
     total = matched = single = answered = given = 0

@@ -694,12 +694,11 @@ _ENTRIES = [
     ),
     DiagnosisInfo(
         "texture-context-dependent", "filtering",
-        N_("Your readTexture answers differently on the faces fetchColor is judged on"),
-        N_("fetchColor is judged through your own readTexture, called on its own at "
-        "the face and (u, v) the handout's table gives. On the faces fetchColor "
-        "is judged on, your readTexture differs from the handout's far more often "
-        "than in the readTexture check, so it is not believed there and "
-        "fetchColor is judged against the handout's readTexture instead."),
+        N_("Your readTexture answers fetchColor differently from other callers"),
+        N_("The grader recorded the readTexture calls your fetchColor makes, with "
+        "your readTexture's answers, and made the same calls directly: some were "
+        "answered differently. The renders use the answers fetchColor gets, so "
+        "the readTexture check counts at most the calls answered alike."),
         N_("readTexture must compute the same thing whoever calls it and whatever "
         "the faces' size: no separate paths."),
     ),

@@ -23,7 +23,7 @@ import numpy as np
 from ... import oracle, reference
 from ...results import TexelHit
 from ...worker.protocol import RECORDED_CALLS
-from .compare import Mismatches, compare, tied_face_uv
+from .compare import Mismatches, compare, format_vector, tied_face_uv
 
 # What the recording readTexture answers to call k of each direction: exact
 # in float (a fetchColor that goes through float keeps them), distinct per
@@ -200,3 +200,75 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
 
     return at(int(judgement.table[0][i]), judgement.table[1][i]), at(int(judgement.requested[0][i]),
                                                                       judgement.requested[1][i])
+
+
+# ---- readTexture as fetchColor calls it ------------------------------------
+
+IN_CONTEXT_SIZE = (16, 16)
+IN_CONTEXT_DIRECTIONS = 3_000
+
+
+def in_context(lookups, seed: int) -> tuple[int, int, tuple | None]:
+    """(differ, observed, first difference as (face, u, v, answer to
+    fetchColor, direct answer) or None): readTexture's answers to
+    fetchColor's own calls (recorded, answered by the student's readTexture,
+    on random texels) against the same readTexture called directly at the
+    same face and (u, v), bit for bit. Honest code computes the same thing
+    whoever calls it; one that knows its caller (a flag fetchColor sets, the
+    address) shows here. Only calls whose answer fetchColor returned
+    unchanged are observed. Sets its own faces."""
+    from .directions import random_directions
+    from .textures import random_faces
+    w, h = IN_CONTEXT_SIZE
+    lookups.set_faces(random_faces(w, h, seed))
+    plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed), tagged=False)
+    faces, uv = plain.request()
+    seen = np.flatnonzero(faces >= 0)
+    differ, example = 0, None
+    for face in range(6):
+        rows = seen[faces[seen] == face]
+        if not len(rows):
+            continue
+        direct = lookups.read_texture(face, uv[rows])
+        values = np.asarray(direct.values, np.float64)
+        with np.errstate(invalid="ignore"):
+            same = ((values == plain.values[rows]) | (np.isnan(values) & np.isnan(plain.values[rows]))).all(axis=1)
+        same &= np.asarray(direct.evaluated, bool)
+        differ += int((~same).sum())
+        if example is None and (~same).any():
+            j = np.flatnonzero(~same)[0]
+            example = (face, float(uv[rows[j], 0]), float(uv[rows[j], 1]), plain.values[rows[j]], values[j])
+    return differ, len(seen), example
+
+
+def judged_in_context(read_texture_check):
+    """The read_texture check, then readTexture as fetchColor calls it
+    (in_context): where the two differ, the check's share is at most the
+    share of fetchColor's calls answered as a direct call is, and it says
+    which call differed. A readTexture that is right only for the grader's
+    direct calls gains nothing."""
+    import dataclasses
+    import functools
+
+    from ...i18n import _
+    from ...results import FAILED, Diagnosis
+
+    @functools.wraps(read_texture_check)
+    def run(ctx, result, *findings):
+        finding = read_texture_check(ctx, result, *findings)
+        differ, observed, example = in_context(ctx.lookups, ctx.seed)
+        if not differ:
+            return finding
+        share = 1.0 - differ / observed
+        face, u, v, called, direct = example
+        result.diagnoses = list(result.diagnoses) + [Diagnosis("texture-context-dependent", _(
+            "Of %(observed)d readTexture calls your fetchColor made, %(differ)d were answered otherwise than the same "
+            "call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: %(called)s to fetchColor, %(direct)s "
+            "directly. The score is at most the share answered alike (%(share)s).") % {
+            "observed": observed, "differ": differ, "face": reference.FACE_NAMES[face], "u": u, "v": v,
+            "called": format_vector(called), "direct": format_vector(direct), "share": f"{share:.1%}"})]
+        result.status = FAILED
+        result.fraction = min(result.fraction, share)
+        return dataclasses.replace(finding, ok=False, fraction=min(finding.fraction, share))
+
+    return run
