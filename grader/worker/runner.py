@@ -181,10 +181,14 @@ class SubmissionRunner:
 
     # ---- public lookups ---------------------------------------------------
 
-    def set_faces(self, faces: np.ndarray) -> None:
-        """Use new faces (6, H, W, 3) from the next call on; a running worker gets them now."""
+    def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
+        """Use new faces (6, H, W, 3) from the next call on; a running worker
+        gets them now. same_process: faces no larger than the running
+        worker's go to that worker (state it keeps between calls shows);
+        otherwise a new size starts a new worker."""
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
-        if self._worker is not None and self._worker.texture_bytes != self.faces.nbytes:
+        fits = same_process and self._worker is not None and self.faces.nbytes <= self._worker.texture_bytes
+        if self._worker is not None and self._worker.texture_bytes != self.faces.nbytes and not fits:
             # Each worker's window fits one face size exactly: a new size, a new worker.
             self._drop_worker()
         if self._worker is not None and self._worker.alive:

@@ -70,7 +70,7 @@ class FakeLookups:
 
     # ---- SubmissionLookups ------------------------------------------------
 
-    def set_faces(self, faces: np.ndarray) -> None:
+    def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
         self._cube = reference.CubeMap(self.faces)
 
