@@ -1,10 +1,10 @@
-"""Where fetchColor samples, recovered face by face through the student's
-own readTexture, and the mistake that explains it.
+"""Where fetchColor samples, recovered face by face, and the mistake that
+explains it.
 
-The faces handed over encode their positions; the read_texture check's
-fitted model of the student's readTexture (grader.checks.instruments.texture_model)
-says what each candidate fetchColor behaviour would return, so a wrong
-readTexture is never blamed on fetchColor (grader.checks.instruments.face_recovery).
+The faces handed over encode their positions; fetchColor's readTexture calls
+are recorded and answered by the handout's readTexture
+(instruments.fetch_record.AsIfHandoutRead), so a wrong readTexture is never
+blamed on fetchColor; face_recovery names what the requests show.
 """
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
+from .instruments import fetch_record
 from .instruments.face_recovery import CANDIDATES, analyse
 from .instruments.face_recovery import DIAGNOSIS_IDS as _READ_BACK_IDS
 from .read_texture import ReadTextureFinding, read_texture
@@ -23,11 +24,11 @@ DIAGNOSIS_IDS = tuple(sorted({i for c in CANDIDATES for i in c.ids} | set(_READ_
 @check(requires=(read_texture,))
 def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> None:
     """fetchColor samples the face the direction exits through, with u and v running the right way."""
-    fit = texture.fit
-    if fit is None:                 # readTexture matched the reference everywhere
-        from .instruments.texture_model import HANDOUT, Fit
-        fit = Fit(HANDOUT, HANDOUT, 1.0, 0)
-    analysis = analyse(ctx.lookups, fit, quick=ctx.quick)
+    # fetchColor's recorded requests, answered by the handout's readTexture
+    # (instruments.fetch_record.AsIfHandoutRead): the student's readTexture
+    # plays no part, so the handout's model is the one that fits.
+    from .instruments.texture_model import HANDOUT, Fit
+    analysis = analyse(fetch_record.AsIfHandoutRead(ctx.lookups), Fit(HANDOUT, HANDOUT, 1.0, 0), quick=ctx.quick)
     result.diagnoses = analysis.diagnoses()
     if not result.diagnoses:
         result.fraction = 1.0

@@ -272,3 +272,37 @@ def judged_in_context(read_texture_check):
         return dataclasses.replace(finding, ok=False, fraction=min(finding.fraction, share))
 
     return run
+
+
+class AsIfHandoutRead:
+    """The submission as the fetchColor checks see it: its fetchColor's
+    recorded requests answered by the handout's readTexture (the reference's
+    bilinear on the faces set), its own colours where it reads the texels
+    itself, NaN where it crashed or returned no answer. What face_recovery
+    reads fetchColor back through, so a readTexture mistake (or lie) never
+    shapes what fetchColor is said to do."""
+
+    def __init__(self, lookups):
+        self.lookups = lookups
+        self.texels: np.ndarray | None = None
+
+    def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
+        self.texels = np.ascontiguousarray(faces, np.float32)
+        self.lookups.set_faces(faces, same_process=same_process)
+
+    def fetch(self, dirs: np.ndarray, placement: str = "end"):
+        from ...worker.runner import Outcome
+        rec = record(self.lookups, dirs)
+        faces, uv = rec.request()
+        values = handout_read(self.texels, faces, uv)
+        itself = rec.calls == 0
+        values[itself] = rec.values[itself]
+        got = rec.outcome
+        return Outcome(values=values, evaluated=np.isfinite(values).all(axis=1), failures=list(got.failures),
+                       gave_up=got.gave_up, warnings=got.warnings, recovered_rows=list(got.recovered_rows))
+
+    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end"):
+        from ...worker.runner import Outcome
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        values = handout_read(self.texels, np.full(len(uv), face), uv)
+        return Outcome(values=values, evaluated=np.ones(len(uv), bool))

@@ -244,9 +244,12 @@ def test_fetch_color_is_read_back_through_a_read_texture_nothing_models(tmp_path
     assert {d for d in ids(texture) if d[0] not in ("nearest-neighbor",)} == set(), ids(texture)
 
 
-def test_a_constant_read_texture_leaves_fetch_color_unanalysed(tmp_path):
-    r = run(FakeLookups(texture="black"), tmp_path, "diagnosis")["diagnosis"]
-    assert ("fetch-not-analysed", None) in ids(r)
+def test_a_constant_read_texture_leaves_fetch_color_analysed(tmp_path):
+    """readTexture black everywhere: fetchColor's recorded requests are
+    answered by the handout's readTexture, so its flip is still named
+    (issue 29; before, nothing could be said)."""
+    r = run(FakeLookups(fetch={"+X": "u-flipped"}, texture="black"), tmp_path, "diagnosis")["diagnosis"]
+    assert ids(r) == {("u-flipped", "+X")}, r.output
 
 
 def test_texel_weights_say_which_texels_one_call_reads():
