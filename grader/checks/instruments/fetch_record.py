@@ -206,6 +206,7 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
 
 IN_CONTEXT_SIZE = (16, 16)
 IN_CONTEXT_DIRECTIONS = 3_000
+IN_CONTEXT_MARGIN = 2.0     # texels from the border (in_context)
 
 
 def in_context(lookups, seed: int) -> tuple[int, int, tuple | None]:
@@ -216,14 +217,22 @@ def in_context(lookups, seed: int) -> tuple[int, int, tuple | None]:
     same face and (u, v), bit for bit. Honest code computes the same thing
     whoever calls it; one that knows its caller (a flag fetchColor sets, the
     address) shows here. Only calls whose answer fetchColor returned
-    unchanged are observed. Sets its own faces."""
+    unchanged, IN_CONTEXT_MARGIN texels or more inside the face, are
+    observed. Sets its own faces."""
     from .directions import random_directions
     from .textures import random_faces
     w, h = IN_CONTEXT_SIZE
     lookups.set_faces(random_faces(w, h, seed))
     plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed), tagged=False)
     faces, uv = plain.request()
-    seen = np.flatnonzero(faces >= 0)
+    # Two texels or more inside the face: honest code reads the same texels
+    # there whether the face sits in the six-face buffer (fetchColor's calls)
+    # or alone in a window of its own (direct calls); at the border a read
+    # past the face finds a neighbour in one and the window's edge in the other.
+    with np.errstate(invalid="ignore"):
+        p = uv * np.array([w, h], np.float64)
+        inside = ((p >= IN_CONTEXT_MARGIN) & (p <= np.array([w, h]) - IN_CONTEXT_MARGIN)).all(axis=1)
+    seen = np.flatnonzero((faces >= 0) & inside)
     differ, example = 0, None
     for face in range(6):
         rows = seen[faces[seen] == face]
