@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import oracle, reference
+from ... import reference
 from ...results import TexelHit
 from ...worker.protocol import RECORDED_CALLS
 from .compare import Mismatches, compare, format_vector, tied_face_uv
@@ -141,11 +141,15 @@ class Judgement(Mismatches):
 
 
 def handout_read(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
-    """The handout's readTexture (the reference's bilinear) at faces[i], uv[i]; NaN where no face or (u, v)."""
+    """The handout's readTexture at faces[i], uv[i]; NaN where no face or
+    (u, v). The handout member of texture_model (held to the C reference by
+    its tests), not the oracle: the (u, v) are the student's, which the
+    kit's recorded answers cannot hold, and the kit holds this member."""
+    from .texture_model import HANDOUT, evaluate_in_buffer
     out = np.full((len(uv), 3), np.nan)
     rows = (faces >= 0) & np.isfinite(uv).all(axis=1)
     if rows.any():
-        out[rows] = oracle.current().read_texture(texels, faces[rows], uv[rows], "bilinear")
+        out[rows] = evaluate_in_buffer(HANDOUT, texels, faces[rows], uv[rows])[0]
     return out
 
 
