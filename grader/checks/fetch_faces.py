@@ -12,7 +12,7 @@ from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
-from .instruments import fetch_record
+from .instruments import fetch_record, record_picture
 from .instruments.face_recovery import CANDIDATES, analyse
 from .instruments.face_recovery import DIAGNOSIS_IDS as _READ_BACK_IDS
 from .read_texture import ReadTextureFinding, read_texture
@@ -30,6 +30,7 @@ def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     from .instruments.texture_model import HANDOUT, Fit
     analysis = analyse(fetch_record.AsIfHandoutRead(ctx.lookups), Fit(HANDOUT, HANDOUT, 1.0, 0), quick=ctx.quick)
     result.diagnoses = analysis.diagnoses()
+    result.artifacts["record"] = record_picture.draw(ctx, ctx.lookups)
     if not result.diagnoses:
         result.fraction = 1.0
         result.output = _("On every face, fetchColor samples the right face with u and v running the right way.")
