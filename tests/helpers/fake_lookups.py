@@ -100,23 +100,14 @@ class FakeLookups:
         """The shim's recording: one readTexture call per direction, at the
         fake's (face, u, v), answered with tags[0] (tags None: the fake's
         readTexture) and returned; "black" and degenerate directions make no
-        call and return black; with the "crash-alone" readTexture, fetchColor
-        reads the texels itself (no call)."""
+        call and return black; with the "crash-alone" readTexture, or a
+        subclass's own fetch, fetchColor reads the texels itself (no call)."""
         dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
         itself = self.fetch(dirs).values
-        rows = np.full((len(dirs), RECORD_ROW), np.nan)
-        h, w = self.faces.shape[1:3]
         faces, uv = self._requests(dirs)
         calls = (np.isfinite(dirs).all(axis=1) & dirs.any(axis=1) & (self.fetch_mistakes != "black")
-                 & (self.texture != "crash-alone"))
-        answer = itself if tags is None else np.broadcast_to(np.asarray(tags, np.float64)[0], itself.shape)
-        rows[:, :3] = np.where(calls[:, None], answer, itself)
-        rows[:, 3] = calls
-        rows[:, 4] = np.where(calls, 0, -1)
-        rows[calls, 5] = faces[calls]
-        rows[calls, 6] = faces[calls] * (w * h * 3)
-        rows[calls, 7:9] = uv[calls]
-        return Outcome(values=rows, evaluated=np.ones(len(dirs), bool))
+                 & (self.texture != "crash-alone") & (type(self).fetch is FakeLookups.fetch))
+        return record_rows(self.faces, faces, uv, calls, itself, tags)
 
     def _requests(self, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The (face, u, v) this fake's fetchColor asks readTexture for."""
@@ -175,3 +166,21 @@ class FakeLookups:
                             "Clamp x1 and y1 to the face as well as x0 and y0.")
                     for i in np.flatnonzero(failed)[:4]]
         return Outcome(values=values, evaluated=~failed, failures=failures, gave_up=bool(failed.sum() > 4))
+
+
+def record_rows(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray, calls: np.ndarray, itself: np.ndarray,
+                tags: np.ndarray | None) -> Outcome:
+    """RECORD_FETCH's rows (grader.worker.protocol) for a fetchColor that
+    makes one readTexture call at (faces[i], uv[i]) where calls[i], and
+    returns its answer (tags[0], or itself[i] when tags is None: the
+    answer of the fake's own readTexture); elsewhere no call and itself[i]."""
+    rows = np.full((len(faces), RECORD_ROW), np.nan)
+    h, w = texels.shape[1:3]
+    answer = itself if tags is None else np.broadcast_to(np.asarray(tags, np.float64)[0], itself.shape)
+    rows[:, :3] = np.where(calls[:, None], answer, itself)
+    rows[:, 3] = calls
+    rows[:, 4] = np.where(calls, 0, -1)
+    rows[calls, 5] = faces[calls]
+    rows[calls, 6] = faces[calls] * (w * h * 3)
+    rows[calls, 7:9] = uv[calls]
+    return Outcome(values=rows, evaluated=np.ones(len(faces), bool))

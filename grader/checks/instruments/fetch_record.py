@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import reference
-from ...results import TexelHit
+from ...envmap import library as reference
+from ...grading.results import TexelHit
 from ...worker.protocol import RECORDED_CALLS
 from .compare import Mismatches, compare, format_vector, tied_face_uv
 
@@ -264,7 +264,7 @@ def judged_in_context(read_texture_check):
     import functools
 
     from ...i18n import _
-    from ...results import FAILED, Diagnosis
+    from ...grading.results import FAILED, Diagnosis
 
     @functools.wraps(read_texture_check)
     def run(ctx, result, *findings):

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...geometry import FACE_NAMES, cross_cells, face_uv_to_direction
+from ...envmap.geometry import FACE_NAMES, cross_cells, face_uv_to_direction
 from ...i18n import _
 from . import fetch_record
 
@@ -61,7 +61,7 @@ def cross(faces: np.ndarray) -> np.ndarray:
 def draw(ctx, lookups) -> "Path":
     """reference | your fetchColor, each an unfolded cross, faces named; written to record.png."""
     import OpenImageIO as oiio
-    from ...imaging import write_image
+    from ...envmap.imaging import write_image
     from ..arrows import _fonts
     scale, pad, top = 6, 16, 26
     pictures = [cross(lettered_faces()), cross(asked_faces(lookups))]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from fake_lookups import FakeLookups
-from grader import reference
+from grader.envmap import library as reference
 from grader.checks.instruments import fetch_record
 from grader.checks.instruments.compare import tolerance
 from grader.checks.instruments.textures import coordinate_faces
