@@ -118,12 +118,13 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     extreme = extreme_directions()
     rec, verdict = fetch_record.observe(ctx.lookups, extreme, texels, tol)
     diagnoses += failure_diagnoses(rec.outcome.failures)
-    nan_rows = np.flatnonzero((rec.calls >= 0) & ~np.isfinite(rec.values).all(axis=1))
+    nan_rows, seen = fetch_record.not_finite(rec)
     if len(nan_rows):
         # The cause (float conversion, a squared length, a division by the
         # length) is named by its own diagnosis beside this one; here only what happened.
-        diagnoses.append(Diagnosis("nan-output", _("%(call)s returned NaN or infinity; the direction is finite and not zero.")
-                                   % {"call": describe_direction(extreme[nan_rows[0]])}))
+        diagnoses.append(Diagnosis("nan-output", _("%(call)s %(seen)s: NaN or infinity, for a direction that is finite "
+                                                   "and not zero.")
+                                   % {"call": describe_direction(extreme[nan_rows[0]]), "seen": seen[0]}))
     parts.append((N_("tiny and huge directions give the reference colour"), len(extreme), int(verdict.ok.sum())))
     group = N_("tiny and huge directions")   # a key; reports read it out with _()
     result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), verdict.actual, verdict.expected,

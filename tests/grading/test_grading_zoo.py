@@ -43,7 +43,9 @@ ZOO = {
     "scaled-by-size-minus-one": ({("scaled-by-size-minus-one", None)}, {FILTER, "renders"}, {MAPPING, "arrows"}, GRADED),
     # Runtime failures are attributed, and cost only what they touch.
     # x1 = x0 + 1 unclamped: the cause (unclamped-edge) is named beside what it does.
-    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("crash", None), ("unclamped-edge", None)}, {FILTER}, set(), GRADED),
+    # fetchColor is right and is judged on what it asks readTexture (issue 29): readTexture's read
+    # past the face is its own check's (out-of-bounds-read), no longer a crash of fetchColor's checks.
+    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("unclamped-edge", None)}, {FILTER}, set(), GRADED),
     # Every direction toward -Z crashes: that face is listed as not analysed, never dropped.
     "crash-null": ({("crash", None), ("face-not-analysed", "-Z")}, {MAPPING}, {FILTER}, GRADED),
     "timeout-loop": ({("timeout", None)}, {"stability"}, {FILTER, "renders"}, TIMEOUT),

@@ -108,8 +108,8 @@ def test_the_record_is_the_truth_call_by_call(name, tmp_path):
 
 @pytest.mark.parametrize("name", sorted(ZOO))
 def test_record_submission_is_graded_on_what_it_asks(name, tmp_path):
-    from grader.grade import GradeOptions
-    from grader.results import GRADED
+    from grader.grading.grade import GradeOptions
+    from grader.grading.results import GRADED
     from grading_cache import grade_once
     _, loses, keeps, false = ZOO[name]
     result = grade_once(RECORD / f"{name}.cpp", tmp_path, GradeOptions(quick=True), write_reports=False)

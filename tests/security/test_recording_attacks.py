@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from grader.grade import GradeOptions
-from grader.results import GRADED
+from grader.grading.grade import GradeOptions
+from grader.grading.results import GRADED
 from grading_cache import grade_once
 from project_paths import SUBMISSIONS
 from test_redteam2 import ISOLATION, REDTEAM2, by_name, mode  # noqa: F401 (mode: the fixture)

@@ -67,6 +67,28 @@ class Record:
         return faces, uv
 
 
+def not_finite(rec: Record) -> tuple[np.ndarray, list[str]]:
+    """(rows, words): the directions for which fetchColor, having finished,
+    returned NaN or infinity or asked readTexture for a u or v that is not
+    finite (answered with a tag, it would return NaN to a real readTexture's
+    caller), and what was seen for each, in words."""
+    from ...i18n import _
+    with np.errstate(invalid="ignore"):
+        made = np.arange(RECORDED_CALLS)[None, :] < np.minimum(rec.calls, RECORDED_CALLS)[:, None]
+        bad_uv = (made & ~np.isfinite(rec.uv).all(axis=2)).any(axis=1)
+    bad_rgb = ~np.isfinite(rec.values).all(axis=1)
+    rows = np.flatnonzero((rec.calls >= 0) & (bad_uv | bad_rgb))
+    words = []
+    for i in rows:
+        if bad_uv[i]:
+            k = int(np.flatnonzero(made[i] & ~np.isfinite(rec.uv[i]).all(axis=1))[0])
+            words.append(_("asked readTexture for u = %(u)s, v = %(v)s") % {"u": repr(float(rec.uv[i, k, 0])),
+                                                                            "v": repr(float(rec.uv[i, k, 1]))})
+        else:
+            words.append(_("returned %(rgb)s") % {"rgb": format_vector(rec.values[i])})
+    return rows, words
+
+
 def concatenate(records: list[Record]) -> Record:
     """Several records as one, in order (their outcomes as a list)."""
     return Record(**{name: np.concatenate([getattr(r, name) for r in records])
