@@ -35,7 +35,9 @@ ZOO = {
                                   {MAPPING, "arrows"}, {FILTER}, GRADED),
     # Dividing by the length (or by nothing) also breaks tiny/huge directions.
     "not-normalized-length": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING, "stability"}, {FILTER}, GRADED),
-    "not-normalized-unit": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING}, {FILTER}, GRADED),
+    # Its NaN came from its readTexture given u = 5e307 (floor of inf): fetchColor asks a finite (u, v) and
+    # returns what it is given (issue 29: judged as if readTexture were the handout's); the cause stays named.
+    "not-normalized-unit": ({("not-divided-by-m", None)}, {MAPPING}, {FILTER}, GRADED),
     # readTexture mistakes: fetchColor is judged on its own and keeps its points.
     "nearest-neighbor": ({("nearest-neighbor", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "half-texel-offset": ({("half-texel-offset", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
