@@ -136,8 +136,9 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
         fraction = shown(drawn)
     result.fraction = fraction
     result.metrics.update(cases=total, matched=matched, random_share=shown(drawn))
-    itself = np.concatenate([verdict.case == fetch_record.READS_ITSELF for *_, verdict in parts])
-    all_dirs = np.concatenate([dirs for _name, dirs, *_ in parts])
+    scored = [part for part in parts if part[0] != RANDOM_SET]
+    itself = np.concatenate([verdict.case == fetch_record.READS_ITSELF for *_, verdict in scored])
+    all_dirs = np.concatenate([dirs for _name, dirs, *_ in scored])
     notes = ""
     if itself.any():
         result.metrics["reads_itself"] = int(itself.sum())
