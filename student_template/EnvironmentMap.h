@@ -62,7 +62,11 @@ public:
 
     // YOURS (EnvironmentMap.cpp): the colour of the face that starts at
     // `addr` at face parameters (u, v) in [0,1] x [0,1].
-    Color readTexture(const float* addr, double u, double v) const;
+    // Virtual so the grader can see which face and (u, v) your fetchColor
+    // asks for (it answers those calls itself and judges fetchColor as if
+    // readTexture were the handout's); define it as usual, without
+    // `virtual`, and call it as usual from fetchColor.
+    virtual Color readTexture(const float* addr, double u, double v) const;
 
     // The first texel of face `face` (0..5, e.g. FACE_POS_X).
     const float* faceAddress(int face) const

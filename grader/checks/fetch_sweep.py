@@ -1,4 +1,4 @@
-"""fetchColor over direction sweeps, judged through the student's own readTexture, per set and face."""
+"""fetchColor over direction sweeps, judged on what it asks readTexture for, per set and face."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -6,17 +6,22 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..envmap import library as reference
-from ..i18n import _
+from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
-from .instruments.compare import Comparison, describe_direction, tolerance, worst_cases
+from .instruments.compare import describe_direction, format_vector, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .instruments.directions import FIBONACCI_SET, RANDOM_SET, sweep_sets
-from .instruments import own_read
+from .instruments.directions import FIBONACCI_SET, RANDOM_SET, fibonacci_sphere, sweep_sets
+from .instruments import fetch_record
 from .read_texture import ReadTextureFinding, read_texture
 from .instruments.textures import coordinate_faces
 
 SWEEP_FACE_SIZE = (32, 32)
+# A fixed set recorded on faces of a second size (W, H), not square, in the
+# worker that ran the others (pattern 12: a face size kept in a static).
+SECOND_FACE_SIZE = (24, 16)
+SECOND_SIZE_DIRECTIONS = 2_000
+SECOND_SIZE_SET = N_("Fibonacci sphere, 24 x 16 faces after 32 x 32")
 
 
 # Robustness and speed count in proportion to how much of the sweep is right:
@@ -70,64 +75,57 @@ WORKING_CREDIT = Credit(share=lambda sweep: sweep.working, words=lambda sweep: s
 @check(requires=(read_texture,))
 def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding) -> SweepFinding:
     """fetchColor picks the right face and (u, v) for every direction: the whole sphere, each face, edge, corner and axis, at any length."""
-    # Judged through the student's own readTexture, called live at the
-    # reference's face and (u, v) (instruments.own_read): the same strict
-    # judge whatever readTexture does, fitted by a model or not.
-    w, h = SWEEP_FACE_SIZE
-    faces = coordinate_faces(w, h)
-    ctx.lookups.set_faces(faces)
+    # Judged on the record of what fetchColor asks readTexture
+    # (instruments.fetch_record), as if its readTexture were the handout's:
+    # the student's readTexture plays no part (`texture` only orders the checks).
     sets = sweep_sets(ctx.seed, fibonacci=20_000 if ctx.quick else 100_000)
+    # Each set on the sweep's faces, then a fixed one on faces of a second
+    # size in the same process, so a face size kept from an earlier call shows.
+    observed = [(name, dirs, SWEEP_FACE_SIZE, False) for name, dirs in sets.items()]
+    observed.append((SECOND_SIZE_SET, fibonacci_sphere(SECOND_SIZE_DIRECTIONS), SECOND_FACE_SIZE, True))
 
-    diagnoses, outcomes = [], {}
-    for name, dirs in sets.items():
-        outcomes[name] = ctx.lookups.fetch(dirs)
-        diagnoses += failure_diagnoses(outcomes[name].failures)
-    all_dirs = np.concatenate(list(sets.values()))
-    all_values = np.concatenate([np.asarray(o.values, np.float64) for o in outcomes.values()])
-    verdict = own_read.judge(ctx.lookups, all_dirs, all_values, tolerance(w, h, float(max(w, h) + 1)), (w, h),
-                             texels=faces, texture_mismatch=texture.face_mismatch)
-    if verdict.context_dependent:
-        diagnoses.append(Diagnosis("texture-context-dependent",
-                                   _("Called on its own on these faces, your readTexture differs from the handout's "
-                                     "far more often than in the readTexture check, so fetchColor is judged against "
-                                     "the handout's readTexture here.")))
-    ref_faces_all = own_read.reference_faces(all_dirs)
+    diagnoses, parts = [], []
+    for name, dirs, (w, h), same_process in observed:
+        faces = coordinate_faces(w, h)
+        if same_process or not parts:
+            ctx.lookups.set_faces(faces, same_process=same_process)
+        rec, verdict = fetch_record.observe(ctx.lookups, dirs, faces, tolerance(w, h, float(max(w, h) + 1)))
+        diagnoses += failure_diagnoses(rec.outcome.failures)
+        parts.append((name, dirs, (w, h), rec, verdict))
 
     rows = []
-    total = matched = unreadable = 0
+    total = matched = 0
     per_face_bad = np.zeros(6, np.int64)
     per_face_all = np.zeros(6, np.int64)
     nan_inputs = []
     share_of = {}
-    lo = 0
-    for name, dirs in sets.items():
-        part = slice(lo, lo + len(dirs))
-        lo += len(dirs)
-        outcome, ok, ref_faces = outcomes[name], verdict.ok[part], ref_faces_all[part]
-        values, evaluated = np.asarray(outcome.values, np.float64), np.asarray(outcome.evaluated, bool)
-        # NaN from an input that ran to the end (not one that crashed or was never run).
-        fresh_nan = np.flatnonzero(evaluated & ~np.isfinite(values).all(axis=1))
+    for name, dirs, size, rec, verdict in parts:
+        ok, ref_faces = verdict.ok, verdict.table[0]
+        evaluated = rec.calls >= 0
+        fresh_nan, seen = fetch_record.not_finite(rec)
         if len(fresh_nan) and not nan_inputs:
-            nan_inputs.append(dirs[fresh_nan[0]])
+            nan_inputs.append((dirs[fresh_nan[0]], seen[0]))
         # Over the directions it answered: where the worker gave up after a
         # crash, no direction says anything about the set (the later sets lose most).
         share_of[name] = (float(ok[evaluated].mean()), int(evaluated.sum())) if evaluated.any() else (1.0, 0)
         if name != RANDOM_SET:      # the points are on the fixed sets (RANDOM_SET's comment above)
             total += len(dirs)
             matched += int(ok.sum())
-            unreadable += int((verdict.unreadable[part] & ~ok).sum())
             np.add.at(per_face_all, ref_faces[ref_faces >= 0], 1)
             np.add.at(per_face_bad, ref_faces[(ref_faces >= 0) & ~ok], 1)
         rows.append((name, len(dirs), int(ok.sum())))
         if not ok.all():
-            # The worst cases as data: reports say where each lookup landed (face, texel, (u, v)).
-            cmp = Comparison(ok=ok, error=verdict.error[part], tolerance=np.zeros(len(dirs)))
-            result.mismatches += worst_cases(cmp, lambda i, dirs=dirs: describe_direction(dirs[i]), values,
-                                             verdict.expected[part], group=name, face_size=(w, h))
-            result.mismatch_counts[name] = len(cmp.failures)
+            # The worst cases as data: reports print the table's and the recorded (face, u, v).
+            result.mismatches += worst_cases(verdict, lambda i, dirs=dirs: describe_direction(dirs[i]),
+                                             verdict.actual, verdict.expected, group=name,
+                                             hits=lambda i, v=verdict, size=size: fetch_record.hits(v, i, size))
+            result.mismatch_counts[name] = len(verdict.failures)
     if nan_inputs:
-        diagnoses.append(Diagnosis("nan-output", _("%(call)s returned NaN or infinity for a finite, non-zero direction.")
-                                   % {"call": describe_direction(nan_inputs[0])}))
+        diagnoses.append(Diagnosis("nan-output", _("%(call)s %(seen)s: NaN or infinity, for a direction that is finite "
+                                                   "and not zero.")
+                                   % {"call": describe_direction(nan_inputs[0][0]), "seen": nan_inputs[0][1]}))
+    for name, dirs, size, rec, verdict in parts:
+        diagnoses += _record_diagnoses(verdict, rec, dirs, size)
     fraction = shown(matched / total) if total else 0.0
     # The random set held to the Fibonacci sphere: both estimate the share of
     # the sphere that is right, the random one within its standard error.
@@ -138,11 +136,16 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
         fraction = shown(drawn)
     result.fraction = fraction
     result.metrics.update(cases=total, matched=matched, random_share=shown(drawn))
-    if unreadable:
-        result.metrics["readtexture_crashed"] = unreadable
-    not_earned = ("\n\n" + _("%(count)d directions were not earned because your readTexture itself crashes at the "
-                               "face and (u, v) they need (its own check says why).") % {"count": unreadable}
-                  if unreadable else "")
+    scored = [part for part in parts if part[0] != RANDOM_SET]
+    itself = np.concatenate([verdict.case == fetch_record.READS_ITSELF for *_, verdict in scored])
+    all_dirs = np.concatenate([dirs for _name, dirs, *_ in scored])
+    notes = ""
+    if itself.any():
+        result.metrics["reads_itself"] = int(itself.sum())
+        notes = "\n\n" + _("For %(count)d directions your fetchColor made no readTexture call (it reads the texels "
+                            "itself, or calls EnvironmentMap::readTexture by its qualified name), e.g. %(call)s: "
+                            "their colours are judged end to end against the handout's readTexture.") % {
+            "count": int(itself.sum()), "call": describe_direction(all_dirs[np.flatnonzero(itself)[0]])}
     table = [f"| {_('direction set')} | {_('cases')} | {_('match')} |", "|---|---:|---:|"]
     table += [f"| {_(name)} | {n} | {ok / n:.2%} |" if n else f"| {_(name)} | 0 | - |" for name, n, ok in rows]
     table += ["", f"| {_('face')} | {_('directions')} | {_('match')} |", "|---|---:|---:|"]
@@ -159,11 +162,43 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     result.diagnoses = unique_diagnoses(diagnoses)
     if matched < total or answers_differ:
         result.status = FAILED
-        result.output = (_("%(wrong)d of %(total)d directions give a colour different from what your own "
-                           "readTexture returns at the face and (u, v) the handout's table gives: %(share)s right.")
+        result.output = (_("%(wrong)d of %(total)d directions do not ask readTexture for the face and (u, v) the "
+                           "handout's table gives, or do not return what it answered: %(share)s right.")
                          % {"wrong": total - matched, "total": total, "share": f"{shown(matched / total):.2%}"}
-                         + "\n\n" + "\n".join(table) + random_words + not_earned)
+                         + "\n\n" + "\n".join(table) + random_words + notes)
     else:
-        result.output = (_("All %(total)d directions match the reference.") % {"total": total} + "\n\n"
-                         + "\n".join(table) + random_words)
+        result.output = (_("All %(total)d directions ask readTexture for the face and (u, v) the handout's table "
+                           "gives and return what it answered.") % {"total": total} + "\n\n"
+                         + "\n".join(table) + random_words + notes)
     return SweepFinding(fraction=fraction)
+
+
+def _record_diagnoses(verdict, rec, dirs: np.ndarray, size: tuple[int, int]) -> list[Diagnosis]:
+    """What the record shows beyond wrong requests, each with a direction that shows it."""
+    out = []
+    w, h = size
+    not_returned = np.flatnonzero(verdict.case == fetch_record.NOT_RETURNED)
+    if len(not_returned):
+        i = not_returned[0]
+        out.append(Diagnosis("fetch-not-returned", _(
+            "%(call)s called readTexture %(calls)d times and returned %(got)s, which is none of the colours "
+            "readTexture answered (%(answers)s).") % {
+            "call": describe_direction(dirs[i]), "calls": int(rec.calls[i]), "got": format_vector(rec.values[i]),
+            "answers": ", ".join(format_vector(t) for t in fetch_record.TAGS[:min(int(rec.calls[i]), len(fetch_record.TAGS))])}))
+    otherwise = np.flatnonzero(verdict.case == fetch_record.ASKS_OTHERWISE)
+    if len(otherwise):
+        i = otherwise[0]
+        out.append(Diagnosis("asks-otherwise", _(
+            "%(call)s asks readTexture for something else when your own readTexture answers it than when the "
+            "grader's recording does: %(count)d directions like it are judged wrong.") % {
+            "call": describe_direction(dirs[i]), "count": len(otherwise)}))
+    stray = np.flatnonzero(verdict.case == fetch_record.NO_FACE_START)
+    if len(stray):
+        i = stray[0]
+        k = int(rec.returned[i])
+        out.append(Diagnosis("address-not-face-start", _(
+            "%(call)s called readTexture with an address %(offset)s floats after the first face's first texel: "
+            "no face starts there (on these %(w)dx%(h)d faces one starts every %(stride)d floats).") % {
+            "call": describe_direction(dirs[i]), "offset": f"{rec.offsets[i, k]:.0f}", "w": w, "h": h,
+            "stride": w * h * 3}))
+    return out

@@ -13,6 +13,7 @@ from ..envmap import oracle, library as reference
 from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
+from .instruments import fetch_record
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments import footprint as fp
 from .instruments.compare import compare, tolerance
@@ -559,6 +560,7 @@ def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis],
 
 
 @check()
+@fetch_record.judged_in_context
 def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     """readTexture blends the four texels around (uW, vH) as the handout's equations (1)-(3) say."""
     failures: list = []

@@ -10,7 +10,7 @@ from . import Needs, check, shown
 from .instruments.compare import describe_direction, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import corners, edges
-from .instruments import own_read
+from .instruments import fetch_record
 from .read_texture import ReadTextureFinding, read_texture
 from .fetch_sweep import WORKING_CREDIT, SweepFinding, fetch_sweep
 from ..cubemap.directions import texel_directions
@@ -64,21 +64,19 @@ def border_and_interior(size: int = FACE_SIZE, per_face: int = 64, seed: int = 7
     return border, interior
 
 
-def seam_only(lookups, tol) -> tuple[bool, int, int]:
+def seam_only(lookups, texels: np.ndarray, tol) -> tuple[bool, int, int]:
     """(wrong only near the edges, border directions wrong, border directions
     judged): every direction two texels or more inside a face matches what
-    the student's own readTexture gives at the reference's (u, v), and some
-    within a texel of the border do not. A crash says nothing about where the
-    mistake is (other checks report it)."""
+    fetchColor asks readTexture for is right (instruments.fetch_record), and
+    some within a texel of the border are not. A crash says nothing about
+    where the mistake is (other checks report it)."""
     border, interior = border_and_interior()
     results = []
     for dirs in (border, interior):
-        outcome = lookups.fetch(dirs)
-        if outcome.failures or not outcome.evaluated.all():
+        rec, verdict = fetch_record.observe(lookups, dirs, texels, tol)
+        if rec.outcome.failures or (rec.calls < 0).any():
             return False, 0, 0
-        verdict = own_read.judge(lookups, dirs, outcome.values, tol, (FACE_SIZE, FACE_SIZE))
-        judged = ~verdict.unreadable
-        results.append((int((judged & ~verdict.ok).sum()), int(judged.sum())))
+        results.append((int((~verdict.ok).sum()), len(dirs)))
     (border_bad, border_judged), (interior_bad, _) = results
     return interior_bad == 0 and border_bad > 0, border_bad, border_judged
 
@@ -100,48 +98,47 @@ def edge_pairs(k: int = 8, offset: float = 1e-7):
 @check(requires=(read_texture, Needs(fetch_sweep, credit=WORKING_CREDIT)))
 def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding, sweep: SweepFinding) -> None:
     """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
-    # Texels that encode their position; every answer judged through the
-    # student's own readTexture at the reference's face and (u, v)
-    # (instruments.own_read): no slack, whether or not readTexture fits a model.
+    # Texels that encode their position; every answer judged on the record
+    # of what fetchColor asks readTexture (instruments.fetch_record), as if
+    # its readTexture were the handout's: the student's readTexture plays no part.
     size = (FACE_SIZE, FACE_SIZE)
     texels = coordinate_faces(FACE_SIZE, FACE_SIZE)
     ctx.lookups.set_faces(texels)
-    trust = dict(texels=texels, texture_mismatch=texture.face_mismatch)
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0)
     parts, diagnoses = [], []
 
-    # 1. Degenerate directions: only crashing is wrong.
+    # 1. Degenerate directions: only crashing is wrong (fetchColor's own:
+    # its readTexture calls are answered by the recording).
     degenerate = degenerate_directions()
-    outcome = ctx.lookups.fetch(degenerate)
-    parts.append((N_("zero, NaN and infinite directions do not crash"), len(degenerate), int(outcome.evaluated.sum())))
-    diagnoses += failure_diagnoses(outcome.failures)
+    rec = fetch_record.record(ctx.lookups, degenerate)
+    parts.append((N_("zero, NaN and infinite directions do not crash"), len(degenerate), int((rec.calls >= 0).sum())))
+    diagnoses += failure_diagnoses(rec.outcome.failures)
 
     # 2. Extreme but valid directions: finite and what a correct fetchColor gives.
     extreme = extreme_directions()
-    outcome = ctx.lookups.fetch(extreme)
-    diagnoses += failure_diagnoses(outcome.failures)
-    nan_rows = np.flatnonzero(outcome.evaluated & ~np.isfinite(outcome.values).all(axis=1))
+    rec, verdict = fetch_record.observe(ctx.lookups, extreme, texels, tol)
+    diagnoses += failure_diagnoses(rec.outcome.failures)
+    nan_rows, seen = fetch_record.not_finite(rec)
     if len(nan_rows):
         # The cause (float conversion, a squared length, a division by the
         # length) is named by its own diagnosis beside this one; here only what happened.
-        diagnoses.append(Diagnosis("nan-output", _("%(call)s returned NaN or infinity; the direction is finite and not zero.")
-                                   % {"call": describe_direction(extreme[nan_rows[0]])}))
-    verdict = own_read.judge(ctx.lookups, extreme, outcome.values, tol, size, **trust)
+        diagnoses.append(Diagnosis("nan-output", _("%(call)s %(seen)s: NaN or infinity, for a direction that is finite "
+                                                   "and not zero.")
+                                   % {"call": describe_direction(extreme[nan_rows[0]]), "seen": seen[0]}))
     parts.append((N_("tiny and huge directions give the reference colour"), len(extreme), int(verdict.ok.sum())))
     group = N_("tiny and huge directions")   # a key; reports read it out with _()
-    result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), outcome.values, verdict.expected,
-                                     group=group, face_size=size)
+    result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), verdict.actual, verdict.expected,
+                                     group=group, hits=lambda i: fetch_record.hits(verdict, i, size))
     result.mismatch_counts[group] = len(verdict.failures)
 
     # 3. Ties moved by one ulp: either touching face is right.
     ties = ulp_moved(np.concatenate([corners(), edges(4)]))
-    outcome = ctx.lookups.fetch(ties)
-    diagnoses += failure_diagnoses(outcome.failures)
-    verdict = own_read.judge(ctx.lookups, ties, outcome.values, tol, size, **trust)
+    rec, verdict = fetch_record.observe(ctx.lookups, ties, texels, tol)
+    diagnoses += failure_diagnoses(rec.outcome.failures)
     parts.append((N_("edges and corners moved by one ulp"), len(ties), int(verdict.ok.sum())))
 
     # Where the answers are wrong: only within a texel of the cube's edges?
-    near_edges_only, border_bad, border_judged = seam_only(ctx.lookups, tol)
+    near_edges_only, border_bad, border_judged = seam_only(ctx.lookups, texels, tol)
     seam_hint = (" " + _("Away from the edges your colours match the reference: only directions within one texel of a "
                          "face's border are wrong (%(bad)d of %(judged)d tried there). Look at what happens to "
                          "(u, v) at the face's border: the clamp, the rounding, or which face an edge direction goes to.")
@@ -149,24 +146,19 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
 
     # 4. Continuity: on a continuous environment (each texel holds the
     # direction through it), the jump across each edge is no larger than a
-    # correct fetchColor's over the same readTexture: the student's own
-    # readTexture at the reference's (face, u, v) either side of the edge.
+    # correct fetchColor's: the handout's readTexture at the recorded (face,
+    # u, v) either side of the edge.
     smooth = (0.5 + 0.5 * texel_directions(FACE_SIZE)).astype(np.float32)
     ctx.lookups.set_faces(smooth)
-    trust = dict(texels=smooth, texture_mismatch=texture.face_mismatch)
     smooth_tol = tolerance(FACE_SIZE, FACE_SIZE, 1.0)
     a, b, edge = edge_pairs()
-    out_a, out_b = ctx.lookups.fetch(a), ctx.lookups.fetch(b)
-    judged_a = own_read.judge(ctx.lookups, a, out_a.values, smooth_tol, size, **trust)
-    judged_b = own_read.judge(ctx.lookups, b, out_b.values, smooth_tol, size, **trust)
+    _rec_a, judged_a = fetch_record.observe(ctx.lookups, a, smooth, smooth_tol)
+    _rec_b, judged_b = fetch_record.observe(ctx.lookups, b, smooth, smooth_tol)
     with np.errstate(invalid="ignore"):
         ref_jump = np.abs(judged_a.expected - judged_b.expected).max(axis=1)
-        sub_jump = np.abs(out_a.values - out_b.values).max(axis=1)
-    # Both sides what a correct fetchColor gives (a readTexture that jumps at
-    # a texel boundary may jump at the float-level (u, v) difference), or a
-    # jump no larger than a correct fetchColor's. Where the student's
-    # readTexture crashes there is nothing to compare with: the pair is not
-    # earned (NaN fails).
+        sub_jump = np.abs(judged_a.actual - judged_b.actual).max(axis=1)
+    # Both sides what the table gives, or a jump no larger than a correct
+    # fetchColor's; a side where nothing was recorded (a crash) fails (NaN).
     bad = ~(judged_a.ok & judged_b.ok) & ~(sub_jump <= ref_jump + 2 * smooth_tol)
     bad_edges = sorted({int(e) for e in edge[bad]})
     parts.append((N_("no seam larger than the reference's at the 12 edges"), 12, 12 - len(bad_edges)))

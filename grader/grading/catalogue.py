@@ -708,13 +708,40 @@ _ENTRIES = [
         "from earlier calls."),
     ),
     DiagnosisInfo(
+        "fetch-not-returned", "mapping",
+        N_("fetchColor does not return the colour readTexture gives it"),
+        N_("The grader watched every readTexture call your fetchColor makes and "
+        "answered each with a colour of its own: fetchColor returned something "
+        "else (a changed, mixed or made-up colour, or black)."),
+        N_("Return readTexture's answer unchanged: `return readTexture(faceAddress(face), u, v);`."),
+    ),
+    DiagnosisInfo(
+        "asks-otherwise", "mapping",
+        N_("fetchColor asks for other texels depending on who answers readTexture"),
+        N_("The grader records every readTexture call your fetchColor makes twice: "
+        "answered by your own readTexture, and answered with colours of its own. "
+        "fetchColor made different calls (or, reading texels itself, returned "
+        "different colours) in the two, so what it asks for cannot be judged and "
+        "those directions count as wrong."),
+        N_("fetchColor must compute its face and (u, v) from the direction alone and "
+        "call readTexture once with them, whatever readTexture answers."),
+    ),
+    DiagnosisInfo(
+        "address-not-face-start", "mapping",
+        N_("fetchColor passes readTexture an address where no face starts"),
+        N_("readTexture expects the first texel of one face (docs/assignment.md: face k "
+        "starts k * W * H * 3 floats into the buffer). Your fetchColor passed an "
+        "address inside a face, or outside the buffer."),
+        N_("Pass faceAddress(face) (or m_Texels + face * m_FaceWidth * m_FaceHeight * 3): "
+        "the face's first texel, nothing added for u or v."),
+    ),
+    DiagnosisInfo(
         "texture-context-dependent", "filtering",
-        N_("Your readTexture answers differently on the faces fetchColor is judged on"),
-        N_("fetchColor is judged through your own readTexture, called on its own at "
-        "the face and (u, v) the handout's table gives. On the faces fetchColor "
-        "is judged on, your readTexture differs from the handout's far more often "
-        "than in the readTexture check, so it is not believed there and "
-        "fetchColor is judged against the handout's readTexture instead."),
+        N_("Your readTexture answers fetchColor differently from other callers"),
+        N_("The grader recorded the readTexture calls your fetchColor makes, with "
+        "your readTexture's answers, and made the same calls directly: some were "
+        "answered differently. The renders use the answers fetchColor gets, so "
+        "the readTexture check counts at most the calls answered alike."),
         N_("readTexture must compute the same thing whoever calls it and whatever "
         "the faces' size: no separate paths."),
     ),

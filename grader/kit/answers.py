@@ -20,6 +20,7 @@ from ..envmap import oracle
 from ..grading import score
 from ..checks import all_checks, run_checks
 from ..checks.context import CheckContext
+from ..worker.protocol import RECORD_ROW
 from ..worker.runner import Outcome
 from . import ANSWERS, KIT_SEED, NOT_IN_KIT  # noqa: F401 (grade --kit-inputs reads them here)
 
@@ -31,7 +32,7 @@ class _AsTheHandout:
     def __init__(self, ask: oracle.Oracle):
         self.ask, self.faces = ask, np.zeros((6, 1, 1, 3), np.float32)
 
-    def set_faces(self, faces):
+    def set_faces(self, faces, same_process=False):
         self.faces = np.ascontiguousarray(faces, np.float32)
 
     def _outcome(self, values):
@@ -43,6 +44,26 @@ class _AsTheHandout:
 
     def read_texture(self, face, uv, placement="end"):
         return self._outcome(oracle.LiveReference().read_texture(self.faces, face, uv))
+
+    def record_fetch(self, dirs, tags):
+        """As grader/shim/reference_submission.c records: one call at the
+        table's face and (u, v), its answer (the tag, or the handout's) returned."""
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        live = oracle.LiveReference()
+        faces, uv = live.direction_to_face(dirs)
+        rows = np.full((len(dirs), RECORD_ROW), np.nan)
+        seen = faces >= 0
+        h, w = self.faces.shape[1:3]
+        answer = (live.read_texture(self.faces, faces[seen], uv[seen]) if tags is None
+                  else np.broadcast_to(np.asarray(tags, np.float64)[0], (int(seen.sum()), 3)))
+        rows[:, :3] = 0.0
+        rows[seen, :3] = answer
+        rows[:, 3] = seen
+        rows[:, 4] = np.where(seen, 0, -1)
+        rows[seen, 5] = faces[seen]
+        rows[seen, 6] = faces[seen] * (w * h * 3)
+        rows[seen, 7:9] = uv[seen]
+        return self._outcome(rows)
 
     def time_fetch(self, passes):      # pragma: no cover - speed is not in the kit
         raise NotImplementedError

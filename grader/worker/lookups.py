@@ -11,6 +11,7 @@ import time
 from ..i18n import _
 from .failures import TIMEOUT
 from .process import Limits
+from .protocol import RECORD_ROW
 from .runner import Failure, Outcome, SubmissionRunner, TimedPasses
 
 # All the lookups of one grading together (wall clock). Past it, every call
@@ -73,6 +74,14 @@ class BudgetedRunner(SubmissionRunner):
         if self._left() <= 0:
             return self._nothing(len(np.reshape(dirs, (-1, 3))), "fetchColor")
         return self._budgeted(lambda: SubmissionRunner.fetch(self, dirs, placement))
+
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Outcome:
+        if self._left() <= 0:
+            n = len(np.reshape(dirs, (-1, 3)))
+            nothing = self._nothing(n, "fetchColor")
+            nothing.values = np.full((n, RECORD_ROW), np.nan)
+            return nothing
+        return self._budgeted(lambda: SubmissionRunner.record_fetch(self, dirs, tags))
 
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
         if self._left() <= 0:

@@ -22,5 +22,8 @@ int sub_fetch_batch(void *map, const double *dirs, size_t n, double *rgb, char *
 int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_t n, double *rgb,
                            char *message, size_t size)
 { (void)map; (void)addr; (void)uv; (void)message; (void)size; memset(rgb, 0, n * 3 * sizeof *rgb); return SUB_OK; }
+int sub_record_fetch_batch(void *map, const double *dirs, size_t n, const double *tags, double *rgb,
+                           double *counts, struct sub_texture_call *calls, char *message, size_t size)
+{ (void)map; (void)dirs; (void)n; (void)tags; (void)rgb; (void)counts; (void)calls; (void)message; (void)size; return SUB_OK; }
 int sub_load_cross(void *map, const char *path, char *message, size_t size)
 { (void)map; (void)path; (void)message; (void)size; return 0; }

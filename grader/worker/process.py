@@ -368,7 +368,7 @@ class Worker:
             self._setup(binary, deadline)
             self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work
             status, count, payload = self._receive(None, None, deadline, N_("loading the submission"))
-            if status != protocol.READY or count != 1:
+            if status != protocol.READY or count != protocol.ABI_VERSION:
                 self._fail(PROTOCOL, f"expected the ready message, got status {protocol.STATUS_NAMES[status]}")
         except BaseException:
             self.close()
@@ -515,6 +515,16 @@ class Worker:
         n = len(dirs)
         _, payload = self._call(protocol.FETCH, n, dirs.tobytes(), n, n * 24, timeout_s, "fetchColor")
         return protocol.decode_doubles(payload, n)
+
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None, timeout_s: float = 10.0) -> np.ndarray:
+        """fetchColor for each direction (n, 3) with its readTexture calls
+        recorded and answered with `tags` (None: with the student's
+        readTexture) -> rows (n, protocol.RECORD_ROW)."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        n = len(dirs)
+        _, payload = self._call(protocol.RECORD_FETCH, n, protocol.record_payload(tags, dirs), n,
+                                n * 8 * protocol.RECORD_ROW, timeout_s, "fetchColor")
+        return protocol.decode_doubles(payload, n, protocol.RECORD_ROW)
 
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end",
                      timeout_s: float = 10.0) -> np.ndarray:
@@ -664,7 +674,7 @@ class Worker:
         if status == protocol.FAULTS:
             # Inputs that faulted while the worker went on: claims against the
             # submission only (those inputs count as failed).
-            if op not in (protocol.FETCH, protocol.FETCH_WHOLE, protocol.READ_TEXTURE):
+            if op not in (protocol.FETCH, protocol.FETCH_WHOLE, protocol.READ_TEXTURE, protocol.RECORD_FETCH):
                 self._fail(PROTOCOL, f"a faults reply to {what}")
             try:
                 self.faults = protocol.decode_faults(reply, count, expected_count)

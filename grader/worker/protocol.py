@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# submission_abi.h's SUB_ABI_VERSION: READY's count.
+ABI_VERSION = 2
 REQUEST_MAGIC = 0x4B574D45   # "EMWK"
 RESPONSE_MAGIC = 0x524B4D45  # "EMKR"
 HEADER = struct.Struct("=IIQQ")
@@ -25,6 +27,15 @@ SET_FACES, FETCH, READ_TEXTURE, TIME_FETCH, LOAD_CROSS, QUIT = 1, 2, 3, 4, 5, 6
 # 4096 per call (timed passes: nothing per input added; a block in which an
 # input faults is evaluated again one input per call).
 FETCH_WHOLE = 7
+# fetchColor with readTexture's calls recorded (submission_abi.h,
+# sub_record_fetch_batch): the payload is a u64 (1: answer with the tags, 0:
+# with the student's readTexture), RECORDED_CALLS tag colours, then the
+# directions; each reply row is rgb, the number of calls, the call whose
+# answer was returned (-1: none), then the first RECORDED_CALLS calls as
+# (face, offset, u, v).
+RECORD_FETCH = 8
+RECORDED_CALLS = 4
+RECORD_ROW = 5 + 4 * RECORDED_CALLS
 # Replies (status).
 OK, EXCEPTION, ARGUMENT, CRASH, LOAD_ERROR, READY, BAD_REQUEST = 0, 1, 2, 3, 4, 5, 6
 # Sent before the submission is loaded: the only replies the grader trusts.
@@ -140,7 +151,15 @@ def decode_faults(payload: bytes, count: int, rows: int) -> list[tuple[int, Cras
     return out
 
 
-def decode_doubles(payload: bytes, rows: int) -> np.ndarray:
+def record_payload(tags: np.ndarray | None, dirs: np.ndarray) -> bytes:
+    """RECORD_FETCH's payload; tags None: answer with the student's readTexture."""
+    sent = np.zeros((RECORDED_CALLS, 3)) if tags is None else np.ascontiguousarray(tags, np.float64)
+    if sent.shape != (RECORDED_CALLS, 3):
+        raise ValueError(f"tags must have shape ({RECORDED_CALLS}, 3), not {sent.shape}")
+    return struct.pack("=Q", tags is not None) + sent.tobytes() + np.ascontiguousarray(dirs, np.float64).tobytes()
+
+
+def decode_doubles(payload: bytes, rows: int, width: int = 3) -> np.ndarray:
     """(rows, 3) float64. NaN and infinities are the student's answers, not
     protocol errors: the checks judge them."""
-    return np.frombuffer(payload, dtype=np.float64).reshape(rows, 3).copy()
+    return np.frombuffer(payload, dtype=np.float64).reshape(rows, width).copy()

@@ -35,6 +35,7 @@ import numpy as np
 from ..i18n import _
 from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, from_crash, hint
 from .process import Limits, Worker, WorkerHarnessError
+from .protocol import RECORD_ROW
 from .sandbox import ISOLATION, resolve_mode
 
 
@@ -180,10 +181,14 @@ class SubmissionRunner:
 
     # ---- public lookups ---------------------------------------------------
 
-    def set_faces(self, faces: np.ndarray) -> None:
-        """Use new faces (6, H, W, 3) from the next call on; a running worker gets them now."""
+    def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
+        """Use new faces (6, H, W, 3) from the next call on; a running worker
+        gets them now. same_process: faces no larger than the running
+        worker's go to that worker (state it keeps between calls shows);
+        otherwise a new size starts a new worker."""
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
-        if self._worker is not None and self._worker.texture_bytes != self.faces.nbytes:
+        fits = same_process and self._worker is not None and self.faces.nbytes <= self._worker.texture_bytes
+        if self._worker is not None and self._worker.texture_bytes != self.faces.nbytes and not fits:
             # Each worker's window fits one face size exactly: a new size, a new worker.
             self._drop_worker()
         if self._worker is not None and self._worker.alive:
@@ -201,6 +206,19 @@ class SubmissionRunner:
             return worker.fetch(dirs[lo:hi], timeout_s=self._timeout(hi - lo))
 
         return self._run_batch(len(dirs), run, placement, "fetchColor", lambda i: describe_fetch(dirs[i]))
+
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Outcome:
+        """fetchColor for each direction (n, 3) with its readTexture calls
+        recorded and answered with `tags` (None: with the student's
+        readTexture) (protocol.RECORD_FETCH):
+        values are rows (n, protocol.RECORD_ROW), NaN where nothing ran."""
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+
+        def run(worker: Worker, lo: int, hi: int) -> np.ndarray:
+            return worker.record_fetch(dirs[lo:hi], tags, timeout_s=self._timeout(hi - lo))
+
+        return self._run_batch(len(dirs), run, "end", "fetchColor", lambda i: describe_fetch(dirs[i]),
+                               width=RECORD_ROW)
 
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
         """readTexture on face `face` (its own guarded copy) for each (u, v) (n, 2)."""
@@ -270,8 +288,8 @@ class SubmissionRunner:
         return self.timeout_s + self.per_input_s * n
 
     def _run_batch(self, n: int, run: Callable[[Worker, int, int], np.ndarray], placement: str | None,
-                   function: str, describe: Callable[[int], str]) -> Outcome:
-        outcome = Outcome(values=np.full((n, 3), np.nan), evaluated=np.zeros(n, bool),
+                   function: str, describe: Callable[[int], str], width: int = 3) -> Outcome:
+        outcome = Outcome(values=np.full((n, width), np.nan), evaluated=np.zeros(n, bool),
                           warnings=self.warnings)
         began = time.monotonic()
 

@@ -122,7 +122,15 @@ static struct {
     int (*fetch_batch)(void *, const double *, size_t, double *, char *, size_t);
     int (*read_texture_batch)(void *, const float *, const double *, size_t, double *, char *, size_t);
     int (*load_cross)(void *, const char *, char *, size_t);
+    int (*record_fetch_batch)(void *, const double *, size_t, const double *, double *, double *,
+                              struct sub_texture_call *, char *, size_t);
 } sub;
+
+/* RECORD_FETCH's reply, per direction: rgb, the number of readTexture calls,
+ * the call whose answer was returned, then the first SUB_RECORDED_CALLS calls
+ * (face, offset, u, v). */
+_Static_assert(SUB_RECORDED_CALLS == 4, "protocol.py's RECORDED_CALLS");
+#define RECORD_ROW (5 + 4 * SUB_RECORDED_CALLS)
 
 static void *map;
 static int face_w, face_h;
@@ -200,6 +208,7 @@ static int load_submission(const char *path)
     SYMBOL(fetch_batch, "sub_fetch_batch")
     SYMBOL(read_texture_batch, "sub_read_texture_batch")
     SYMBOL(load_cross, "sub_load_cross")
+    SYMBOL(record_fetch_batch, "sub_record_fetch_batch")
 #undef SYMBOL
     int version = sub.abi_version();
     if (version != SUB_ABI_VERSION) {
@@ -396,6 +405,54 @@ static void fetch(const char *payload, uint64_t size, uint64_t n, int timed, int
     free(dirs); free(rgb); free(times);
 }
 
+/* RECORD_FETCH: fetchColor for n directions with readTexture's calls logged
+ * and answered with the request's tags, or (tagged = 0) with the student's
+ * readTexture (submission_abi.h); one input per call as in FETCH; a row of
+ * RECORD_ROW doubles per direction. */
+static void record_fetch(const char *payload, uint64_t size, uint64_t n)
+{
+    uint64_t tagged;
+    const size_t head = sizeof tagged + 3 * SUB_RECORDED_CALLS * sizeof(double);
+    if (size < head || size - head != n * 3 * sizeof(double) || !six.data) {
+        reply_text(ST_BAD_REQUEST, six.data ? "RECORD_FETCH size mismatch" : "RECORD_FETCH before SET_FACES");
+        return;
+    }
+    memcpy(&tagged, payload, sizeof tagged);
+    static double tags[3 * SUB_RECORDED_CALLS];
+    memcpy(tags, payload + sizeof tagged, sizeof tags);
+    double *dirs = malloc(n * 3 * sizeof(double) + 1), *rows = malloc(n * RECORD_ROW * sizeof(double) + 1);
+    if (!dirs || !rows || faults_begin(n) != 0) {
+        reply_text(ST_BAD_REQUEST, "out of memory for the batch");
+        free(dirs);
+        free(rows);
+        return;
+    }
+    memcpy(dirs, payload + head, n * 3 * sizeof(double));
+    volatile int status = SUB_OK;
+    for (volatile uint64_t k = 0; k < n && status == SUB_OK; k++) {
+        *progress = k;
+        message[0] = 0;
+        if (sigsetjmp(lookup_escape, 0)) {
+            fault_recorded(k);
+            for (int c = 0; c < RECORD_ROW; c++)
+                rows[RECORD_ROW * k + c] = __builtin_nan("");
+            continue;
+        }
+        double *row = rows + RECORD_ROW * k;
+        for (int c = 0; c < RECORD_ROW; c++)
+            row[c] = __builtin_nan("");
+        in_lookup = 1;
+        status = sub.record_fetch_batch(map, dirs + 3 * k, 1, tagged ? tags : NULL, row, row + 3,
+                                        (struct sub_texture_call *)(row + 5), message, sizeof message);
+        in_lookup = 0;
+    }
+    faults_end();
+    reply_status(status, n, rows, n * RECORD_ROW * sizeof(double));
+    faults_free();
+    free(dirs);
+    free(rows);
+}
+
 static void load_cross(const char *payload, uint64_t size)
 {
     char path[4096];
@@ -427,6 +484,7 @@ static int serve(void)
         case OP_FETCH_WHOLE: fetch(payload, h.payload_bytes, h.count, 0, 1); break;
         case OP_TIME_FETCH: fetch(payload, h.payload_bytes, h.count, 1, 0); break;
         case OP_READ_TEXTURE: read_texture(payload, h.payload_bytes, h.count); break;
+        case OP_RECORD_FETCH: record_fetch(payload, h.payload_bytes, h.count); break;
         case OP_LOAD_CROSS: load_cross(payload, h.payload_bytes); break;
         case OP_QUIT: free(payload); return 0;
         default: reply_text(ST_BAD_REQUEST, "unknown op"); break;

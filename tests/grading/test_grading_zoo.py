@@ -35,7 +35,9 @@ ZOO = {
                                   {MAPPING, "arrows"}, {FILTER}, GRADED),
     # Dividing by the length (or by nothing) also breaks tiny/huge directions.
     "not-normalized-length": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING, "stability"}, {FILTER}, GRADED),
-    "not-normalized-unit": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING}, {FILTER}, GRADED),
+    # Its NaN came from its readTexture given u = 5e307 (floor of inf): fetchColor asks a finite (u, v) and
+    # returns what it is given (issue 29: judged as if readTexture were the handout's); the cause stays named.
+    "not-normalized-unit": ({("not-divided-by-m", None)}, {MAPPING}, {FILTER}, GRADED),
     # readTexture mistakes: fetchColor is judged on its own and keeps its points.
     "nearest-neighbor": ({("nearest-neighbor", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "half-texel-offset": ({("half-texel-offset", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
@@ -43,7 +45,9 @@ ZOO = {
     "scaled-by-size-minus-one": ({("scaled-by-size-minus-one", None)}, {FILTER, "renders"}, {MAPPING, "arrows"}, GRADED),
     # Runtime failures are attributed, and cost only what they touch.
     # x1 = x0 + 1 unclamped: the cause (unclamped-edge) is named beside what it does.
-    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("crash", None), ("unclamped-edge", None)}, {FILTER}, set(), GRADED),
+    # fetchColor is right and is judged on what it asks readTexture (issue 29): readTexture's read
+    # past the face is its own check's (out-of-bounds-read), no longer a crash of fetchColor's checks.
+    "out-of-bounds-x1": ({("out-of-bounds-read", None), ("unclamped-edge", None)}, {FILTER}, set(), GRADED),
     # Every direction toward -Z crashes: that face is listed as not analysed, never dropped.
     "crash-null": ({("crash", None), ("face-not-analysed", "-Z")}, {MAPPING}, {FILTER}, GRADED),
     "timeout-loop": ({("timeout", None)}, {"stability"}, {FILTER, "renders"}, TIMEOUT),

@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from grader.envmap import library as reference
+from grader.worker.protocol import RECORD_ROW
 from grader.worker.runner import Failure, Outcome
 
 FACES = reference.FACE_NAMES
@@ -69,7 +70,7 @@ class FakeLookups:
 
     # ---- SubmissionLookups ------------------------------------------------
 
-    def set_faces(self, faces: np.ndarray) -> None:
+    def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
         self._cube = reference.CubeMap(self.faces)
 
@@ -86,11 +87,33 @@ class FakeLookups:
     def fetch(self, dirs: np.ndarray, placement: str = "end") -> Outcome:
         self.calls += 1
         dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        if self.fetch_mistakes == "black":
+            return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
+        faces, uv = self._requests(dirs)
+        values, failed = self._read(faces, uv)
+        # Degenerate directions: the reference returns *something*; keep it finite.
+        values[~np.isfinite(dirs).all(axis=1) | ~dirs.any(axis=1)] = 0.0
+        return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
+                             "fetchColor")
+
+    def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Outcome:
+        """The shim's recording: one readTexture call per direction, at the
+        fake's (face, u, v), answered with tags[0] (tags None: the fake's
+        readTexture) and returned; "black" and degenerate directions make no
+        call and return black; with the "crash-alone" readTexture, or a
+        subclass's own fetch, fetchColor reads the texels itself (no call)."""
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        itself = self.fetch(dirs).values
+        faces, uv = self._requests(dirs)
+        calls = (np.isfinite(dirs).all(axis=1) & dirs.any(axis=1) & (self.fetch_mistakes != "black")
+                 & (self.texture != "crash-alone") & (type(self).fetch is FakeLookups.fetch))
+        return record_rows(self.faces, faces, uv, calls, itself, tags)
+
+    def _requests(self, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The (face, u, v) this fake's fetchColor asks readTexture for."""
         faces, uv = reference.direction_to_face(dirs)
         faces, uv = faces.copy(), uv.copy()
         mistakes = self.fetch_mistakes
-        if mistakes == "black":
-            return self._outcome(np.zeros((len(dirs), 3)), np.zeros(len(dirs), bool), None, "fetchColor")
         if mistakes == "inset":
             # 1.5 texels in from every border, on every face.
             size = np.array(self.faces.shape[2:0:-1], np.float64)
@@ -111,11 +134,7 @@ class FakeLookups:
                     faces[rows] = FACES.index(mistake.split(":", 1)[1])
                 else:
                     uv[rows] = UV_MISTAKES[mistake](uv[rows])
-        values, failed = self._read(faces, np.clip(uv, 0, 1))
-        # Degenerate directions: the reference returns *something*; keep it finite.
-        values[~np.isfinite(dirs).all(axis=1) | ~dirs.any(axis=1)] = 0.0
-        return self._outcome(values, failed, lambda i: "fetchColor(Vector3(" + ", ".join(map(repr, dirs[i])) + "))",
-                             "fetchColor")
+        return faces, np.clip(uv, 0, 1)
 
     def time_fetch(self, passes: list[np.ndarray]):
         """grader.worker.runner.TimedPasses at ns_per_lookup, with the fake's colours."""
@@ -147,3 +166,21 @@ class FakeLookups:
                             "Clamp x1 and y1 to the face as well as x0 and y0.")
                     for i in np.flatnonzero(failed)[:4]]
         return Outcome(values=values, evaluated=~failed, failures=failures, gave_up=bool(failed.sum() > 4))
+
+
+def record_rows(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray, calls: np.ndarray, itself: np.ndarray,
+                tags: np.ndarray | None) -> Outcome:
+    """RECORD_FETCH's rows (grader.worker.protocol) for a fetchColor that
+    makes one readTexture call at (faces[i], uv[i]) where calls[i], and
+    returns its answer (tags[0], or itself[i] when tags is None: the
+    answer of the fake's own readTexture); elsewhere no call and itself[i]."""
+    rows = np.full((len(faces), RECORD_ROW), np.nan)
+    h, w = texels.shape[1:3]
+    answer = itself if tags is None else np.broadcast_to(np.asarray(tags, np.float64)[0], itself.shape)
+    rows[:, :3] = np.where(calls[:, None], answer, itself)
+    rows[:, 3] = calls
+    rows[:, 4] = np.where(calls, 0, -1)
+    rows[calls, 5] = faces[calls]
+    rows[calls, 6] = faces[calls] * (w * h * 3)
+    rows[calls, 7:9] = uv[calls]
+    return Outcome(values=rows, evaluated=np.ones(len(faces), bool))

@@ -29,7 +29,7 @@ class ModelLookups:
         self.model, self.fetch_mistakes = texture, fetch or {}
         self.faces = np.zeros((6, 1, 1, 3), np.float32)
 
-    def set_faces(self, faces):
+    def set_faces(self, faces, same_process=False):
         self.faces = np.asarray(faces, np.float32)
 
     def _outcome(self, values, describe) -> Outcome:
@@ -83,6 +83,12 @@ class ModelLookups:
         values[bad] = 0.0    # a guarded lookup returns black for the zero direction
         out = self._outcome(values, lambda i: f"fetchColor({dirs[i]})")
         return out
+
+    def record_fetch(self, dirs, tags):
+        """As the shim records it: one readTexture call at the model's face and (u, v) (fake_lookups.record_rows)."""
+        from fake_lookups import record_rows
+        face, uv, bad = self._face_uv(dirs)
+        return record_rows(self.faces, face, uv, ~bad & (face >= 0), self.fetch(dirs).values, tags)
 
     def time_fetch(self, dirs, repeats=5):
         return 10.0, None

@@ -45,6 +45,8 @@ SUBSET = [SUBMISSIONS / name for name in (
     "hostile/read_secrets.cpp",
     "offmodel/attack18/half-texel-fetch_handout-read.cpp",
     "patterns/rotated-90-every-face_table.cpp",
+    "record/static-face-size_switch.cpp",
+    "recording/tag_detector.cpp",
     "redteam/terminal_escapes.cpp",
     "redteam2/believed_on_two_faces.cpp",
     "redteam3/readtexture_vouches_for_cheap_lookups.cpp",

@@ -91,6 +91,9 @@ int sub_set_faces(void *map, const float *t, int w, int h, char *m, size_t s)
 }
 int sub_read_texture_batch(void *map, const float *a, const double *uv, size_t n, double *rgb, char *m, size_t s)
 { return ref_read_texture_batch(map, a, uv, n, rgb, m, s); }
+int sub_record_fetch_batch(void *map, const double *d, size_t n, const double *t, double *rgb, double *c,
+                           struct sub_texture_call *calls, char *m, size_t s)
+{ (void)map; (void)d; (void)n; (void)t; (void)rgb; (void)c; (void)calls; (void)m; (void)s; return SUB_ERR_ARGUMENT; }
 int sub_load_cross(void *map, const char *p, char *m, size_t s) { (void)map; (void)p; (void)m; (void)s; return 0; }
 
 int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
@@ -114,7 +117,8 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
 }
 """
 RENAMES = [f"-Dsub_{name}=ref_{name}" for name in
-           ("abi_version", "create", "destroy", "set_faces", "fetch_batch", "read_texture_batch", "load_cross")]
+           ("abi_version", "create", "destroy", "set_faces", "fetch_batch", "read_texture_batch", "load_cross",
+            "record_fetch_batch")]
 MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3, "thrash": 4, "stop_everyone": 5}
 
 

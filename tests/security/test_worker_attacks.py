@@ -164,6 +164,9 @@ int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_
     }
     return SUB_OK;
 }
+int sub_record_fetch_batch(void *map, const double *d, size_t n, const double *t, double *rgb, double *c,
+                           struct sub_texture_call *calls, char *m, size_t s)
+{ (void)map; (void)d; (void)n; (void)t; (void)rgb; (void)c; (void)calls; (void)m; (void)s; return SUB_ERR_ARGUMENT; }
 int sub_load_cross(void *map, const char *path, char *m, size_t s)
 { (void)map; (void)path; (void)m; (void)s; return 0; }
 """

@@ -109,6 +109,9 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
 }
 int sub_read_texture_batch(void *map, const float *a, const double *uv, size_t n, double *rgb, char *m, size_t s)
 { (void)map; (void)a; (void)uv; (void)m; (void)s; memset(rgb, 0, n * 24); return SUB_OK; }
+int sub_record_fetch_batch(void *map, const double *d, size_t n, const double *t, double *rgb, double *c,
+                           struct sub_texture_call *calls, char *m, size_t s)
+{ (void)map; (void)d; (void)n; (void)t; (void)rgb; (void)c; (void)calls; (void)m; (void)s; return SUB_ERR_ARGUMENT; }
 int sub_load_cross(void *map, const char *path, char *m, size_t s)
 { (void)map; (void)path; (void)m; (void)s; return 0; }
 """

@@ -11,6 +11,7 @@
 #include "submission_abi.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct reference_map {
     em_cubemap cube;       /* points at the worker's buffer; never freed here */
@@ -52,6 +53,33 @@ int sub_read_texture_batch(void *map, const float *addr, const double *uv, size_
     em_cubemap face = { m->cube.face_width, m->cube.face_height, (float *)addr };
     for (size_t i = 0; i < n; ++i)
         em_read_texture(&face, EM_FILTER_BILINEAR, 0, uv[2 * i], uv[2 * i + 1], rgb + 3 * i);
+    return SUB_OK;
+}
+
+/* The reference's fetchColor as a recording would see it: one readTexture
+ * call at the table's face and (u, v), its answer (the tag, or the
+ * reference's bilinear) returned. */
+int sub_record_fetch_batch(void *map, const double *dirs, size_t n, const double *tags, double *rgb,
+                           double *summary, struct sub_texture_call *calls, char *message, size_t message_size)
+{
+    (void)message; (void)message_size;
+    const reference_map *m = map;
+    const double face_floats = (double)m->cube.face_width * m->cube.face_height * 3;
+    for (size_t i = 0; i < n; ++i) {
+        double u, v;
+        int face = em_direction_to_face(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2], &u, &v);
+        summary[2 * i] = face >= 0;
+        summary[2 * i + 1] = face >= 0 ? 0 : -1;
+        if (face >= 0) {
+            calls[SUB_RECORDED_CALLS * i] = (struct sub_texture_call){ face, face * face_floats, u, v };
+            if (tags)
+                memcpy(rgb + 3 * i, tags, 3 * sizeof(double));
+            else
+                em_read_texture(&m->cube, EM_FILTER_BILINEAR, face, u, v, rgb + 3 * i);
+        } else {
+            rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0.0;
+        }
+    }
     return SUB_OK;
 }
 

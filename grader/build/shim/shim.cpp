@@ -6,6 +6,7 @@
 // with the exception's message.
 #include "submission_abi.h"
 
+#include <cstdint>
 #include <cstring>
 #include <exception>
 
@@ -35,7 +36,75 @@ int guarded(char* message, std::size_t size, Body body)
     return SUB_ERR_EXCEPTION;
 }
 
-EnvironmentMap* asMap(void* map) { return static_cast<EnvironmentMap*>(map); }
+
+// The map every entry point uses: its readTexture is the student's until a
+// recording is on (sub_record_fetch_batch); then each call fetchColor makes
+// is logged and answered with the grader's tag for it (no texel is read here:
+// no lookup is compiled into a submission's library), or, recording without
+// tags, with the student's own readTexture. One class throughout, so the
+// map's type (typeid, vtable) says nothing about being recorded.
+class ObservedMap final : public EnvironmentMap
+{
+public:
+    // Starts (calls != nullptr) or stops the log of one fetchColor call.
+    void record(sub_texture_call* calls, const double* tags)
+    {
+        m_Calls = calls;
+        m_Tags = tags;
+        m_Count = 0;
+        m_Answers[0] = Color();
+    }
+    std::size_t count() const { return m_Count; }
+    // Which logged call's answer `c` is, bit for bit (-1: none).
+    int returned(const Color& c) const
+    {
+        for (std::size_t k = 0; k < m_Count && k < SUB_RECORDED_CALLS; ++k)
+            if (std::memcmp(&m_Answers[k], &c, sizeof c) == 0)
+                return static_cast<int>(k);
+        return -1;
+    }
+
+    Color readTexture(const float* addr, double u, double v) const override
+    {
+        if (m_Calls == nullptr)
+            return EnvironmentMap::readTexture(addr, u, v);
+        const std::size_t k = m_Count++;
+        const Color answer = m_Tags != nullptr ? tag(k) : EnvironmentMap::readTexture(addr, u, v);
+        if (k < SUB_RECORDED_CALLS) {
+            // Distances as integers: the address may point anywhere.
+            const std::ptrdiff_t bytes = static_cast<std::ptrdiff_t>(reinterpret_cast<std::uintptr_t>(addr)
+                                                                     - reinterpret_cast<std::uintptr_t>(m_Texels));
+            const std::ptrdiff_t faceBytes = static_cast<std::ptrdiff_t>(m_FaceWidth) * m_FaceHeight * 3
+                                             * static_cast<std::ptrdiff_t>(sizeof(float));
+            const bool start = faceBytes > 0 && bytes % faceBytes == 0 && bytes >= 0 && bytes / faceBytes < FACE_COUNT;
+            m_Calls[k] = {start ? static_cast<double>(bytes / faceBytes) : -1.0,
+                          static_cast<double>(bytes) / static_cast<double>(sizeof(float)), u, v};
+            m_Answers[k] = answer;
+        }
+        return answer;
+    }
+
+private:
+    Color tag(std::size_t k) const
+    {
+        const double* t = m_Tags + 3 * (k % SUB_RECORDED_CALLS);
+        return Color(t[0], t[1], t[2]);
+    }
+
+    sub_texture_call* m_Calls = nullptr;
+    const double* m_Tags = nullptr;
+    mutable std::size_t m_Count = 0;
+    mutable Color m_Answers[SUB_RECORDED_CALLS];
+};
+
+ObservedMap* asObserved(void* map) { return static_cast<ObservedMap*>(map); }
+
+// Every other entry point first ends a recording a fault jumped out of.
+EnvironmentMap* asMap(void* map)
+{
+    asObserved(map)->record(nullptr, nullptr);
+    return asObserved(map);
+}
 
 } // namespace
 
@@ -47,7 +116,7 @@ void* sub_create(char* message, size_t message_size)
 {
     void* map = nullptr;
     guarded(message, message_size, [&] {
-        map = new EnvironmentMap();
+        map = new ObservedMap();
         return SUB_OK;
     });
     return map;
@@ -56,7 +125,7 @@ void* sub_create(char* message, size_t message_size)
 void sub_destroy(void* map)
 {
     // The destructor is ours (the template's), so it does not throw.
-    delete asMap(map);
+    delete asObserved(map);
 }
 
 int sub_set_faces(void* map, const float* texels, int w, int h, char* message, size_t message_size)
@@ -107,6 +176,31 @@ int sub_read_texture_batch(void* map, const float* addr, const double* uv, size_
         }
         return SUB_OK;
     });
+}
+
+int sub_record_fetch_batch(void* map, const double* dirs, size_t n, const double* tags, double* rgb,
+                           double* summary, sub_texture_call* calls, char* message, size_t message_size)
+{
+    if (map == nullptr || (n > 0 && (dirs == nullptr || rgb == nullptr || summary == nullptr || calls == nullptr))) {
+        setMessage(message, message_size, "sub_record_fetch_batch: NULL argument");
+        return SUB_ERR_ARGUMENT;
+    }
+    ObservedMap& observed = *asObserved(map);
+    const int status = guarded(message, message_size, [&] {
+        const EnvironmentMap& env = observed;
+        for (size_t i = 0; i < n; ++i) {
+            observed.record(calls + SUB_RECORDED_CALLS * i, tags);
+            const Color c = env.fetchColor(Vector3(dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]));
+            rgb[3 * i] = c.r;
+            rgb[3 * i + 1] = c.g;
+            rgb[3 * i + 2] = c.b;
+            summary[2 * i] = static_cast<double>(observed.count());
+            summary[2 * i + 1] = static_cast<double>(observed.returned(c));
+        }
+        return SUB_OK;
+    });
+    observed.record(nullptr, nullptr);
+    return status;
 }
 
 int sub_load_cross(void* map, const char* path, char* message, size_t message_size)

@@ -146,11 +146,12 @@ def describe_direction(d) -> str:
 
 
 def worst_cases(cmp: Comparison, describe_input, actual: np.ndarray, expected: np.ndarray, group: str = "",
-                limit: int = 3, face_size: tuple[int, int] | None = None) -> list:
+                limit: int = 3, face_size: tuple[int, int] | None = None, hits=None) -> list:
     """The worst mismatches as data (grader.grading.results.Mismatch; reports word
     them). With face_size (W, H), the colours came from a texture that
     encodes texel positions (textures.coordinate_faces): each case also says
-    where the reference and the submission sampled."""
+    where the reference and the submission sampled. `hits(i)` gives those
+    places directly instead ((expected, got) TexelHits, e.g. from a record)."""
     from ...grading.results import Mismatch, TexelHit
     from .textures import decode_sample_coordinates
 
@@ -164,7 +165,9 @@ def worst_cases(cmp: Comparison, describe_input, actual: np.ndarray, expected: n
     out = []
     for i in cmp.failures[:limit]:
         expected_at = got_at = None
-        if face_size is not None and decode_sample_coordinates(np.asarray(expected[i], np.float64)[None])[0][0] >= 0:
+        if hits is not None:
+            expected_at, got_at = hits(i)
+        elif face_size is not None and decode_sample_coordinates(np.asarray(expected[i], np.float64)[None])[0][0] >= 0:
             expected_at, got_at = hit(expected[i], *face_size), hit(actual[i], *face_size)
         out.append(Mismatch(describe_input(i), tuple(float(x) for x in expected[i]), tuple(float(x) for x in actual[i]),
                             expected_at=expected_at, got_at=got_at, group=group))

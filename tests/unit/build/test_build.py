@@ -130,7 +130,7 @@ def test_untouched_template_builds_black_and_nearest(cache, tmp_path):
     face_of = rng.integers(0, 6, len(uv))
     out = probe(result.library, tmp_path, texels=faces, dirs=random_directions(rng, 100),
                 faces=face_of, uv=uv)
-    assert out["abi_version"] == 1
+    assert out["abi_version"] == 2
     assert out["fetch_status"] == 0
     assert np.all(out["fetch"] == 0.0)
     # The handout's starting code: x0 = clamp((int)(u W), 0, W-1), likewise y0.
@@ -244,7 +244,8 @@ def test_extra_symbols_build_and_warnings_are_reported(cache):
                               capture_output=True, text=True, check=True).stdout
     names = {line.split()[-1] for line in exported.splitlines() if line.strip()}
     assert names == {"sub_abi_version", "sub_create", "sub_destroy", "sub_set_faces",
-                     "sub_fetch_batch", "sub_read_texture_batch", "sub_load_cross"}
+                     "sub_fetch_batch", "sub_read_texture_batch", "sub_load_cross",
+                     "sub_record_fetch_batch"}
 
 
 # slow: wait out wall-clock bounds on purpose (4-6 s, a core idle)

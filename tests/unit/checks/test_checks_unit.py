@@ -134,13 +134,14 @@ def test_being_hard_to_model_buys_no_fetch_color_points(tmp_path):
 
 # slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
 @pytest.mark.slow
-def test_a_read_texture_that_crashes_everywhere_earns_fetch_color_nothing(tmp_path):
+def test_a_fetch_color_that_reads_its_texels_itself_is_said_to_and_judged_end_to_end(tmp_path):
     """fetchColor reads its texels itself (correctly) while readTexture,
-    called alone, always crashes: a correct fetchColor over that readTexture
-    would crash everywhere, so no direction is earned."""
+    called alone, always crashes: the record shows no readTexture call, the
+    colours are judged end to end, right, and the report says so (issue 29)."""
     results = run(FakeLookups(texture="crash-alone"), tmp_path, "fetch_sweep")
-    assert results["fetch_sweep"].fraction == 0.0
-    assert "not earned because your readTexture itself crashes" in results["fetch_sweep"].output
+    assert results["fetch_sweep"].fraction == 1.0
+    assert "made no readTexture call" in results["fetch_sweep"].output
+    assert results["fetch_sweep"].metrics["reads_itself"] == results["fetch_sweep"].metrics["cases"]
 
 
 class _SwapsOnYWhenCalledAlone(FakeLookups):
@@ -177,14 +178,14 @@ class _PaysToBeBelieved(FakeLookups):
 # slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
 @pytest.mark.slow
 def test_a_read_texture_answering_the_judge_otherwise_buys_no_fetch_color_points(tmp_path, attack, control):
-    """What readTexture answers the judge on a face it is judged by there: a
-    face the check never read, or a few black answers paid in the check, no
-    longer get a wrong fetchColor believed (instruments.own_read)."""
+    """What readTexture answers when called alone (a face the check never
+    read, a few black answers paid in the check) plays no part in judging
+    fetchColor: it is judged on the record of its own calls
+    (instruments.fetch_record), so the attack scores exactly the control."""
     a = run(attack, tmp_path / "a", "fetch_sweep")
     c = run(control, tmp_path / "c", "fetch_sweep")
     assert a["read_texture"].status == FAILED or a["read_texture"].fraction < 1.0
-    assert a["fetch_sweep"].fraction <= c["fetch_sweep"].fraction < 1.0
-    assert "texture-context-dependent" in {d.id for d in a["fetch_sweep"].diagnoses}
+    assert a["fetch_sweep"].fraction == c["fetch_sweep"].fraction < 1.0
 
 
 # slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
@@ -244,9 +245,12 @@ def test_fetch_color_is_read_back_through_a_read_texture_nothing_models(tmp_path
     assert {d for d in ids(texture) if d[0] not in ("nearest-neighbor",)} == set(), ids(texture)
 
 
-def test_a_constant_read_texture_leaves_fetch_color_unanalysed(tmp_path):
-    r = run(FakeLookups(texture="black"), tmp_path, "diagnosis")["diagnosis"]
-    assert ("fetch-not-analysed", None) in ids(r)
+def test_a_constant_read_texture_leaves_fetch_color_analysed(tmp_path):
+    """readTexture black everywhere: fetchColor's recorded requests are
+    answered by the handout's readTexture, so its flip is still named
+    (issue 29; before, nothing could be said)."""
+    r = run(FakeLookups(fetch={"+X": "u-flipped"}, texture="black"), tmp_path, "diagnosis")["diagnosis"]
+    assert ids(r) == {("u-flipped", "+X")}, r.output
 
 
 def test_speed_is_not_timed_for_a_lookup_that_returns_black(tmp_path):

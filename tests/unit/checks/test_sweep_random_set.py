@@ -17,7 +17,10 @@ class KnowsThePublicSets(FakeLookups):
 
     def __init__(self):
         super().__init__()
-        known = np.concatenate([d for name, d in sweep_sets(0, fibonacci=20_000).items() if name != RANDOM_SET])
+        from grader.checks.fetch_sweep import SECOND_SIZE_DIRECTIONS
+        from grader.checks.instruments.directions import fibonacci_sphere
+        known = np.concatenate([d for name, d in sweep_sets(0, fibonacci=20_000).items() if name != RANDOM_SET]
+                               + [fibonacci_sphere(SECOND_SIZE_DIRECTIONS)])    # the second face size's fixed set
         self.known = {tuple(d) for d in known}
 
     def fetch(self, dirs, placement="end"):

@@ -1,0 +1,94 @@
+"""instruments/fetch_record.py on fakes of the worker's RECORD_FETCH rows:
+each case of a record is told apart, and judged as the table says."""
+from __future__ import annotations
+
+import numpy as np
+
+from fake_lookups import FakeLookups
+from grader.envmap import library as reference
+from grader.checks.instruments import fetch_record
+from grader.checks.instruments.compare import tolerance
+from grader.checks.instruments.textures import coordinate_faces
+from grader.worker.protocol import RECORD_ROW
+
+W = H = 8
+DIRS = np.array([[1, 0.2, 0.3], [-0.1, -1, 0.5], [0.3, 0.3, -1], [1, 1, 0.2]], np.float64)
+
+
+def judged(lookups):
+    faces = coordinate_faces(W, H)
+    lookups.set_faces(faces)
+    return fetch_record.observe(lookups, DIRS, faces, tolerance(W, H, W + 1.0))
+
+
+class Rows(FakeLookups):
+    """The correct fake's rows, then `edit(rows, tagged)` applied."""
+
+    def __init__(self, edit, **kwargs):
+        super().__init__(**kwargs)
+        self.edit = edit
+
+    def record_fetch(self, dirs, tags):
+        out = super().record_fetch(dirs, tags)
+        self.edit(out.values, tags is not None)
+        return out
+
+
+def test_a_correct_fetch_color_is_read_right_everywhere():
+    rec, verdict = judged(FakeLookups())
+    assert (verdict.case == fetch_record.READ).all() and verdict.ok.all()
+    # The printed places are the table's and the recorded (u, v), not colours read back.
+    table, asked = fetch_record.hits(verdict, 0, (W, H))
+    faces, uv = reference.direction_to_face(DIRS[:1])
+    assert table.face == asked.face == reference.FACE_NAMES[faces[0]] and table.uv == tuple(uv[0])
+
+
+def test_a_wrong_u_is_seen_on_its_face_only():
+    _, verdict = judged(FakeLookups(fetch={"+X": "u-flipped"}))
+    # The tie [1, 1, 0.2] goes to +X here (its u flipped: right on neither face it touches).
+    assert list(verdict.ok) == [False, True, True, False]
+
+
+def test_a_u_off_by_more_than_float_rounding_is_wrong_even_where_the_colour_is_clamped_flat():
+    # (u, v) = (0.65 - 1e-4, ...) moves less than the border's flat half texel
+    # would hide in a colour; the record is compared as numbers.
+    def nudge(rows, tagged):
+        rows[0, 7] -= 1e-4
+    _, verdict = judged(Rows(nudge))
+    assert not verdict.ok[0] and verdict.ok[1:].all()
+    _, verdict = judged(Rows(lambda rows, tagged: rows.__setitem__((0, 7), rows[0, 7] + 2 ** -24)))
+    assert verdict.ok.all()
+
+
+def test_an_answer_not_returned_is_its_own_case():
+    def scale(rows, tagged):
+        rows[1, :3] *= 0.5
+        rows[1, 4] = -1
+    _, verdict = judged(Rows(scale))
+    assert verdict.case[1] == fetch_record.NOT_RETURNED and not verdict.ok[1]
+
+
+def test_an_address_inside_a_face_is_no_face_start():
+    def inside(rows, tagged):
+        rows[2, 5] = -1
+        rows[2, 6] += 3 * (W + 1)
+    _, verdict = judged(Rows(inside))
+    assert verdict.case[2] == fetch_record.NO_FACE_START and not verdict.ok[2]
+
+
+def test_asking_otherwise_when_the_student_answers_is_seen():
+    def other(rows, tagged):
+        if not tagged:
+            rows[3, 8] = 1 - rows[3, 8]
+    _, verdict = judged(Rows(other))
+    assert verdict.case[3] == fetch_record.ASKS_OTHERWISE and not verdict.ok[3]
+
+
+def test_reading_texels_itself_is_judged_end_to_end():
+    rec, verdict = judged(FakeLookups(texture="crash-alone"))
+    assert (verdict.case == fetch_record.READS_ITSELF).all() and verdict.ok.all()
+    assert (rec.calls == 0).all()
+
+
+def test_rows_have_the_protocol_width():
+    assert FakeLookups().record_fetch(DIRS, fetch_record.TAGS).values.shape == (len(DIRS), RECORD_ROW)
