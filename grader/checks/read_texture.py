@@ -611,7 +611,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     result.diagnoses = unique_diagnoses(found + caught)
     sizes = and_list([f"{w} x {h}" for w, h in dict.fromkeys(SIZES)])
     result.output = "\n\n".join([
-        _("Of the %(counted)d (u, v) probes that count, %(wrong)d read other texels or weights than the handout's "
+        _("%(wrong)d of %(counted)d (u, v) probes that count read other texels or weights than the handout's "
           "(faces %(sizes)s; the weights of every texel were measured with textures that are 1 on one texel and 0 "
           "elsewhere), or answered otherwise on a %(w)d x %(h)d face of random texels. A probe counts where the "
           "handout blends texels, and where it reads one texel only if yours differs. The score is the share right "
