@@ -27,6 +27,7 @@ class SubmissionLookups(Protocol):
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Any: ...
     # fetchColor with readTexture's calls recorded (grader.checks.instruments.fetch_record)
     def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Any: ...
+    def restart(self) -> None: ...    # the next call in a fresh worker (no state carried over)
     def time_fetch(self, passes: list[np.ndarray]) -> Any: ...    # grader.worker.runner.TimedPasses
 
 

@@ -197,6 +197,11 @@ class SubmissionRunner:
             except SubmissionFailure:
                 self._drop_worker()   # the next call starts a fresh worker with these faces
 
+    def restart(self) -> None:
+        """The next call runs in a fresh worker with the current faces: no
+        state the submission kept (a cache of answers) carries over."""
+        self._drop_worker()
+
     def fetch(self, dirs: np.ndarray, placement: str = "end") -> Outcome:
         """fetchColor for each direction (n, 3), the six faces placed against
         a guard page at their end (or start)."""

@@ -92,3 +92,47 @@ def test_reading_texels_itself_is_judged_end_to_end():
 
 def test_rows_have_the_protocol_width():
     assert FakeLookups().record_fetch(DIRS, fetch_record.TAGS).values.shape == (len(DIRS), RECORD_ROW)
+
+
+class Memoising(FakeLookups):
+    """fetchColor with a cache of answers by direction that lives as long as
+    the worker: a direction seen before makes no readTexture call and returns
+    what it returned then (a tag, after a tagged recording); restart() is a
+    fresh worker, the cache empty."""
+
+    def __init__(self):
+        super().__init__()
+        self.cache, self.restarts = {}, 0
+
+    def restart(self):
+        self.cache, self.restarts = {}, self.restarts + 1
+
+    def record_fetch(self, dirs, tags):
+        out = super().record_fetch(dirs, tags)
+        for i, d in enumerate(map(tuple, np.asarray(dirs).reshape(-1, 3))):
+            if d in self.cache:
+                out.values[i] = np.nan
+                out.values[i, :3], out.values[i, 3], out.values[i, 4] = self.cache[d], 0, -1
+            else:
+                self.cache[d] = out.values[i, :3].copy()
+        return out
+
+
+def test_a_fetch_color_that_memoises_is_judged_on_what_it_asked_in_a_fresh_worker():
+    lookups = Memoising()
+    rec, verdict = judged(lookups)
+    # Without the fresh worker, the plain run finds every answer remembered
+    # (no call) and the tagged run's tags: asks-otherwise everywhere.
+    assert lookups.restarts >= 1
+    assert (verdict.case == fetch_record.READ).all() and verdict.ok.all(), verdict.case
+    # A second observation in the same worker (its cache full) is judged the same.
+    _, again = judged(lookups)
+    assert (again.case == fetch_record.READ).all() and again.ok.all()
+
+
+def test_without_a_fresh_worker_the_memoised_answers_would_have_been_judged_otherwise():
+    # The test above can fail: the same fake with restart() doing nothing.
+    lookups = Memoising()
+    lookups.restart = lambda: None
+    _, verdict = judged(lookups)
+    assert not verdict.ok.all()
