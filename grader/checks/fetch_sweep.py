@@ -160,16 +160,28 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
           "answered.")) % {
         "drawn": f"{shown(drawn):.2%}", "even": f"{shown(even):.2%}", "chance": f"{shown(by_chance):.2%}", "total": total}
     result.diagnoses = unique_diagnoses(diagnoses)
+    # The first sentence says only what the record saw: directions that made
+    # no readTexture call are not said to ask it anything.
+    words = {"wrong": total - matched, "total": total, "share": f"{shown(matched / total):.2%}",
+             "itself": int(itself.sum())}
     if matched < total or answers_differ:
         result.status = FAILED
-        result.output = (_("%(wrong)d of %(total)d directions do not ask readTexture for the face and (u, v) the "
-                           "handout's table gives, or do not return what it answered: %(share)s right.")
-                         % {"wrong": total - matched, "total": total, "share": f"{shown(matched / total):.2%}"}
-                         + "\n\n" + "\n".join(table) + random_words + notes)
+        first = (_("%(wrong)d of %(total)d directions do not ask readTexture for the face and (u, v) the handout's "
+                   "table gives, or do not return what it answered: %(share)s right.") if not itself.any() else
+                 _("%(wrong)d of %(total)d directions are wrong: they ask readTexture for another face or (u, v) "
+                   "than the handout's table gives, do not return what it answered, or (of the %(itself)d that make "
+                   "no readTexture call) give another colour than the handout's readTexture there: %(share)s right."))
+    elif not itself.any():
+        first = _("All %(total)d directions ask readTexture for the face and (u, v) the handout's table gives and "
+                  "return what it answered.")
+    elif itself.all():
+        first = _("All %(total)d directions give the colour the handout's readTexture gives at the face and (u, v) "
+                  "the handout's table gives (your fetchColor makes no readTexture call).")
     else:
-        result.output = (_("All %(total)d directions ask readTexture for the face and (u, v) the handout's table "
-                           "gives and return what it answered.") % {"total": total} + "\n\n"
-                         + "\n".join(table) + random_words + notes)
+        first = _("All %(total)d directions are right: those that call readTexture ask for the face and (u, v) "
+                  "the handout's table gives and return what it answered; the %(itself)d that make no call give "
+                  "the colour the handout's readTexture gives there.")
+    result.output = first % words + "\n\n" + "\n".join(table) + random_words + notes
     return SweepFinding(fraction=fraction)
 
 

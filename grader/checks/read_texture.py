@@ -437,6 +437,39 @@ def _first_wrong(measured: list[Measured]) -> tuple[Measured, int] | None:
     return None
 
 
+def equal_weights(measured: list[Measured]) -> tuple[Measured, int, int, int] | None:
+    """(a size, a probe there, k, how many probes) where every probe that
+    reads the most texels (k >= 2) gives each of them weight 1/k, at least 8
+    such probes, and the handout's weights differ there: fixed weights of
+    any window (two taps at 1/2 are the lattice statements' "constant")."""
+    k = max(int((np.abs(m.student.weights[m.student.answered]) > fp.TAP).sum(axis=(1, 2)).max(initial=0))
+            for m in measured)
+    if k < 2:
+        return None
+    rows, example = 0, None
+    for m in measured:
+        weights = np.nan_to_num(m.student.weights)
+        taps = np.abs(weights) > fp.TAP
+        widest = m.student.answered & (taps.sum(axis=(1, 2)) == k)
+        if not (np.abs(np.where(taps, weights, 1.0 / k) - 1.0 / k) <= fp.WEIGHT_TOL)[widest].all():
+            return None
+        rows += int(widest.sum())
+        unequal = widest & _unequal(np.nan_to_num(m.handout.weights))
+        if example is None and unequal.any():
+            example = (m, int(np.flatnonzero(unequal)[0]))
+    if rows < 8 or example is None:
+        return None
+    return example[0], example[1], k, rows
+
+
+def _unequal(weights: np.ndarray) -> np.ndarray:
+    """(n,) the footprint's taps do not all have one weight."""
+    taps = np.abs(weights) > fp.TAP
+    big = np.where(taps, weights, -np.inf).max(axis=(1, 2))
+    small = np.where(taps, weights, np.inf).min(axis=(1, 2))
+    return big - small > fp.WEIGHT_TOL
+
+
 def edge_ids(measured: list[Measured], failures: list) -> list[Diagnosis]:
     """What the footprint shows at the face's edges, where the handout
     clamps its lattice points: texels from both ends of one row or column
@@ -446,9 +479,14 @@ def edge_ids(measured: list[Measured], failures: list) -> list[Diagnosis]:
     for m in measured:
         w, h = m.student.size
         read = np.abs(np.nan_to_num(m.student.weights)) > fp.TAP      # (n, H, W)
-        # Both ends of one row, in the same rows (columns), as x mod W reads them.
-        wraps_x = (read[:, :, 0].any(axis=1) & (read[:, :, 0] == read[:, :, w - 1]).all(axis=1)) if w >= 3 else None
-        wraps_y = (read[:, 0, :].any(axis=1) & (read[:, 0, :] == read[:, h - 1, :]).all(axis=1)) if h >= 3 else None
+        # Both ends of one row, in the same rows (columns), as x mod W reads
+        # them, with a column between them not read: a window as wide as the
+        # face (a 3x3 box on a 3-texel face) reads both ends without wrapping.
+        cols, rows = read.any(axis=1), read.any(axis=2)                   # (n, W), (n, H)
+        wraps_x = (read[:, :, 0].any(axis=1) & (read[:, :, 0] == read[:, :, w - 1]).all(axis=1)
+                   & ~cols.all(axis=1)) if w >= 3 else None
+        wraps_y = (read[:, 0, :].any(axis=1) & (read[:, 0, :] == read[:, h - 1, :]).all(axis=1)
+                   & ~rows.all(axis=1)) if h >= 3 else None
         for wraps in (wraps_x, wraps_y):
             if wraps is not None and wraps.any():
                 found.append(("wrapped-edge", m, int(np.flatnonzero(wraps)[0])))
@@ -550,6 +588,13 @@ def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis],
                     found.append(Diagnosis("truncation-of-negatives", _(
                         "readTexture gives a texel a negative weight where p is below 0: (int) truncates toward "
                         "zero. ") + worked_case(m, i)))
+    if answered and not single and "constant-weights" not in {d.id for d in found}:
+        equal = equal_weights(answered)
+        if equal is not None:
+            m, i, k, count = equal
+            found.append(Diagnosis("constant-weights", _(PROVES["constant-weights"]) + " " + _(
+                "At %(count)d of the (u, v) probed it reads %(k)d texels, each with weight 1/%(k)d, whatever the "
+                "fraction of p.") % {"count": count, "k": k} + " " + worked_case(m, i)))
     if not any(d.id in ("kept-between-calls", "texel-index-transposed") for d in found):
         # (Either reads texels the edges' words would misread.)
         found += [d for d in edge_ids(measured, failures) if d.id not in {f.id for f in found}]

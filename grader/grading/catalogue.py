@@ -603,11 +603,12 @@ _ENTRIES = [
     DiagnosisInfo(
         "constant-weights", "filtering",
         N_("readTexture's weights do not follow the position"),
-        N_("Your lookup blends the four texels with the same weights wherever p "
-        "is (for example alpha = beta = 0.5), so the colour jumps at every "
-        "texel boundary instead of changing smoothly."),
-        N_("alpha and beta are the fractional parts of p: alpha = px - x0 and "
-        "beta = py - y0, computed in double (an int alpha is always 0)."),
+        N_("Your lookup gives the texels it blends the same weights wherever p "
+        "is (for example alpha = beta = 0.5, or a box filter), so the colour "
+        "jumps at every texel boundary instead of changing smoothly."),
+        N_("blend the four texels around p, weighted by p's fractional parts: "
+        "alpha = px - x0 and beta = py - y0, computed in double (an int alpha "
+        "is always 0)."),
     ),
     DiagnosisInfo(
         "rows-flipped", "filtering",

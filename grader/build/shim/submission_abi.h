@@ -42,7 +42,8 @@ struct sub_texture_call { double face, offset, u, v; };
 /* fetchColor for n directions with its readTexture calls recorded
  * (readTexture is virtual in the grader's EnvironmentMap.h): call k of
  * direction i is answered with tags[3*(k % SUB_RECORDED_CALLS)..+2] (never
- * the student's readTexture) or, when tags is NULL, with the student's own
+ * the student's readTexture; a call with the same address, u and v as an
+ * earlier logged one gets that one's tag) or, when tags is NULL, with the student's own
  * readTexture; the first SUB_RECORDED_CALLS are logged in
  * calls[SUB_RECORDED_CALLS*i + k]; summary[2*i] is how many calls there were
  * and summary[2*i+1] which logged call's answer fetchColor returned, bit for

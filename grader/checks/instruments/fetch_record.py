@@ -224,9 +224,18 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     case = cases(tagged, plain)
     req_faces, req_uv = tagged.request()
+    # Where fetchColor asks otherwise when its own readTexture answers, what
+    # it asks then is what it does: that request is the one judged and shown
+    # (its own colour where it returned no answer it was given).
+    otherwise = case == ASKS_OTHERWISE
+    plain_faces, plain_uv = plain.request()
+    req_faces, req_uv = req_faces.copy(), req_uv.copy()
+    req_faces[otherwise], req_uv[otherwise] = plain_faces[otherwise], plain_uv[otherwise]
     actual = handout_read(texels, req_faces, req_uv)
     itself = case == READS_ITSELF
     actual[itself] = tagged.values[itself]
+    own = otherwise & (req_faces < 0)
+    actual[own] = plain.values[own]
     faces, uv = tied_face_uv(dirs)
     n, k = faces.shape
     acceptable = handout_read(texels, faces.reshape(-1), uv.reshape(-1, 2)).reshape(n, k, 3)
