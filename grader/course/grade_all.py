@@ -39,6 +39,7 @@ from pathlib import Path
 
 from .. import PROJECT_ROOT
 from ..grading.results import TIMEOUT, UNGRADABLE
+from ..i18n import N_
 from ..intake import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
 from .class_files import MISSING, cell, write_text_atomic
 from .lms_csv import FILES as LMS_FILES
@@ -63,8 +64,9 @@ KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")   #
 # signalled or starved this one, a grading process killed, a harness error):
 # a resumed run grades them again instead of keeping them as final.
 DISTURBED = (TIMEOUT, UNGRADABLE)
-OWN_TIMEOUT_WHY = ("the code used up its CPU-time limit on a call (or stopped itself), which no other process "
-                   "can cause: kept as it is when grade-all runs again")
+# In English in summary.json; the class page shows it translated.
+OWN_TIMEOUT_WHY = N_("the code used up its CPU-time limit on a call (or stopped itself), which no other process "
+                     "can cause: kept as it is when grade-all runs again")
 # Metrics the class summary charts, copied from the checks into the record.
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
