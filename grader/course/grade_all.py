@@ -335,7 +335,8 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         data["similarity"] = class_similarity(submissions, out)
     write_gradebook(ordered + missing, out / "gradebook.csv", roster_columns=class_roster is not None)
     write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
-    _summary(ordered, out, data)
+    from ..grading.grade import GradeOptions
+    _summary(ordered, out, data, GradeOptions(**options))
     return ordered
 
 
@@ -358,16 +359,25 @@ def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list
     return summary, missing, entries
 
 
-def _summary(rows: list[Row], out: Path, data: dict) -> None:
+def _summary(rows: list[Row], out: Path, data: dict, options) -> None:
     """The class summary (grader/reports/class_summary.py), given the summary
-    data when it takes it."""
+    data when it takes it, in the language the students' reports are in
+    (--lang, else GRADER_LANG, else the rubric's: grade() chooses the same
+    way, in each grading process)."""
     import inspect
 
+    from ..grading.score import load_rubric
+    from ..i18n import choose, language, set_language
     from ..reports.class_summary import write_summary
-    if "data" in inspect.signature(write_summary).parameters:
-        write_summary(rows, out, data=data)
-    else:
-        write_summary(rows, out)
+    before = language()
+    set_language(choose(options.lang, load_rubric(options.rubric)))
+    try:
+        if "data" in inspect.signature(write_summary).parameters:
+            write_summary(rows, out, data=data)
+        else:
+            write_summary(rows, out)
+    finally:
+        set_language(before)
 
 
 def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance, grade_one) -> None:

@@ -31,12 +31,13 @@ HISTOGRAM = "summary_histogram.png"
 SPEED_CHART = "summary_speed_accuracy.png"
 STUDENT_REPORT = "report.html"
 
-# A row's status as the page shows it (gradebook.csv and summary.json keep the id).
+# A row's status as the page shows it (gradebook.csv and summary.json keep the id):
+# short, for the status column's pill in either language.
 STATUS_WORDS = Translated({
     GRADED: N_("graded"),
-    BUILD_ERROR: N_("did not compile"),
+    BUILD_ERROR: N_("compile error"),
     TIMEOUT: N_("timed out"),
-    UNGRADABLE: N_("could not be graded"),
+    UNGRADABLE: N_("ungradable"),
     MISSING: N_("nothing handed in"),
 })
 # The roster's lists, in the order the page shows them.
@@ -169,7 +170,7 @@ def _speed_chart(rows, path: Path) -> int:
     from ..study import STUDY_CSV
     methods = read_csv(STUDY_CSV) if STUDY_CSV.is_file() else []
     top = max([r.max_score for r in rows] + [1.0])
-    points = [{"label": plain_label(r.student), chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
+    points = [{"label": plain_label(display_name(r)), chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
                "uniform_smooth_rms": r.metrics["uniform_smooth_rms"], "color": _score_colour(r.score, top)}
               for r in rows if r.metrics.get("ns_per_lookup", 0) > 0 and r.metrics.get("uniform_smooth_rms", 0) > 0]
     # An instructor's matplotlibrc with usetex would hand names to LaTeX.
@@ -509,7 +510,9 @@ def _students_table(rows, linked: set[str]) -> str:
     for r in rows:
         cls = _status_class(r)
         pct = 0.0 if r.max_score <= 0 else max(0.0, min(100.0, 100 * r.score / r.max_score))
-        bar = f'<span class="bar {cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
+        # The bar says the points (a timeout that kept 98 of 100 is not red); the pill says the status.
+        points_cls = "passed" if pct >= 99.9 else "partial" if pct >= 50 else "failed"
+        bar = f'<span class="bar {points_cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
         d = first_diagnosis(r)
         more = len(set(r.diagnoses) - {d})
         diagnosis = (f'<strong>{e(_diagnosis_title(d))}</strong> <span class="id">{e(d)}</span>'

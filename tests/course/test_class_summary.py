@@ -67,12 +67,12 @@ def test_the_class_page_lists_each_student_with_score_status_and_first_diagnosis
     assert rows["alice"][1:] == ["100 / 100", "✓ graded", ""]
     assert rows["bob"][1:] == ["63.93 / 100", "◐ graded", "readTexture still returns the nearest texel nearest-neighbor"]
     assert rows["carol"][3] == "Your code crashed crash (+1 more)"
-    assert rows["dave"][1:3] == ["0 / 100", "✗ did not compile"]
-    assert rows["erin"][1:3] == ["–", "– could not be graded"] and "SIGKILL" in rows["erin"][3]
+    assert rows["dave"][1:3] == ["0 / 100", "✗ compile error"]
+    assert rows["erin"][1:3] == ["–", "– ungradable"] and "SIGKILL" in rows["erin"][3]
     assert '<td class="who"><a href="bob/report.html">bob</a></td>' in page
     # report.html's stylesheet, not a copy of it
     assert page.count(CSS) == 1
-    assert "1 result says timed out or could not be graded" in page and "grades it again: erin" in page
+    assert "1 result says timed out or ungradable" in page and "grades it again: erin" in page
     md = (tmp_path / "summary.md").read_text()
     assert "| [bob](<bob/report.html>) | 63.93 / 100 | graded | readTexture still returns the nearest texel " \
            "(`nearest-neighbor`) |" in md
