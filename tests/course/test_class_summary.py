@@ -230,3 +230,16 @@ def test_the_class_page_in_japanese_leaves_no_english_sentence(tmp_path):
         if [w for w in words if w not in data_words]:
             english.append(text)
     assert english == [], english
+
+
+def test_grade_all_writes_the_class_page_in_the_reports_language(tmp_path):
+    """--lang ja reached each student's grading but not the page grade-all
+    writes itself (issue 33): the summary is chosen the way grade() chooses."""
+    from grader import i18n
+    from grader.course.grade_all import _summary
+    from grader.grading.grade import GradeOptions
+    before = i18n.language()
+    _summary(ROWS[:2], tmp_path, {}, GradeOptions(lang="ja"))
+    assert i18n.language() == before
+    assert '<html lang="ja">' in (tmp_path / "summary.html").read_text()
+    assert (tmp_path / "summary.md").read_text().startswith("# クラスの採点結果")
