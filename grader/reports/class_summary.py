@@ -455,6 +455,7 @@ def _attention(rows, data: dict) -> str:
         items = "".join(f"<li><strong>{e(r.student)}</strong>: {e(r.error)}</li>" for r in failed)
         out.append(f'<div class="callout failed"><strong>{e(_(GRADER_FAILED))}.</strong>'
                    f'<ul class="plain">{items}</ul></div>')
+    names = {r.student: display_name(r) for r in rows}    # the roster's names, as the table shows them
     again = data.get("grade_again") or {}
     if again.get("students"):
         n = len(again["students"])
@@ -463,11 +464,10 @@ def _attention(rows, data: dict) -> str:
         why = ngettext("which another process can cause: running grade-all again grades it again",
                        "which another process can cause: running grade-all again grades them again", n)
         out.append(f'<div class="callout partial"><strong>{e(said)}</strong>{e(_(", "))}{e(why)}{e(_(": "))}'
-                   f'{e(_(", ").join(again["students"]))}.</div>')
+                   f'{e(_(", ").join(names.get(s, s) for s in again["students"]))}.</div>')
     own = data.get("own_timeouts") or {}
     if own.get("students"):
         n = len(own["students"])
-        names = {r.student: display_name(r) for r in rows}
         kept = ngettext("%(count)d timeout kept", "%(count)d timeouts kept", n) % {"count": n}
         out.append(f'<div class="callout passed"><strong>{e(kept)}</strong> '
                    f'({e("; ".join(names.get(s, s) for s in own["students"]))}){e(_(": "))}'
