@@ -39,6 +39,7 @@ from pathlib import Path
 
 from .. import PROJECT_ROOT
 from ..grading.results import TIMEOUT, UNGRADABLE
+from ..i18n import N_
 from ..intake import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
 from .class_files import MISSING, cell, write_text_atomic
 from .lms_csv import FILES as LMS_FILES
@@ -63,8 +64,9 @@ KEY_FILES = ("envmap_test.cfg", "student_template/EnvironmentMapLoader.cpp")   #
 # signalled or starved this one, a grading process killed, a harness error):
 # a resumed run grades them again instead of keeping them as final.
 DISTURBED = (TIMEOUT, UNGRADABLE)
-OWN_TIMEOUT_WHY = ("the code used up its CPU-time limit on a call (or stopped itself), which no other process "
-                   "can cause: kept as it is when grade-all runs again")
+# In English in summary.json; the class page shows it translated.
+OWN_TIMEOUT_WHY = N_("the code used up its CPU-time limit on a call (or stopped itself), which no other process "
+                     "can cause: kept as it is when grade-all runs again")
 # Metrics the class summary charts, copied from the checks into the record.
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
@@ -333,7 +335,8 @@ def grade_all(folder: Path, out: Path, jobs: int | None = None, options: dict | 
         data["similarity"] = class_similarity(submissions, out)
     write_gradebook(ordered + missing, out / "gradebook.csv", roster_columns=class_roster is not None)
     write_text_atomic(out / SUMMARY_DATA, json.dumps(data, indent=1, sort_keys=True) + "\n")
-    _summary(ordered, out, data)
+    from ..grading.grade import GradeOptions
+    _summary(ordered, out, data, GradeOptions(**options))
     return ordered
 
 
@@ -356,16 +359,25 @@ def _apply_roster(class_roster, path: Path, rows: list[Row]) -> tuple[dict, list
     return summary, missing, entries
 
 
-def _summary(rows: list[Row], out: Path, data: dict) -> None:
+def _summary(rows: list[Row], out: Path, data: dict, options) -> None:
     """The class summary (grader/reports/class_summary.py), given the summary
-    data when it takes it."""
+    data when it takes it, in the language the students' reports are in
+    (--lang, else GRADER_LANG, else the rubric's: grade() chooses the same
+    way, in each grading process)."""
     import inspect
 
+    from ..grading.score import load_rubric
+    from ..i18n import choose, language, set_language
     from ..reports.class_summary import write_summary
-    if "data" in inspect.signature(write_summary).parameters:
-        write_summary(rows, out, data=data)
-    else:
-        write_summary(rows, out)
+    before = language()
+    set_language(choose(options.lang, load_rubric(options.rubric)))
+    try:
+        if "data" in inspect.signature(write_summary).parameters:
+            write_summary(rows, out, data=data)
+        else:
+            write_summary(rows, out)
+    finally:
+        set_language(before)
 
 
 def _run_pool(todo, out: Path, jobs: int, options: dict, rows: dict, advance, grade_one) -> None:

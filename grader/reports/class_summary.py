@@ -22,12 +22,41 @@ from collections import Counter
 from pathlib import Path
 from urllib.parse import quote
 
-from ..grading.results import GRADED, UNGRADABLE
+from ..course.class_files import MISSING
+from ..grading.results import BUILD_ERROR, GRADED, TIMEOUT, UNGRADABLE
+from ..i18n import N_, Translated, _, ngettext
 from .text import clean, md_code, md_escape, md_fence, points
 
 HISTOGRAM = "summary_histogram.png"
 SPEED_CHART = "summary_speed_accuracy.png"
 STUDENT_REPORT = "report.html"
+
+# A row's status as the page shows it (gradebook.csv and summary.json keep the id):
+# short, for the status column's pill in either language.
+STATUS_WORDS = Translated({
+    GRADED: N_("graded"),
+    BUILD_ERROR: N_("compile error"),
+    TIMEOUT: N_("timed out"),
+    UNGRADABLE: N_("ungradable"),
+    MISSING: N_("nothing handed in"),
+})
+# The roster's lists, in the order the page shows them.
+ROSTER_LISTS = (("missing", N_("Handed in nothing")), ("unmatched", N_("Submissions matching no one on the roster")),
+                ("left_out", N_("Left out of the roster")))
+GRADER_FAILED = N_("Could not be graded (the grader failed, not the student)")
+NO_DIAGNOSES = N_("None: no submission was found at fault.")
+NO_PAIR = N_("No pair reaches that share.")
+SKIPPED_INTRO = N_("What the class folder held besides submissions, and why each was left out.")
+
+
+def status_word(status: str) -> str:
+    return STATUS_WORDS.get(status, status)
+
+
+def status_counts(rows) -> str:
+    """"4 graded, 1 timed out": each status with its number of students."""
+    counts = Counter(r.status for r in rows)
+    return _(", ").join(f"{n} {status_word(s)}" for s, n in sorted(counts.items()))
 # The page needs inline styles and data: images, nothing else: no script,
 # no request anywhere (a student's report is a relative link, which
 # default-src does not govern).
@@ -99,6 +128,13 @@ def plain_label(text: str, limit: int = 28) -> str:
 
 
 def _histogram(rows, path: Path) -> None:
+    import matplotlib
+    from ..study import chart
+    with matplotlib.rc_context(chart._font_settings()):   # the study chart's fonts: Japanese needs its own
+        _draw_histogram(rows, path)
+
+
+def _draw_histogram(rows, path: Path) -> None:
     from matplotlib.figure import Figure   # the Figure API: no pyplot global state
     top = max([r.max_score for r in rows] + [1.0])
     fig = Figure(figsize=(6.4, 3.2), dpi=100)
@@ -106,10 +142,14 @@ def _histogram(rows, path: Path) -> None:
     graded = [r.score for r in rows if r.status != UNGRADABLE]
     ax.hist(graded, bins=20, range=(0, top), color="#4a7bd0", edgecolor="white")
     ax.set_xlim(0, top)
-    ax.set_xlabel("score")
-    ax.set_ylabel("submissions")
+    ax.set_xlabel(_("score"))
+    ax.set_ylabel(_("submissions"))
     ungradable = len(rows) - len(graded)
-    ax.set_title(f"Scores of {len(graded)} submissions" + (f" ({ungradable} ungradable, not shown)" if ungradable else ""))
+    title = ngettext("Scores of %(count)d submission", "Scores of %(count)d submissions", len(graded)) % {
+        "count": len(graded)}
+    if ungradable:
+        title += " " + _("(%(count)d ungradable, not shown)") % {"count": ungradable}
+    ax.set_title(title)
     ax.yaxis.get_major_locator().set_params(integer=True)
     fig.tight_layout()
     fig.savefig(path, metadata={"Software": None})
@@ -130,14 +170,20 @@ def _speed_chart(rows, path: Path) -> int:
     from ..study import STUDY_CSV
     methods = read_csv(STUDY_CSV) if STUDY_CSV.is_file() else []
     top = max([r.max_score for r in rows] + [1.0])
-    points = [{"label": plain_label(r.student), chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
+    points = [{"label": plain_label(display_name(r)), chart.TIME_COLUMN: r.metrics["ns_per_lookup"],
                "uniform_smooth_rms": r.metrics["uniform_smooth_rms"], "color": _score_colour(r.score, top)}
               for r in rows if r.metrics.get("ns_per_lookup", 0) > 0 and r.metrics.get("uniform_smooth_rms", 0) > 0]
     # An instructor's matplotlibrc with usetex would hand names to LaTeX.
     with matplotlib.rc_context({"text.usetex": False}):
         chart.draw(methods, points, path, panels=chart.PANELS[:1],
-                   title=f"Speed against accuracy: {len(points)} submissions")
+                   title=ngettext("Speed against accuracy: %(count)d submission",
+                                  "Speed against accuracy: %(count)d submissions", len(points)) % {"count": len(points)})
     return len(points)
+
+
+def language_code() -> str:
+    from ..i18n import language
+    return language()
 
 
 def _diagnosis_counts(rows) -> list[tuple[str, str, int]]:
@@ -155,7 +201,7 @@ def entry_text(value) -> str:
     """One entry of grade-all's summary data (a name, or a student: "name (id, email)") as plain text."""
     if isinstance(value, dict):
         extra = ", ".join(str(value[k]) for k in ("id", "email") if value.get(k) not in (None, ""))
-        return str(value.get("name") or "(no name)") + (f" ({extra})" if extra else "")
+        return str(value.get("name") or _("(no name)")) + (f" ({extra})" if extra else "")
     return str(value)
 
 
@@ -200,8 +246,7 @@ def similarity_clusters(pairs: list[dict]) -> list[dict]:
 def _skipped_section(skipped) -> list[str]:
     if not skipped:
         return []
-    lines = ["", "## Entries that were not graded", "",
-             "What the class folder held besides submissions, and why each was left out.", ""]
+    lines = ["", "## " + _("Entries that were not graded"), "", _(SKIPPED_INTRO), ""]
     lines += [f"- {md_code(str(e.get('entry', '')))}: {md_escape(str(e.get('reason', '')))}" for e in skipped]
     return lines
 
@@ -209,14 +254,11 @@ def _skipped_section(skipped) -> list[str]:
 def _roster_section(roster) -> list[str]:
     if not roster:
         return []
-    lines = ["", "## Roster", "",
-             f"{md_code(str(roster.get('file', '')))}: {int(roster.get('students', 0))} students, "
-             f"{int(roster.get('matched', 0))} matched to a submission."]
-    for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster"),
-                       ("left_out", "Left out of the roster")):
+    lines = ["", "## " + _("Roster"), "", md_code(str(roster.get("file", ""))) + ": " + _roster_counts(roster) + "."]
+    for key, title in ROSTER_LISTS:
         entries = roster.get(key) or []
         if entries:
-            lines += ["", f"**{title}:**", ""]
+            lines += ["", f"**{_(title)}:**", ""]
             lines += [f"- {md_escape(entry_text(e), line_start=True)}" for e in entries]
     return lines
 
@@ -228,38 +270,74 @@ def _similarity_section(similarity) -> list[str]:
     if not similarity:
         return []
     pairs = similarity.get("pairs") or []
-    lines = ["", "## Most similar pairs", "", _similarity_intro(similarity), ""]
+    lines = ["", "## " + _("Most similar pairs"), "", _similarity_intro(similarity, md_escape, md_code), ""]
     if not pairs:
-        lines.append("No pair reaches that share.")
+        lines.append(_(NO_PAIR))
     for n, cluster in enumerate(similarity_clusters(pairs), 1):
-        lines += ["", f"### Cluster {n}: {', '.join(md_escape(s) for s in cluster['students'])} "
-                      f"(up to {cluster['similarity']:.0%})", ""]
+        lines += ["", "### " + _cluster_title(n, cluster, md_escape), ""]
         for p in cluster["pairs"]:
             a, b = str(p.get("a", "")), str(p.get("b", ""))
-            lines += [f"**{md_escape(a)} and {md_escape(b)}: {float(p.get('similarity', 0)):.0%}**: "
-                      f"{float(p.get('share_a', 0)):.0%} of {md_escape(a)}'s code and "
-                      f"{float(p.get('share_b', 0)):.0%} of {md_escape(b)}'s, "
-                      f"{int(p.get('shared_tokens', 0))} tokens in common.", ""]
+            lines += [f"**{_pair_title(a, b, p, md_escape)}**: {_pair_shares(a, b, p, md_escape)}", ""]
             for passage in p.get("passages") or []:
                 for side, name in (("a", a), ("b", b)):
                     first, last = _lines(passage, side)
-                    lines += [f"{md_escape(name)}, lines {first}-{last}:", "",
+                    lines += [_("%(name)s, lines %(first)d-%(last)d:") % {"name": md_escape(name), "first": first,
+                                                                          "last": last}, "",
                               md_fence(str(passage.get(f"{side}_text", "")), "cpp"), ""]
     not_compared = similarity.get("not_compared") or []
     if not_compared:
-        lines += ["", "**Not compared:**", ""]
+        lines += ["", "**" + _("Not compared:") + "**", ""]
         lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: {md_escape(str(e.get('reason', '')))}"
                   for e in not_compared]
     return lines
 
 
-def _similarity_intro(similarity) -> str:
-    return (f"{int(similarity.get('compared', 0))} submissions compared with "
-            f"{md_escape(str(similarity.get('tool', 'a similarity tool')))}"
-            + (f", the template ({md_code(str(similarity['boilerplate']))}) not counted"
-               if similarity.get("boilerplate") else "")
-            + f"; pairs sharing at least {float(similarity.get('min_listed', 0)):.0%} are listed, "
-            "grouped into clusters of students. A high share is a reason to look, not a verdict.")
+def _similarity_intro(similarity, text, code) -> str:
+    """The similarity section's first paragraph; `text` and `code` escape
+    what the data holds for the page's format."""
+    words = {"count": int(similarity.get("compared", 0)),
+             "tool": text(str(similarity.get("tool") or _("a similarity tool"))),
+             "share": f"{float(similarity.get('min_listed', 0)):.0%}"}
+    if similarity.get("boilerplate"):
+        words["template"] = code(str(similarity["boilerplate"]))
+        return _("%(count)d submissions compared with %(tool)s, the template (%(template)s) not counted; pairs "
+                 "sharing at least %(share)s are listed, grouped into clusters of students. A high share is a "
+                 "reason to look, not a verdict.") % words
+    return _("%(count)d submissions compared with %(tool)s; pairs sharing at least %(share)s are listed, grouped "
+             "into clusters of students. A high share is a reason to look, not a verdict.") % words
+
+
+def _cluster_title(n: int, cluster: dict, text) -> str:
+    return ngettext("Cluster %(n)d: %(names)s (%(count)d student, up to %(share)s)",
+                    "Cluster %(n)d: %(names)s (%(count)d students, up to %(share)s)", len(cluster["students"])) % {
+        "n": n, "names": _(", ").join(text(s) for s in cluster["students"]), "count": len(cluster["students"]),
+        "share": f"{cluster['similarity']:.0%}"}
+
+
+def _pair_title(a: str, b: str, p: dict, text) -> str:
+    return _("%(a)s and %(b)s: %(share)s") % {"a": text(a), "b": text(b),
+                                              "share": f"{float(p.get('similarity', 0)):.0%}"}
+
+
+def _pair_shares(a: str, b: str, p: dict, text) -> str:
+    return _("%(share_a)s of %(a)s's code and %(share_b)s of %(b)s's, %(tokens)d tokens in common.") % {
+        "share_a": f"{float(p.get('share_a', 0)):.0%}", "a": text(a), "share_b": f"{float(p.get('share_b', 0)):.0%}",
+        "b": text(b), "tokens": int(p.get("shared_tokens", 0))}
+
+
+def _roster_counts(roster: dict) -> str:
+    students, matched = int(roster.get("students", 0)), int(roster.get("matched", 0))
+    return ngettext("%(students)d student, %(matched)d matched to a submission",
+                    "%(students)d students, %(matched)d matched to a submission", students) % {
+        "students": students, "matched": matched}
+
+
+def _marks_line(graded: list[float], top: float) -> str:
+    """"Median score 7 of 10; 2 full marks, 1 at zero"."""
+    full, zero = sum(s >= top for s in graded), sum(s == 0 for s in graded)
+    return (_("Median score %(median)s of %(top)s") % {"median": points(median(graded)), "top": points(top)}
+            + _("; ") + ngettext("%(count)d full mark", "%(count)d full marks", full) % {"count": full}
+            + _(", ") + _("%(count)d at zero") % {"count": zero})
 
 
 def _lines(passage: dict, side: str) -> tuple[int, int]:
@@ -277,35 +355,32 @@ def summary_markdown(rows, charted: int, linked: set[str] | None = None, data: d
     similarity), all of it the students' or the instructor's text."""
     linked = linked or set()
     data = data or {}
-    statuses = Counter(r.status for r in rows)
     graded = [r.score for r in rows if r.status != UNGRADABLE]
-    lines = ["# Class summary", "",
-             f"{len(rows)} submissions: " + ", ".join(f"{n} {md_escape(s)}" for s, n in sorted(statuses.items())) + "."]
+    lines = ["# " + _("Class summary"), "",
+             _submissions_count(rows) + _(": ") + md_escape(status_counts(rows)) + "."]
     if graded:
-        top = max(r.max_score for r in rows)
-        full = sum(s >= top for s in graded)
-        lines.append(f"Median score {median(graded):g} / {top:g}; "
-                     f"{full} full mark{'' if full == 1 else 's'}, {sum(s == 0 for s in graded)} at zero.")
+        lines.append(_marks_line(graded, max(r.max_score for r in rows)) + ".")
     failed = [r for r in rows if r.error]
     if failed:
-        lines += ["", "## Could not be graded (the grader failed, not the student)", ""]
+        lines += ["", "## " + _(GRADER_FAILED), ""]
         lines += [f"- {md_escape(r.student, line_start=True)}: {md_escape(r.error)}" for r in failed]
-    lines += ["", "## Students", "", "| student | score | status | first diagnosis |", "|---|---:|---|---|"]
+    lines += ["", "## " + _("Students"), "",
+              f"| {_('Student')} | {_('Score')} | {_('Status')} | {_('First diagnosis')} |", "|---|---:|---|---|"]
     for r in rows:
         who = md_escape(display_name(r))
-        name = f"[{who}](<{report_link(r.student)}>)" if r.student in linked else f"{who} (no report)"
+        name = f"[{who}](<{report_link(r.student)}>)" if r.student in linked else f"{who} " + _("(no report)")
         d = first_diagnosis(r)
         diagnosis = f"{md_escape(_diagnosis_title(d))} ({md_code(d)})" if d else ""
-        lines.append(f"| {name} | {_score_cell(r)} | {md_escape(r.status)} | {diagnosis} |")
-    lines += ["", f"![score histogram]({HISTOGRAM})", "", "## Most common diagnoses", ""]
+        lines.append(f"| {name} | {_score_cell(r)} | {md_escape(status_word(r.status))} | {diagnosis} |")
+    lines += ["", f"![{_('Scores')}]({HISTOGRAM})", "", "## " + _("Most common diagnoses"), ""]
     counted = _diagnosis_counts(rows)
     if counted:
-        lines += ["| diagnosis | what it means | submissions |", "|---|---|---:|"]
+        lines += [f"| {_('Diagnosis')} | {_('What it means')} | {_('Submissions')} |", "|---|---|---:|"]
         lines += [f"| {md_code(d)} | {md_escape(title)} | {n} |" for d, title, n in counted]
     else:
-        lines.append("None: no submission was found at fault.")
-    lines += ["", "## Speed against accuracy", "", _speed_caption(charted), "",
-              f"![speed against accuracy]({SPEED_CHART})"]
+        lines.append(_(NO_DIAGNOSES))
+    lines += ["", "## " + _("Speed against accuracy"), "", _speed_caption(charted), "",
+              f"![{_('Speed against accuracy')}]({SPEED_CHART})"]
     lines += _skipped_section(data.get("skipped"))
     lines += _roster_section(data.get("roster"))
     lines += _similarity_section(data.get("similarity"))
@@ -317,10 +392,17 @@ def median(values: list[float]) -> float:
     return (ordered[(len(ordered) - 1) // 2] + ordered[len(ordered) // 2]) / 2
 
 
+def _submissions_count(rows) -> str:
+    return ngettext("%(count)d submission", "%(count)d submissions", len(rows)) % {"count": len(rows)}
+
+
 def _speed_caption(charted: int) -> str:
-    return (f"{charted} submissions measured by the speed check (stars: green full marks, amber half "
-            "or more, red less), on the study's chart of the lookup methods (docs/study/). "
-            "Submissions that crashed or did not build have no point.")
+    return ngettext("%(count)d submission measured by the speed check (stars: green full marks, amber half or "
+                    "more, red less), on the study's chart of the lookup methods (docs/study/). Submissions that "
+                    "crashed or did not build have no point.",
+                    "%(count)d submissions measured by the speed check (stars: green full marks, amber half or "
+                    "more, red less), on the study's chart of the lookup methods (docs/study/). Submissions that "
+                    "crashed or did not build have no point.", charted) % {"count": charted}
 
 
 # ---- summary.html -----------------------------------------------------------------
@@ -343,25 +425,22 @@ def _student_link(r, linked: set[str]) -> str:
 
 def _hero(rows) -> str:
     from .html import _score_class, e
-    statuses = Counter(r.status for r in rows)
     graded = [r.score for r in rows if r.status != UNGRADABLE]
     top = max([r.max_score for r in rows] + [0.0])
     mid = median(graded) if graded else 0.0
     pct = 0.0 if top <= 0 else max(0.0, min(100.0, 100 * mid / top))
-    counts = ", ".join(f"{n} {s}" for s, n in sorted(statuses.items()))
-    full = sum(s >= top for s in graded)
-    marks = (f" · median {points(mid)} of {points(top)}, {full} full mark{'' if full == 1 else 's'}, "
-             f"{sum(s == 0 for s in graded)} at zero" if graded and top > 0 else "")
+    marks = " · " + _marks_line(graded, top) if graded and top > 0 else ""
+    median_text = _("Median score %(median)s of %(top)s") % {"median": points(mid), "top": points(top)}
     return f"""
 <header class="hero">
   <div class="who">
-    <p class="eyebrow">Cube-map environment mapping · class summary</p>
-    <h1>{len(rows)} submissions</h1>
-    <p class="meta">{e(counts)}{e(marks)}</p>
+    <p class="eyebrow">{e(_("Cube-map environment mapping · class summary"))}</p>
+    <h1>{e(_submissions_count(rows))}</h1>
+    <p class="meta">{e(status_counts(rows))}{e(marks)}</p>
   </div>
   <div class="ring {_score_class(mid, top, GRADED)}" style="--p:{pct:.1f}" role="img"
-       aria-label="median score {e(points(mid))} of {e(points(top))}">
-    <div><strong>{e(points(mid))}</strong><span>of {e(points(top))}</span></div>
+       aria-label="{e(median_text)}">
+    <div><strong>{e(points(mid))}</strong><span>{e(_("of %(top)s") % {"top": points(top)})}</span></div>
   </div>
 </header>"""
 
@@ -374,29 +453,32 @@ def _attention(rows, data: dict) -> str:
     failed = [r for r in rows if r.error]
     if failed:
         items = "".join(f"<li><strong>{e(r.student)}</strong>: {e(r.error)}</li>" for r in failed)
-        out.append(f'<div class="callout failed"><strong>Could not be graded (the grader failed, not the '
-                   f'student).</strong><ul class="plain">{items}</ul></div>')
+        out.append(f'<div class="callout failed"><strong>{e(_(GRADER_FAILED))}.</strong>'
+                   f'<ul class="plain">{items}</ul></div>')
+    names = {r.student: display_name(r) for r in rows}    # the roster's names, as the table shows them
     again = data.get("grade_again") or {}
     if again.get("students"):
         n = len(again["students"])
-        out.append(f'<div class="callout partial"><strong>{n} {"result says" if n == 1 else "results say"} '
-                   f'{e(" or ".join(again.get("statuses", [])))}</strong>, which another process can cause: '
-                   f'running grade-all again grades {"it" if n == 1 else "them"} again: '
-                   f'{e(", ".join(again["students"]))}.</div>')
+        said = ngettext("%(count)d result says %(statuses)s", "%(count)d results say %(statuses)s", n) % {
+            "count": n, "statuses": _(" or ").join(status_word(s) for s in again.get("statuses", []))}
+        why = ngettext("which another process can cause: running grade-all again grades it again",
+                       "which another process can cause: running grade-all again grades them again", n)
+        out.append(f'<div class="callout partial"><strong>{e(said)}</strong>{e(_(", "))}{e(why)}{e(_(": "))}'
+                   f'{e(_(", ").join(names.get(s, s) for s in again["students"]))}.</div>')
     own = data.get("own_timeouts") or {}
     if own.get("students"):
         n = len(own["students"])
-        names = {r.student: display_name(r) for r in rows}
-        out.append(f'<div class="callout passed"><strong>{n} timeout{"" if n == 1 else "s"} kept</strong> '
-                   f'({e("; ".join(names.get(s, s) for s in own["students"]))}): {e(own.get("why", ""))}.</div>')
+        kept = ngettext("%(count)d timeout kept", "%(count)d timeouts kept", n) % {"count": n}
+        out.append(f'<div class="callout passed"><strong>{e(kept)}</strong> '
+                   f'({e("; ".join(names.get(s, s) for s in own["students"]))}){e(_(": "))}'
+                   f'{e(_(own.get("why", "")) if own.get("why") else "")}{e(_("."))}</div>')
     roster = data.get("roster") or {}
-    for key, title in (("missing", "Handed in nothing"), ("unmatched", "Submissions matching no one on the roster"),
-                       ("left_out", "Left out of the roster")):
+    for key, title in ROSTER_LISTS:
         entries = roster.get(key) or []
         if entries:
             items = "".join(f"<li>{e(entry_text(x))}</li>" for x in entries)
             cls = "passed" if key == "left_out" else "partial"
-            out.append(f'<div class="callout {cls}"><strong>{title} ({len(entries)}).</strong>'
+            out.append(f'<div class="callout {cls}"><strong>{e(_(title))} ({len(entries)}).</strong>'
                        f'<ul class="plain">{items}</ul></div>')
     return "\n".join(out)
 
@@ -428,11 +510,14 @@ def _students_table(rows, linked: set[str]) -> str:
     for r in rows:
         cls = _status_class(r)
         pct = 0.0 if r.max_score <= 0 else max(0.0, min(100.0, 100 * r.score / r.max_score))
-        bar = f'<span class="bar {cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
+        # The bar says the points (a timeout that kept 98 of 100 is not red); the pill says the status.
+        points_cls = "passed" if pct >= 99.9 else "partial" if pct >= 50 else "failed"
+        bar = f'<span class="bar {points_cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
         d = first_diagnosis(r)
         more = len(set(r.diagnoses) - {d})
         diagnosis = (f'<strong>{e(_diagnosis_title(d))}</strong> <span class="id">{e(d)}</span>'
-                     + (f' <span class="more">(+{more} more)</span>' if more else "")) if d else ""
+                     + (f' <span class="more">{e(_("(+%(count)d more)") % {"count": more})}</span>' if more else "")
+                     ) if d else ""
         if r.error:
             diagnosis = e(r.error)
         mark = {"passed": STATE_MARK["passed"], "failed": STATE_MARK["failed"],
@@ -441,14 +526,14 @@ def _students_table(rows, linked: set[str]) -> str:
         link = f'<a href="{e(report_link(r.student))}">{name}</a>' if r.student in linked else name
         body.append(f'<tr><td class="who">{link}{_who_line(r)}</td>'
                     f'<td class="pts">{bar}<span class="score">{e(_score_cell(r)) if r.max_score > 0 else "–"}</span></td>'
-                    f'<td class="state"><span class="pill {cls}">{mark} {e(r.status)}</span></td>'
+                    f'<td class="state"><span class="pill {cls}">{mark} {e(status_word(r.status))}</span></td>'
                     f'<td class="diag">{diagnosis}</td></tr>')
     return f"""
 <section>
-  <h2>Students</h2>
+  <h2>{e(_("Students"))}</h2>
   <table class="checks students">
-    <thead><tr><th class="c-who">Student</th><th class="pts c-pts">Score</th><th class="c-state">Status</th>
-      <th>First diagnosis</th></tr></thead>
+    <thead><tr><th class="c-who">{e(_("Student"))}</th><th class="pts c-pts">{e(_("Score"))}</th>
+      <th class="c-state">{e(_("Status"))}</th><th>{e(_("First diagnosis"))}</th></tr></thead>
     <tbody>{"".join(body)}</tbody>
   </table>
 </section>"""
@@ -460,28 +545,30 @@ def _points_table(rows, linked: set[str]) -> str:
     names = check_names(rows)
     if not names:
         return ""
-    head = "".join(f"<th class=\"pts\">{e(n)}</th>" for n in names)
+    from .view import CHECK_LABEL
+    # gradebook.csv's column names; the check's words on hover
+    head = "".join(f'<th class="pts" title="{e(CHECK_LABEL.get(n, n))}">{e(n)}</th>' for n in names)
     body = "".join(f"<tr><td>{_student_link(r, linked)}</td>"
                    + "".join(f'<td class="pts">{e(points(r.checks[n])) if n in r.checks else ""}</td>' for n in names)
                    + f'<td>{e(" ".join(r.diagnoses))}</td></tr>' for r in rows)
     return f"""
 <section>
-  <details class="log"><summary>Points per check, and every diagnosis (as in gradebook.csv)</summary>
+  <details class="log"><summary>{e(_("Points per check, and every diagnosis (as in gradebook.csv)"))}</summary>
   <div class="wide"><table class="checks points">
-    <thead><tr><th>Student</th>{head}<th>Diagnoses</th></tr></thead>
+    <thead><tr><th>{e(_("Student"))}</th>{head}<th>{e(_("Diagnoses"))}</th></tr></thead>
     <tbody>{body}</tbody>
   </table></div></details>
 </section>"""
 
 
 def _charts(out: Path, charted: int) -> str:
-    from .html import _figure
+    from .html import _figure, e
     return f"""
 <section>
-  <h2>Scores and speed</h2>
+  <h2>{e(_("Scores and speed"))}</h2>
   <div class="pair">
-    {_figure(out / HISTOGRAM, "Scores", "ungradable submissions are not shown")}
-    {_figure(out / SPEED_CHART, "Speed against accuracy", _speed_caption(charted))}
+    {_figure(out / HISTOGRAM, _("Scores"), _("ungradable submissions are not shown"))}
+    {_figure(out / SPEED_CHART, _("Speed against accuracy"), _speed_caption(charted))}
   </div>
 </section>"""
 
@@ -490,14 +577,15 @@ def _diagnoses_table(rows) -> str:
     from .html import e
     counted = _diagnosis_counts(rows)
     if not counted:
-        return '<section><h2>Most common diagnoses</h2><p>None: no submission was found at fault.</p></section>'
+        return f'<section><h2>{e(_("Most common diagnoses"))}</h2><p>{e(_(NO_DIAGNOSES))}</p></section>'
     body = "".join(f'<tr><td><code>{e(d)}</code></td><td>{e(title)}</td><td class="pts">{n}</td></tr>'
                    for d, title, n in counted)
     return f"""
 <section>
-  <h2>Most common diagnoses</h2>
+  <h2>{e(_("Most common diagnoses"))}</h2>
   <table class="checks">
-    <thead><tr><th>Diagnosis</th><th>What it means</th><th class="pts">Submissions</th></tr></thead>
+    <thead><tr><th>{e(_("Diagnosis"))}</th><th>{e(_("What it means"))}</th>
+      <th class="pts">{e(_("Submissions"))}</th></tr></thead>
     <tbody>{body}</tbody>
   </table>
 </section>"""
@@ -508,8 +596,8 @@ def _skipped_html(skipped) -> str:
     if not skipped:
         return ""
     items = "".join(f"<li><code>{e(x.get('entry', ''))}</code>: {e(x.get('reason', ''))}</li>" for x in skipped)
-    return (f"<section><h2>Entries that were not graded</h2><p>What the class folder held besides "
-            f'submissions, and why each was left out.</p><ul class="plain">{items}</ul></section>')
+    return (f"<section><h2>{e(_('Entries that were not graded'))}</h2><p>{e(_(SKIPPED_INTRO))}</p>"
+            f'<ul class="plain">{items}</ul></section>')
 
 
 def _roster_html(roster) -> str:
@@ -517,11 +605,11 @@ def _roster_html(roster) -> str:
     if not roster:
         return ""
     files = roster.get("lms_files") or []
-    imports = (f"<p>Import-ready grade files beside this page: {e(', '.join(files))} (Canvas, Moodle, "
-               "Gradescope; the roster's students only).</p>") if files else ""
-    return (f"<section><h2>Roster</h2><p><code>{e(roster.get('file', ''))}</code>: "
-            f"{int(roster.get('students', 0))} students, {int(roster.get('matched', 0))} matched to a "
-            "submission (who handed in nothing, and submissions matching no one, are listed at the top).</p>"
+    imports = ("<p>" + e(_("Import-ready grade files beside this page: %(files)s (Canvas, Moodle, Gradescope; "
+                           "the roster's students only).") % {"files": _(", ").join(files)}) + "</p>") if files else ""
+    return (f"<section><h2>{e(_('Roster'))}</h2><p><code>{e(roster.get('file', ''))}</code>{e(_(': '))}"
+            + e(_roster_counts(roster)) + " "
+            + e(_("(who handed in nothing, and submissions matching no one, are listed at the top).")) + "</p>"
             f"{imports}</section>")
 
 
@@ -532,52 +620,40 @@ def _similarity_html(similarity) -> str:
     if not similarity:
         return ""
     pairs = similarity.get("pairs") or []
-    parts = [f"<section><h2>Most similar pairs</h2><p>{e(_similarity_intro_text(similarity))}</p>"]
+    parts = [f"<section><h2>{e(_('Most similar pairs'))}</h2><p>{_similarity_intro(similarity, e, e)}</p>"]
     if not pairs:
-        parts.append("<p>No pair reaches that share.</p>")
+        parts.append(f"<p>{e(_(NO_PAIR))}</p>")
     for n, cluster in enumerate(similarity_clusters(pairs), 1):
         inner = []
         for p in cluster["pairs"]:
             a, b = str(p.get("a", "")), str(p.get("b", ""))
-            inner.append(f'<p class="pair-title">{e(a)} and {e(b)}: {float(p.get("similarity", 0)):.0%}</p>'
-                         f"<p>{float(p.get('share_a', 0)):.0%} of {e(a)}'s code and "
-                         f"{float(p.get('share_b', 0)):.0%} of {e(b)}'s, "
-                         f"{int(p.get('shared_tokens', 0))} tokens in common.</p>")
+            inner.append(f'<p class="pair-title">{_pair_title(a, b, p, e)}</p><p>{_pair_shares(a, b, p, e)}</p>')
             for passage in p.get("passages") or []:
                 (fa, la), (fb, lb) = _lines(passage, "a"), _lines(passage, "b")
-                inner.append(f'<details class="passage"><summary>shared passage: {e(a)} lines {fa}-{la}, '
-                             f'{e(b)} lines {fb}-{lb}</summary><div class="side-by-side">'
+                said = _("shared passage: %(a)s lines %(fa)d-%(la)d, %(b)s lines %(fb)d-%(lb)d") % {
+                    "a": a, "fa": fa, "la": la, "b": b, "fb": fb, "lb": lb}
+                inner.append(f'<details class="passage"><summary>{e(said)}</summary><div class="side-by-side">'
                              f'<pre><code>{e(passage.get("a_text", ""))}</code></pre>'
                              f'<pre><code>{e(passage.get("b_text", ""))}</code></pre></div></details>')
-        names = ", ".join(cluster["students"])
-        parts.append(f'<details class="cluster"><summary>Cluster {n}: {e(names)} '
-                     f'({len(cluster["students"])} students, up to {cluster["similarity"]:.0%})</summary>'
+        parts.append(f'<details class="cluster"><summary>{_cluster_title(n, cluster, e)}</summary>'
                      f'{"".join(inner)}</details>')
     not_compared = similarity.get("not_compared") or []
     if not_compared:
         items = "".join(f"<li>{e(x.get('student', ''))}: {e(x.get('reason', ''))}</li>" for x in not_compared)
-        parts.append(f'<p><strong>Not compared:</strong></p><ul class="plain">{items}</ul>')
+        parts.append(f'<p><strong>{e(_("Not compared:"))}</strong></p><ul class="plain">{items}</ul>')
     return "".join(parts) + "</section>"
-
-
-def _similarity_intro_text(similarity) -> str:
-    return (f"{int(similarity.get('compared', 0))} submissions compared with "
-            f"{similarity.get('tool', 'a similarity tool')}"
-            + (f", the template ({similarity['boilerplate']}) not counted" if similarity.get("boilerplate") else "")
-            + f"; pairs sharing at least {float(similarity.get('min_listed', 0)):.0%} are listed, grouped into "
-            "clusters of students. A high share is a reason to look, not a verdict.")
 
 
 def _footer(data: dict) -> str:
     from .html import e
     files = ["gradebook.csv", *((data.get("roster") or {}).get("lms_files") or []), "summary.json", "summary.md"]
-    return f'<footer>beside this page: {e(", ".join(files))}</footer>'
+    return f'<footer>{e(_("beside this page: %(files)s") % {"files": _(", ").join(files)})}</footer>'
 
 
 def summary_html(rows, out: Path, linked: set[str] | None = None, data: dict | None = None,
                  charted: int = 0) -> str:
     """The class page: self-contained, in report.html's style."""
-    from .html import CSS
+    from .html import CSS, e
     linked = linked or set()
     data = data or {}
     body = "\n".join(s for s in (
@@ -585,13 +661,13 @@ def summary_html(rows, out: Path, linked: set[str] | None = None, data: dict | N
         _charts(out, charted), _diagnoses_table(rows), _skipped_html(data.get("skipped")),
         _roster_html(data.get("roster")), _similarity_html(data.get("similarity")), _footer(data)) if s)
     return f"""<!DOCTYPE html>
-<html lang="en">
+<html lang="{language_code()}">
 <head>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <meta http-equiv="Content-Security-Policy" content="{CSP}">
 <meta name="color-scheme" content="light dark">
-<title>Class summary</title>
+<title>{e(_("Class summary"))}</title>
 <style>{CSS}{CLASS_CSS}</style>
 </head>
 <body>

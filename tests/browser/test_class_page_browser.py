@@ -41,6 +41,8 @@ ROWS = [Row("adamsalice_9001_700001_EnvironmentMap-1", "graded", 100.0, 100.0, {
         Row("bakerbruno_LATE_9002_700002_EnvironmentMap", "graded", 87.02, 100.0, {}, ["v-flipped"],
             first_diagnosis="v-flipped", student_id="S2026002", name="Baker-Featherstonehaugh, Bruno Maximilian",
             email="bruno.baker@uni.example"),
+        Row("chenchiara_9003_700003_EnvironmentMap", "build-error", 0.0, 100.0, {}, ["build-error"],
+            first_diagnosis="build-error", student_id="S2026003", name="Chen, Chiara", email="chiara.chen@uni.example"),
         Row("evansemi_9005_700005_EnvironmentMap", "timeout", 46.92, 100.0, {}, ["timeout", "crash"],
             first_diagnosis="timeout", student_id="S2026005", name="Evans, Emi", email="emi.evans@uni.example")]
 
@@ -62,12 +64,19 @@ def same_line(a: dict, b: dict) -> bool:
     return a["top"] < b["bottom"] and b["top"] < a["bottom"]
 
 
+@pytest.mark.parametrize("lang", ["en", "ja"])      # Japanese statuses are longer (issue 33: one ran over)
 @pytest.mark.parametrize("width", [1280, 390])
-def test_name_score_status_and_diagnosis_read_on_one_line(tmp_path, width):
+def test_name_score_status_and_diagnosis_read_on_one_line(tmp_path, width, lang):
+    from grader import i18n
     for r in ROWS:
         (tmp_path / r.student).mkdir()
         (tmp_path / r.student / "report.html").write_text("")
-    write_summary(ROWS, tmp_path)
+    before = i18n.language()
+    i18n.set_language(lang)
+    try:
+        write_summary(ROWS, tmp_path)
+    finally:
+        i18n.set_language(before)
     rows, page_width = measured(tmp_path / "summary.html", tmp_path, width)
     assert page_width <= width
     assert [r["text"] for r in rows] == [r.name for r in ROWS]          # the roster's name, not the file's

@@ -67,12 +67,12 @@ def test_the_class_page_lists_each_student_with_score_status_and_first_diagnosis
     assert rows["alice"][1:] == ["100 / 100", "✓ graded", ""]
     assert rows["bob"][1:] == ["63.93 / 100", "◐ graded", "readTexture still returns the nearest texel nearest-neighbor"]
     assert rows["carol"][3] == "Your code crashed crash (+1 more)"
-    assert rows["dave"][1:3] == ["0 / 100", "✗ build-error"]
+    assert rows["dave"][1:3] == ["0 / 100", "✗ compile error"]
     assert rows["erin"][1:3] == ["–", "– ungradable"] and "SIGKILL" in rows["erin"][3]
     assert '<td class="who"><a href="bob/report.html">bob</a></td>' in page
     # report.html's stylesheet, not a copy of it
     assert page.count(CSS) == 1
-    assert "1 result says timeout or ungradable" in page and "grades it again: erin" in page
+    assert "1 result says timed out or ungradable" in page and "grades it again: erin" in page
     md = (tmp_path / "summary.md").read_text()
     assert "| [bob](<bob/report.html>) | 63.93 / 100 | graded | readTexture still returns the nearest texel " \
            "(`nearest-neighbor`) |" in md
@@ -107,7 +107,7 @@ def test_the_page_collapses_each_cluster_and_each_shared_passage(tmp_path):
     # every cluster and passage starts closed
     assert not re.search(r"<details[^>]* open", page)
     md = (tmp_path / "summary.md").read_text()
-    assert "### Cluster 2: ann, ben, cat (up to 90%)" in md
+    assert "### Cluster 2: ann, ben, cat (3 students, up to 90%)" in md
 
 
 def entries():
@@ -171,3 +171,75 @@ def test_a_submission_named_like_an_lms_file_does_not_take_its_place(tmp_path):
     for name in ("grades_canvas.csv.zip", "grades_moodle.csv.cpp", "grades_gradescope.csv"):
         (tmp_path / name).mkdir() if "." not in name.rsplit(".csv", 1)[1] else (tmp_path / name).write_text("")
     assert sorted(find_submissions(tmp_path)) == ["grades_canvas.csv_", "grades_gradescope.csv_", "grades_moodle.csv_"]
+
+
+class Text(HTMLParser):
+    """A page's visible text, one string per text node (style and script left out)."""
+
+    def __init__(self, page: str):
+        super().__init__()
+        self.texts, self._skip = [], 0
+        self.feed(page)
+
+    def handle_starttag(self, tag, attrs):
+        self._skip += tag in ("style", "script")
+        self.texts += [v for k, v in attrs if k in ("aria-label", "alt", "title") and v]
+
+    def handle_endtag(self, tag):
+        self._skip -= tag in ("style", "script")
+
+    def handle_data(self, data):
+        if not self._skip and data.strip():
+            self.texts.append(data.strip())
+
+
+def test_the_class_page_in_japanese_leaves_no_english_sentence(tmp_path):
+    """grade-all --lang ja: every word the page itself says is Japanese; what
+    stays is data (names, ids, file names, the tool's name, numbers) and
+    the words the glossary keeps (diagnosis ids, LMS names)."""
+    from grader import i18n
+    from grader.course.grade_all import OWN_TIMEOUT_WHY
+    rows = ROWS[:4] + [Row("fay", "timeout", 40.0, 100.0, {}, ["timeout"], first_diagnosis="timeout"),
+                       Row("gus", MISSING, 0.0, 100.0)]
+    similarity = {"tool": "copydetect 0.5.0", "compared": 5, "min_listed": 0.5, "boilerplate": "template.cpp",
+                  "pairs": [pair("ann", "ben", 0.9)], "not_compared": []}
+    data = {"similarity": similarity, "grade_again": {"statuses": ["timeout"], "students": ["fay"]},
+            "own_timeouts": {"students": ["fay"], "why": OWN_TIMEOUT_WHY},
+            "roster": {"file": "roster.csv", "students": 6, "matched": 5, "lms_files": ["grades_canvas.csv"],
+                       "missing": [{"id": "S9", "name": "gus", "email": ""}], "unmatched": ["hal"],
+                       "left_out": [{"id": "S0", "name": "Student, Test", "email": ""}]}}
+    before = i18n.language()
+    i18n.set_language("ja")
+    try:
+        write_summary(rows, tmp_path, data=data)
+    finally:
+        i18n.set_language(before)
+    page = (tmp_path / "summary.html").read_text()
+    assert '<html lang="ja">' in page
+    data_words = {"alice", "bob", "carol", "dave", "fay", "gus", "hal", "ann", "ben", "Student", "Test",
+                  "copydetect", "template", "cpp", "roster", "csv", "grades_canvas", "gradebook", "summary", "json",
+                  "md", "code", "of", "Canvas", "Moodle", "Gradescope", "grade", "all", "docs", "study"}
+    from grader.grading.catalogue import _ENTRIES
+    data_words |= {"readTexture", "fetchColor", "CPU"}     # code and CPU, as the glossary keeps them
+    ids = sorted((e.id for e in _ENTRIES), key=len, reverse=True)
+    catalogue_ids = re.compile("|".join(re.escape(i) for i in ids))    # diagnosis ids, shown as they are
+    english = []
+    for text in Text(page).texts + (tmp_path / "summary.md").read_text().splitlines():
+        text = re.sub(r"\S+\.(?:csv|json|md|png)\b|\b[a-z]+(?:_[a-z]+)+\b", "", catalogue_ids.sub("", text))
+        words = re.findall(r"[A-Za-z]{3,}", text)      # file names and gradebook.csv's column names are data
+        if [w for w in words if w not in data_words]:
+            english.append(text)
+    assert english == [], english
+
+
+def test_grade_all_writes_the_class_page_in_the_reports_language(tmp_path):
+    """--lang ja reached each student's grading but not the page grade-all
+    writes itself (issue 33): the summary is chosen the way grade() chooses."""
+    from grader import i18n
+    from grader.course.grade_all import _summary
+    from grader.grading.grade import GradeOptions
+    before = i18n.language()
+    _summary(ROWS[:2], tmp_path, {}, GradeOptions(lang="ja"))
+    assert i18n.language() == before
+    assert '<html lang="ja">' in (tmp_path / "summary.html").read_text()
+    assert (tmp_path / "summary.md").read_text().startswith("# クラスの採点結果")

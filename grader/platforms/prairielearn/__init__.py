@@ -239,6 +239,28 @@ def _write_json(path: Path, data: dict) -> None:
     os.replace(tmp, path)
 
 
+def _build_ahead() -> None:
+    """Every job starts cold: the reference library and the worker, which the
+    grading needs only once the submission is built, are built in a thread
+    beside the submission's build instead of after it (on one core this
+    changes nothing). Each builder holds its own lock, so the grading waits
+    for what is still being built and never builds it twice; a failure here
+    is met again, and reported, where the grading needs that part."""
+    import threading
+
+    def build() -> None:
+        from ...envmap import library
+        from ...worker import native
+        try:
+            library.ensure_built()
+            native.worker_binary()
+            native.null_library()
+            import matplotlib.figure  # noqa: F401  (the speed chart's, a second of imports)
+        except Exception:    # noqa: BLE001  (the grading builds it again and says why)
+            pass
+    threading.Thread(target=build, name="build-ahead", daemon=True).start()
+
+
 def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_reports: bool = False) -> dict:
     """Grade root/student, write root/results/results.json, return what was written.
 
@@ -261,6 +283,7 @@ def grade_prairielearn(root: Path = DEFAULT_ROOT, quick: bool = False, keep_repo
             options = GradeOptions(quick=quick, include_hidden=False)
             rubric = load_rubric(options.rubric)
             build_error_gradable(rubric)   # a bad value is the instructor's: said before grading
+            _build_ahead()
             result = grade(student, work / "reports", options)
             for note in instructor_notes(result):
                 print(f"prairielearn: note: {note}", file=sys.stderr)
