@@ -238,11 +238,11 @@ def _copy_template(dest: Path) -> list[Path]:
 
 def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
     """Write the kit into `out` (replaced) and `out`.zip; returns both."""
-    from ..envmap import library as reference
+    from ..envmap import library
 
     out = Path(out)
     zip_path = Path(zip_path) if zip_path else out.with_suffix(".zip")
-    reference.ensure_built()
+    library.ensure_built()
     with tempfile.TemporaryDirectory(prefix=".kit-", dir=out.parent if out.parent.exists() else None) as tmp:
         staging = Path(tmp) / out.name
         staging.mkdir(parents=True)
