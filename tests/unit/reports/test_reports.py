@@ -554,7 +554,7 @@ def test_catalogue_has_every_required_id_in_plain_words():
 
 def test_docs_agree_with_the_catalogue():
     docs = (PROJECT_ROOT / "docs" / "diagnoses.md").read_text()
-    assert docs == diagnoses.catalogue_markdown(), (
+    assert docs == catalogue.catalogue_markdown(), (
         "docs/diagnoses.md is stale: run `python -m grader.grading.catalogue > docs/diagnoses.md`")
     for diagnosis_id in set(catalogue.CATALOGUE) - set(catalogue.ALIASES):
         assert f"### `{diagnosis_id}`" in docs
@@ -562,7 +562,7 @@ def test_docs_agree_with_the_catalogue():
 
 def test_an_unknown_id_is_refused_not_given_made_up_words():
     # tests/unit/grading/test_diagnosis_catalogue.py: every id the grader emits is catalogued.
-    with pytest.raises(diagnoses.UnknownDiagnosis, match="made-up-thing"):
+    with pytest.raises(catalogue.UnknownDiagnosis, match="made-up-thing"):
         catalogue.describe("made-up-thing")
 
 
