@@ -76,7 +76,7 @@ test-fast: system-deps venv reference
 # on a machine others share.
 LOAD ?= 30
 TIMING_TESTS = tests/security/test_speed_trust.py tests/sandbox/test_worker_load.py tests/sandbox/test_worker_limits.py \
-	tests/security/test_redteam3.py tests/security/test_resource_bounds.py
+	tests/security/test_speed_attacks.py tests/security/test_resource_bounds.py
 test-load: system-deps venv reference
 	$(PY) tests/helpers/loaded.py $(LOAD) -- $(PYTEST) -n 2 -q -m "not agreement" $(TIMING_TESTS)
 

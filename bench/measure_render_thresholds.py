@@ -56,7 +56,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from grader.grading import fixtures  # noqa: E402
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.build import build_submission  # noqa: E402
 from grader.checks import renders  # noqa: E402
 from grader.checks.instruments.image_metrics import display, flip, flip_pixels, ssim  # noqa: E402
@@ -104,7 +104,7 @@ def prepare_scenes() -> list[Scene]:
     out = []
     for fixture in fixtures.render_fixtures():
         escapes = fixtures.prepared_scene(fixture).trace()
-        cube = reference.CubeMap.load_cross(fixture.map)
+        cube = library.CubeMap.load_cross(fixture.map)
         reference_render = escapes.resolve(cube.fetch(escapes.dirs, "bilinear"))
         out.append(Scene(fixture, display(fixture.load()), display(reference_render)))
     return out
@@ -304,14 +304,14 @@ def one_face_wrong(fixture: fixtures.RenderFixture, seed: int = 3) -> list[OneFa
     is black there) and the matched share at each candidate threshold."""
     escapes = fixtures.prepared_scene(fixture).trace()
     noise = np.random.default_rng(seed).uniform(0.0, 2.0, (6, 32, 32, 3)).astype(np.float32)
-    cube = reference.CubeMap(noise)
+    cube = library.CubeMap(noise)
     expected = display(escapes.resolve(cube.fetch(escapes.dirs, "bilinear")))
-    faces, uv = reference.direction_to_face(escapes.dirs)
+    faces, uv = library.direction_to_face(escapes.dirs)
     out = []
-    for k, name in enumerate(reference.FACE_NAMES):
+    for k, name in enumerate(library.FACE_NAMES):
         only = np.zeros_like(noise)
         only[k] = 1.0
-        reach = escapes.resolve(reference.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
+        reach = escapes.resolve(library.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
         flipped = uv.copy()
         flipped[faces == k, 1] = 1.0 - flipped[faces == k, 1]
         values = cube.read_texture(np.maximum(faces, 0), flipped, "bilinear")

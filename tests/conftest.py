@@ -96,9 +96,9 @@ def student_kit(session_folder):
 @pytest.fixture(scope="session")
 def reference_library() -> Path:
     """build/libenvmap.so, built once per test run (make reference)."""
-    from grader.envmap import library as reference
-    path = reference.ensure_built()
-    reference.library()
+    from grader.envmap import library
+    path = library.ensure_built()
+    library.library()
     return path
 
 

@@ -69,13 +69,13 @@ from pathlib import Path
 from ..i18n import _, language
 from ..intake import (MAX_SOURCE_BYTES, SOURCE_NAME, ChosenSource,  # noqa: F401 (re-exported)
                       SubmissionError, select_source as _select_source)
-from . import common as common_objects, source_policy
-from .common import COMMON_FILES, PRECOMPILED_HEADER, TEMPLATE, _common_objects, _fingerprint, _publish
+from . import source_policy
+from .common import COMMON_FILES, DEFAULT_CACHE, PRECOMPILED_HEADER, TEMPLATE, common_objects, fingerprint, publish
 from .compiler import (BUILD_GID, BUILD_UID, LINK_FLAGS, CXX, Deadline, HarnessBuildError,
-                       _flags, _run, _Step, build_isolation)
-from .include_policy import API_HEADERS, _dependencies, _outside_files, refused_directives
+                       compile_flags, run_compiler, CompilerStep, build_isolation)
+from .include_policy import API_HEADERS, make_rule_files, outside_files, refused_directives
 from .messages import describe
-from .objects import _ASSEMBLER_FORBIDDEN, inspect_library, inspect_object
+from .objects import ASSEMBLER_FORBIDDEN, inspect_library, inspect_object
 from .source_policy import refused_constructs
 
 LIBRARY_NAME = "submission.so"
@@ -197,7 +197,7 @@ def _compile_and_link(source: bytes, common: Path, out_dir: Path, sanitize: bool
     inspect and link the student's file in a scratch folder; the library
     goes to `out_dir`. Returns the cache record: {ok, timed_out, output,
     refusal} with output's paths neutral."""
-    cxxflags, _ = _flags(sanitize)
+    cxxflags, _ = compile_flags(sanitize)
     scratch = _scratch(common, source, isolation)
     try:
         return _build_in(scratch, common, out_dir, cxxflags, tuple(extra_flags), deadline, isolation)
@@ -220,13 +220,13 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         text = text.replace(f"{scratch}/include/", "").replace(f"{scratch}/", "")
         return re.sub(r"^/usr/bin/ld: ", "ld: ", text, flags=re.M)
 
-    def step(cmd: list[str], keep_output: bool = True) -> _Step:
-        done = _run(cmd, scratch, deadline, isolation)
+    def step(cmd: list[str], keep_output: bool = True) -> CompilerStep:
+        done = run_compiler(cmd, scratch, deadline, isolation)
         if keep_output:
             outputs.append(done.output)
         return done
 
-    def failed(done: _Step) -> dict:
+    def failed(done: CompilerStep) -> dict:
         return {"ok": False, "timed_out": done.timed_out, "output": neutral("".join(outputs))}
 
     # 1. Preprocess, listing the files the preprocessor actually read (-MD):
@@ -242,14 +242,14 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         # A fatal error left no list: ask the preprocessor alone (-MG:
         # missing headers are listed, not fatal) before any of its messages
         # is shown.
-        again = _run([CXX, *cxxflags, *extra_flags, *include, "-M", "-MG", "-MF", "deps.txt", SOURCE_NAME],
+        again = run_compiler([CXX, *cxxflags, *extra_flags, *include, "-M", "-MG", "-MF", "deps.txt", SOURCE_NAME],
                      scratch, deadline, isolation)
         listed = _take(scratch, "deps.txt", 1 << 20)
         (scratch / "deps.txt").unlink(missing_ok=True)
         if again.timed_out:
             return failed(again)
     if listed is not None:
-        outside = _outside_files(_dependencies(listed.decode("utf-8", "surrogateescape")), scratch)
+        outside = outside_files(make_rule_files(listed.decode("utf-8", "surrogateescape")), scratch)
         if outside:
             shown = ", ".join(neutral(o) for o in outside[:3])
             return _refusal("refused-include", _("%(source)s makes the compiler read %(shown)s: a submission "
@@ -282,7 +282,7 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         return _refusal("forbidden-object", _("%(source)s compiles to more than "
                                               "%(mib)d MiB of assembly: far more than "
                                               "a lookup needs (a huge table?).") % {"source": SOURCE_NAME, "mib": MAX_ASSEMBLY_BYTES >> 20})
-    directive = _ASSEMBLER_FORBIDDEN.search(assembly.decode("utf-8", "surrogateescape"))
+    directive = ASSEMBLER_FORBIDDEN.search(assembly.decode("utf-8", "surrogateescape"))
     if directive:
         return _refusal("forbidden-object", _("%(source)s contains the assembler directive "
                                               "%(directive)s, which reads a file or builds "
@@ -328,7 +328,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
     -ffast-math, to measure how builds differ; docs/thresholds.md).
     Never raises for a bad submission; see the module docstring."""
     path = Path(path)
-    cache_dir = Path(cache_dir) if cache_dir is not None else common_objects.DEFAULT_CACHE
+    cache_dir = Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE
     try:
         chosen = _select_source(path, TEMPLATE)
     except SubmissionError as exc:
@@ -357,10 +357,10 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
         result.diagnosis_id = "refused-source"
         return result
 
-    common = _common_objects(cache_dir, sanitize)
-    cxxflags = _flags(sanitize)[0]   # (`_` is the translation function here)
+    common = common_objects(cache_dir, sanitize)
+    cxxflags = compile_flags(sanitize)[0]   # (`_` is the translation function here)
     # The language too: a refusal's message is cached in the student's language.
-    key = _fingerprint(KEY_SOURCES, sha, common.name, *cxxflags,
+    key = fingerprint(KEY_SOURCES, sha, common.name, *cxxflags,
                        *extra_flags, language())
     final = cache_dir / key[:32]
     record_path = final / "build.json"
@@ -382,7 +382,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
             shutil.rmtree(tmp, ignore_errors=True)
         else:
             (tmp / "build.json").write_text(json.dumps(record))
-            _publish(tmp, final)
+            publish(tmp, final)
 
     if chosen.origin is None and final.is_dir():
         result.source = final / SOURCE_NAME

@@ -16,9 +16,9 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from .compiler import CC, CXX, Deadline, HarnessBuildError, _flags, _run, compiler_versions
+from .compiler import CC, CXX, Deadline, HarnessBuildError, compile_flags, run_compiler, compiler_versions
 from .include_policy import API_HEADERS
-from .objects import _LINKER_SYMBOLS, _defined_symbols, _library_paths, _object_symbols
+from .objects import LINKER_SYMBOLS, defined_symbols, runtime_library_paths, object_symbols
 
 TEMPLATE = PROJECT_ROOT / "student_template"
 REFERENCE = PROJECT_ROOT / "reference"
@@ -49,7 +49,7 @@ def _shim_files() -> list[Path]:
     return [SHIM / "shim.cpp", SHIM / "submission_abi.h"]
 
 
-def _fingerprint(paths: list[Path], *extra: str) -> str:
+def fingerprint(paths: list[Path], *extra: str) -> str:
     """sha256 over file names and contents (relative to the project) and extra strings."""
     h = hashlib.sha256()
     for path in paths:
@@ -60,7 +60,7 @@ def _fingerprint(paths: list[Path], *extra: str) -> str:
     return h.hexdigest()
 
 
-def _publish(tmp: Path, final: Path) -> None:
+def publish(tmp: Path, final: Path) -> None:
     """Atomically move a finished build into the cache; a concurrent twin wins harmlessly."""
     tmp.chmod(0o755)  # mkdtemp makes it private; the sandboxed worker must read it
     try:
@@ -80,7 +80,7 @@ COMMON_FILES = ("loader.o", "shim.o", "libreference.a", "exports.map", "allowed-
                 "reference-symbols.txt")
 
 
-def _common_objects(cache_dir: Path, sanitize: bool) -> Path:
+def common_objects(cache_dir: Path, sanitize: bool) -> Path:
     """Our objects, built once per cache: loader.o and shim.o (always linked),
     libreference.a (the reference C the loader needs), exports.map, the API
     headers (include/, with EnvironmentMap.h precompiled) and the symbols a
@@ -98,9 +98,9 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
                if not p.is_file()]
     if missing:
         raise HarnessBuildError(f"the grader's own build inputs are missing: {', '.join(missing)}")
-    cxxflags, cflags = _flags(sanitize)
-    libraries = _library_paths(sanitize)
-    key = _fingerprint(_template_files() + _reference_files() + _shim_files(),
+    cxxflags, cflags = compile_flags(sanitize)
+    libraries = runtime_library_paths(sanitize)
+    key = fingerprint(_template_files() + _reference_files() + _shim_files(),
                        COMMON_LAYOUT, compiler_versions(), *cxxflags, "|", *cflags, "|",
                        *(f"{p}:{p.stat().st_size}:{p.stat().st_mtime_ns}" for p in libraries))
     final = cache_dir / f"common-{key[:24]}"
@@ -110,10 +110,10 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
     tmp = Path(tempfile.mkdtemp(prefix=".tmp-common-", dir=cache_dir))
     built = seed / final.name if seed is not None else None
     if built is not None and (built / "reference-symbols.txt").is_file():
-        # Published folders are complete (_publish renames a finished one in).
+        # Published folders are complete (publish renames a finished one in).
         try:
             shutil.copytree(built, tmp, dirs_exist_ok=True)
-            _publish(tmp, final)
+            publish(tmp, final)
         except BaseException:
             shutil.rmtree(tmp, ignore_errors=True)
             raise
@@ -128,8 +128,8 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
         reference_objects.append(f"ref_{src.stem}.o")
     archive = ["ar", "rcs", "libreference.a", *reference_objects]
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-        steps = list(pool.map(lambda cmd: _run(cmd, tmp, Deadline.of(600)), jobs))
-    steps.append(_run(archive, tmp, Deadline.of(600)))
+        steps = list(pool.map(lambda cmd: run_compiler(cmd, tmp, Deadline.of(600)), jobs))
+    steps.append(run_compiler(archive, tmp, Deadline.of(600)))
     for cmd, step in zip(jobs + [archive], steps):
         if step.returncode != 0 or step.timed_out:
             shutil.rmtree(tmp, ignore_errors=True)
@@ -143,21 +143,21 @@ def _build_common_objects(cache_dir: Path, sanitize: bool, seed: Path | None = N
     if not sanitize:
         pch = [CXX, *cxxflags, f"-I{tmp / 'include'}", "-x", "c++-header", str(tmp / "include" / API_HEADERS[0]),
                "-o", str(tmp / "include" / PRECOMPILED_HEADER)]
-        step = _run(pch, tmp, Deadline.of(600))
+        step = run_compiler(pch, tmp, Deadline.of(600))
         if step.returncode != 0 or step.timed_out:
             shutil.rmtree(tmp, ignore_errors=True)
             raise HarnessBuildError(f"{' '.join(pch)}\n{step.output}")
     # What a student's object may leave undefined: the runtime libraries,
     # the linker's own symbols and the template's EnvironmentMap members
     # (loader.o). Never the reference's em_*.
-    allowed = _defined_symbols(libraries) | _LINKER_SYMBOLS
-    allowed |= {name for name, bind, defined in _object_symbols((tmp / "loader.o").read_bytes())[1]
+    allowed = defined_symbols(libraries) | LINKER_SYMBOLS
+    allowed |= {name for name, bind, defined in object_symbols((tmp / "loader.o").read_bytes())[1]
                 if defined and bind != 0 and not name.startswith("em_")}
     (tmp / "allowed-symbols.txt").write_text("\n".join(sorted(allowed)) + "\n")
     # The reference code's own global names: a submission defining one would
     # silently replace it inside the loader.
     ours = {name for obj in reference_objects for name, bind, defined
-            in _object_symbols((tmp / obj).read_bytes())[1] if defined and bind == 1}
+            in object_symbols((tmp / obj).read_bytes())[1] if defined and bind == 1}
     (tmp / "reference-symbols.txt").write_text("\n".join(sorted(ours)) + "\n")
-    _publish(tmp, final)
+    publish(tmp, final)
     return final

@@ -76,7 +76,7 @@ def compiler_versions() -> str:
     return "\n".join(lines)
 
 
-def _flags(sanitize: bool) -> tuple[list[str], list[str]]:
+def compile_flags(sanitize: bool) -> tuple[list[str], list[str]]:
     extra = SANITIZE_FLAGS if sanitize else []
     return CXXFLAGS + extra + DIAGNOSTIC_FLAGS, CFLAGS + extra + DIAGNOSTIC_FLAGS
 
@@ -84,7 +84,7 @@ def _flags(sanitize: bool) -> tuple[list[str], list[str]]:
 # ---- running the compiler: sandboxed, limited, stdin /dev/null ------------------
 
 @dataclass
-class _Step:
+class CompilerStep:
     returncode: int
     output: str
     timed_out: bool = False
@@ -108,7 +108,7 @@ def build_isolation() -> str:
     return "none"
 
 
-def _limited(cmd: list[str], cpu_seconds: int) -> list[str]:
+def limited(cmd: list[str], cpu_seconds: int) -> list[str]:
     """cmd under an address-space, a CPU-time and a descriptor limit. The
     limits are set by the shell's ulimit rather than setrlimit in a
     preexec_fn, which is unsafe when threads run (the common objects are
@@ -142,7 +142,7 @@ class Deadline:
         return self.wall_end - time.monotonic()
 
 
-def _run(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "trusted") -> _Step:
+def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "trusted") -> CompilerStep:
     """Run one compiler command in its own process group, killed when it has
     used the deadline's CPU time (all its processes) or reached its wall
     bound. isolation: "trusted" (our own sources), or how a student's
@@ -150,7 +150,7 @@ def _run(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "truste
     ours it may see)."""
     from ..worker import memory
     if deadline.cpu_s <= 0 or deadline.wall_left() <= 0:
-        return _Step(-1, "", timed_out=True)
+        return CompilerStep(-1, "", timed_out=True)
     cpu = max(1, int(deadline.cpu_s) + 1)     # each process's own backstop
     env = dict(_COMPILER_ENVIRONMENT)
     drop: dict = {}
@@ -167,7 +167,7 @@ def _run(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "truste
             group.allow_uid(BUILD_UID)     # its shell joins the grading's cgroup itself
     elif isolation == "none":
         env["TMPDIR"] = str(cwd / "tmp")
-    proc = subprocess.Popen(memory.charged(_limited(cmd, cpu), group), cwd=cwd, stdin=subprocess.DEVNULL,
+    proc = subprocess.Popen(memory.charged(limited(cmd, cpu), group), cwd=cwd, stdin=subprocess.DEVNULL,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True, env=env, **drop)
     out, ended, used_s = _read_capped(proc, deadline)
@@ -178,13 +178,13 @@ def _run(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "truste
         proc.stdout.close()
         text = out.decode("utf-8", "replace")
         if ended == "timeout":
-            return _Step(-1, text, timed_out=True)
-        return _Step(-1, f"{text}\n{OUTPUT_STOPPED}\n")
+            return CompilerStep(-1, text, timed_out=True)
+        return CompilerStep(-1, f"{text}\n{OUTPUT_STOPPED}\n")
     # cc1plus stopped by the CPU-time limit: "Killed signal terminated program cc1plus".
     text = out.decode("utf-8", "replace")
     if proc.returncode != 0 and "signal terminated program" in text:
-        return _Step(proc.returncode, text, timed_out=True)
-    return _Step(proc.returncode, text)
+        return CompilerStep(proc.returncode, text, timed_out=True)
+    return CompilerStep(proc.returncode, text)
 
 
 def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str, float]:

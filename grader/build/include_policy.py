@@ -36,14 +36,14 @@ _TOKEN = re.compile(r"""
   | (?P<other>.|\n)
 """, re.X)
 _SPLICE = re.compile(r"\\[ \t\f\v]*\r?\n")
-_DIRECTIVE = re.compile(r"^[ \t\f\v]*(?:#|%:)[ \t\f\v]*(\w*)(.*)$", re.M)
+DIRECTIVE = re.compile(r"^[ \t\f\v]*(?:#|%:)[ \t\f\v]*(\w*)(.*)$", re.M)
 # A header named plainly: letters, digits, _ . + - and / between them.
 # (What follows the name is ignored by GCC, with a warning: "#include <cmath>;" is harmless.)
 _PLAIN_HEADER = re.compile(r'^(<[\w.+-]+(?:/[\w.+-]+)*>|"[\w.+-]+(?:/[\w.+-]+)*")')
 # The argument is looked at up to 300 characters: a longer one is refused.
 _HAS_INCLUDE = re.compile(r"\b(__has_(?:include|embed)\w*)[ \t]*(\(([^)\n]{0,300})\))?")
 _PRAGMA_FILES = re.compile(r"\b(dependency|pch_preprocess)\b")
-_TRIGRAPHS = {"??=": "#", "??/": "\\", "??'": "^", "??(": "[", "??)": "]", "??!": "|", "??<": "{",
+TRIGRAPHS = {"??=": "#", "??/": "\\", "??'": "^", "??(": "[", "??)": "]", "??!": "|", "??<": "{",
               "??>": "}", "??-": "~"}
 
 
@@ -55,7 +55,7 @@ def _plain_header(argument: str) -> bool:
     return ".." not in name.split("/")
 
 
-def _logical(text: str) -> tuple[str, list[int], list[int]]:
+def logical_lines(text: str) -> tuple[str, list[int], list[int]]:
     """The text with line splices removed, and what maps its offsets back to
     physical lines: (text, offsets where a splice was removed, cumulative
     newlines removed there)."""
@@ -72,7 +72,7 @@ def _logical(text: str) -> tuple[str, list[int], list[int]]:
     return "".join(out), cuts, removed
 
 
-def _blank(text: str) -> str:
+def blank(text: str) -> str:
     """Comments and raw-string bodies become spaces (newlines kept), so
     neither hides a directive nor fakes one."""
     pieces = []
@@ -91,8 +91,8 @@ def _blank(text: str) -> str:
 def _refusals_in(text: str) -> list[tuple[int, str]]:
     # GCC ends a line at \n, \r\n and a lone \r alike, and reads a NUL as
     # a space ("\0#include" and "#\0line" are directives to it).
-    logical, cuts, removed = _logical(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
-    cleaned = _blank(logical)
+    logical, cuts, removed = logical_lines(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
+    cleaned = blank(logical)
 
     newlines = [m.start() for m in re.finditer("\n", cleaned)]
 
@@ -101,7 +101,7 @@ def _refusals_in(text: str) -> list[tuple[int, str]]:
         return bisect_right(newlines, offset - 1) + (removed[at - 1] if at else 0) + 1
 
     found: list[tuple[int, str]] = []
-    for match in _DIRECTIVE.finditer(cleaned):
+    for match in DIRECTIVE.finditer(cleaned):
         name, rest = match.group(1), match.group(2).strip()
         line = line_of(match.start())
         shown = f"#{name} {rest}".strip()[:120]
@@ -138,7 +138,7 @@ def refused_directives(text: bytes) -> list[tuple[int, str]]:
     source = text.decode("latin-1")
     found = dict.fromkeys(_refusals_in(source))
     if "??" in source:
-        for trigraph, replacement in _TRIGRAPHS.items():
+        for trigraph, replacement in TRIGRAPHS.items():
             source = source.replace(trigraph, replacement)
         found.update(dict.fromkeys(_refusals_in(source)))
     return sorted(found)
@@ -157,7 +157,7 @@ def _system_include_dirs() -> tuple[str, ...]:
     return tuple(os.path.realpath(line.strip()) for line in block.splitlines() if line.strip())
 
 
-def _dependencies(text: str) -> list[str]:
+def make_rule_files(text: str) -> list[str]:
     """File names from a make rule written by -M (escaped spaces, splices)."""
     text = text.replace("\\\n", " ").replace("$$", "$")
     body = text.split(": ", 1)[1] if ": " in text else ""
@@ -180,7 +180,7 @@ def _dependencies(text: str) -> list[str]:
     return names
 
 
-def _outside_files(deps: list[str], scratch: Path) -> list[str]:
+def outside_files(deps: list[str], scratch: Path) -> list[str]:
     """The files the preprocessor read that are neither the source, our API
     headers, nor under the compiler's system include folders."""
     allowed_dirs = _system_include_dirs()

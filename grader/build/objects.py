@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..i18n import _, ngettext
 from ..intake import SOURCE_NAME
-from .compiler import CXX, _limited
+from .compiler import CXX, limited
 
 # ---- the libraries a submission may call -----------------------------------------
 
@@ -24,12 +24,12 @@ RUNTIME_LIBRARIES = ("libc.so.6", "libm.so.6", "libmvec.so.1", "libstdc++.so.6",
 # Sanitized builds (tests): also these, by prefix (the soname carries a version).
 SANITIZER_LIBRARIES = ("libasan.so", "libubsan.so")
 # Defined by the linker or the C runtime start files rather than a library.
-_LINKER_SYMBOLS = {"_GLOBAL_OFFSET_TABLE_", "__dso_handle", "_DYNAMIC", "__tls_get_addr",
+LINKER_SYMBOLS = {"_GLOBAL_OFFSET_TABLE_", "__dso_handle", "_DYNAMIC", "__tls_get_addr",
                    "_ITM_registerTMCloneTable", "_ITM_deregisterTMCloneTable", "__gmon_start__"}
 
 
 @functools.lru_cache(maxsize=None)
-def _library_paths(sanitize: bool) -> tuple[Path, ...]:
+def runtime_library_paths(sanitize: bool) -> tuple[Path, ...]:
     paths = []
     for name in RUNTIME_LIBRARIES + (SANITIZER_LIBRARIES if sanitize else ()):
         out = subprocess.run([CXX, f"-print-file-name={name}"], capture_output=True, text=True,
@@ -43,7 +43,7 @@ def _library_paths(sanitize: bool) -> tuple[Path, ...]:
     return tuple(paths)
 
 
-def _defined_symbols(paths: tuple[Path, ...]) -> set[str]:
+def defined_symbols(paths: tuple[Path, ...]) -> set[str]:
     """Global symbols defined by our trusted runtime libraries (nm)."""
     names: set[str] = set()
     for path in paths:
@@ -63,7 +63,7 @@ class _BadObject(Exception):
     pass
 
 
-def _object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]], list[int]]:
+def object_symbols(data: bytes) -> tuple[list[str], list[tuple[str, int, bool]], list[int]]:
     """(section names, [(symbol name, binding, defined)], section flags) of
     an ELF64 little-endian relocatable object."""
     sections, symbols, flags, _ = _parse_elf(data, 1)
@@ -174,7 +174,7 @@ _ORDINARY_SECTION = re.compile(r"""^(
 )$""", re.X)
 # Assembler directives that read files or build other directives out of
 # text (which would get past any check of the source).
-_ASSEMBLER_FORBIDDEN = re.compile(r"\.(incbin|include|macro|irpc?|rept|altmacro|purgem|exitm)\b", re.I)
+ASSEMBLER_FORBIDDEN = re.compile(r"\.(incbin|include|macro|irpc?|rept|altmacro|purgem|exitm)\b", re.I)
 
 
 def _listed(names, limit: int = 5) -> str:
@@ -192,7 +192,7 @@ def _demangle(names: list[str]) -> list[str]:
     if not all(len(n) <= 200 and n.isprintable() for n in names):
         return names
     try:
-        done = subprocess.run(_limited(["c++filt"], 5), input="\n".join(names), capture_output=True,
+        done = subprocess.run(limited(["c++filt"], 5), input="\n".join(names), capture_output=True,
                               text=True, timeout=5)
         shown = done.stdout.splitlines()
         return shown if len(shown) == len(names) and done.returncode == 0 else names
@@ -207,7 +207,7 @@ def inspect_object(data: bytes, allowed: set[str], loader_names: frozenset[str] 
     the reference code linked for the loader, which it may not define."""
     name = SOURCE_NAME
     try:
-        sections, symbols, flags = _object_symbols(data)
+        sections, symbols, flags = object_symbols(data)
     except _BadObject as exc:
         return "forbidden-object", _("The compiled %(source)s could not be checked: %(why)s.") % {"source": name, "why": exc}
     # SHF_WRITE | SHF_EXECINSTR: code that can be rewritten while it runs; no compiler makes it.

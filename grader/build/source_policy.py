@@ -36,7 +36,7 @@ import re
 from bisect import bisect_right
 
 from ..i18n import _
-from .include_policy import _DIRECTIVE, _TOKEN, _TRIGRAPHS, _blank, _logical
+from .include_policy import DIRECTIVE, TRIGRAPHS, blank, logical_lines
 
 ASM_KEYWORDS = frozenset({"asm", "__asm", "__asm__"})
 # Attribute names (without the __x__ spelling) whose argument reaches the
@@ -178,8 +178,8 @@ _DIRECTIVES = frozenset({"", "include", "define", "undef", "if", "ifdef", "ifnde
 
 
 def _constructs_in(text: str) -> list[tuple[int, str]]:
-    logical, cuts, removed = _logical(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
-    cleaned = _blank(_blank_strings(logical))
+    logical, cuts, removed = logical_lines(text.replace("\0", " ").replace("\r\n", "\n").replace("\r", "\n"))
+    cleaned = blank(_blank_strings(logical))
     newlines = [m.start() for m in re.finditer("\n", cleaned)]
 
     def line_of(offset: int) -> int:
@@ -187,7 +187,7 @@ def _constructs_in(text: str) -> list[tuple[int, str]]:
         return bisect_right(newlines, offset - 1) + (removed[at - 1] if at else 0) + 1
 
     found = []
-    for match in _DIRECTIVE.finditer(cleaned):
+    for match in DIRECTIVE.finditer(cleaned):
         name, rest = match.group(1), match.group(2).strip()
         shown = f"#{name} {rest}".strip()[:120]
         if name not in _DIRECTIVES:
@@ -202,7 +202,7 @@ def _constructs_in(text: str) -> list[tuple[int, str]]:
 
 def _blank_strings(text: str) -> str:
     """String and character literals become spaces, so that "_Pragma" in a
-    string is not taken for the operator (comments: _blank)."""
+    string is not taken for the operator (comments: blank)."""
     pieces = []
     for match in _TOKEN.finditer(text):
         piece = match.group(0)
@@ -219,7 +219,7 @@ def refused_constructs(text: bytes) -> list[tuple[int, str]]:
     source = text.decode("latin-1")
     found = dict.fromkeys(_constructs_in(source))
     if "??" in source:
-        for trigraph, replacement in _TRIGRAPHS.items():
+        for trigraph, replacement in TRIGRAPHS.items():
             source = source.replace(trigraph, replacement)
         found.update(dict.fromkeys(_constructs_in(source)))
     return sorted(found)

@@ -17,7 +17,10 @@ import numpy as np
 
 from ..i18n import _
 from ..grading.results import Diagnosis
-from ..worker.failures import TIMEOUT
+from ..worker.failures import KINDS, TIMEOUT
+
+# failure_diagnoses' ids: a worker failure's kind is its diagnosis id.
+DIAGNOSIS_IDS = KINDS
 
 
 class SubmissionLookups(Protocol):

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..envmap import library as reference
+from ..envmap import library
 from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
@@ -149,7 +149,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     table = [f"| {_('direction set')} | {_('cases')} | {_('match')} |", "|---|---:|---:|"]
     table += [f"| {_(name)} | {n} | {ok / n:.2%} |" if n else f"| {_(name)} | 0 | - |" for name, n, ok in rows]
     table += ["", f"| {_('face')} | {_('directions')} | {_('match')} |", "|---|---:|---:|"]
-    table += [f"| {reference.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.2%} |" for k in range(6)]
+    table += [f"| {library.FACE_NAMES[k]} | {per_face_all[k]} | {1 - per_face_bad[k] / max(per_face_all[k], 1):.2%} |" for k in range(6)]
     random_words = "\n\n" + (
         _("The random directions, drawn for this grading, match on %(drawn)s of those answered: short of the "
           "Fibonacci sphere's %(even)s by more than chance allows (%(chance)s). Your fetchColor answers the fixed "

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..envmap import oracle, library as reference
+from ..envmap import oracle, library
 from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
@@ -551,7 +551,7 @@ def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis],
             "readTexture's answer is not a fixed blend of the texels it reads: at u = %(u)s, v = %(v)s on face "
             "%(face)s of a %(w)d x %(h)d random texture, the weights measured with one-texel textures (it %(taps)s) "
             "give %(predicted)s, and it returned %(actual)s.") % {
-            "u": _coordinate(u, w), "v": _coordinate(v, h), "face": reference.FACE_NAMES[face], "w": w, "h": h,
+            "u": _coordinate(u, w), "v": _coordinate(v, h), "face": library.FACE_NAMES[face], "w": w, "h": h,
             "taps": texels_in_words(m.student.taps(i)),
             "predicted": "(" + ", ".join(_number(x) for x in predicted) + ")",
             "actual": "(" + ", ".join(_number(x) for x in actual) + ")"}))
@@ -638,7 +638,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
             "%(w)d x %(h)d face: at u = %(u)s, v = %(v)s on face %(face)s of random texels the handout gives "
             "%(expected)s, yours %(actual)s.") % {
             "w": BIG[0], "h": BIG[1], "u": _number(big.uv[i, 0]), "v": _number(big.uv[i, 1]),
-            "face": reference.FACE_NAMES[face], "expected": "(" + ", ".join(_number(x) for x in expected) + ")",
+            "face": library.FACE_NAMES[face], "expected": "(" + ", ".join(_number(x) for x in expected) + ")",
             "actual": "(" + ", ".join(_number(x) for x in actual) + ")"}))
     result.status = FAILED
     caught = failure_diagnoses(failures)

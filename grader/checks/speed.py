@@ -16,7 +16,7 @@ whose lookups do nothing and taken off both sides."""
 from __future__ import annotations
 
 from .. import PROJECT_ROOT
-from ..envmap import library as reference
+from ..envmap import library
 from ..i18n import _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from ..worker.failures import CRASH, OUT_OF_BOUNDS_READ
@@ -33,7 +33,7 @@ PASS_LOOKUPS = 50_000
 TIMED_FACE = 256        # texels per side of the random timing faces
 # The allowances are counted in lookups, but time can sit in a few of them:
 # skipping the costliest 0.7% of lookups while timed bought 11x code full
-# points under the old 1% and 10% (tests/security/test_redteam3.py). Honest code
+# points under the old 1% and 10% (tests/security/test_speed_attacks.py). Honest code
 # needs almost none: the 38 zoo submissions whose speed is scored are judged
 # right on the timing faces at most 0.3% less often than in the sweep, and
 # their timed answers always equal the untimed ones.
@@ -57,7 +57,7 @@ WITHIN = 8.0        # the rubric's `within` overrides this (its comment says why
 
 def baseline_library():
     """build/reference_submission.so, built on first use."""
-    reference.ensure_built()
+    library.ensure_built()
     if not BASELINE.exists():
         import subprocess
         subprocess.run(["make", "-s", "-C", str(PROJECT_ROOT), str(BASELINE.relative_to(PROJECT_ROOT))], check=True)

@@ -24,6 +24,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from . import options
 
 HELP = "measure the grader: grade single-token mutants of correct solutions and count what escapes"
 
@@ -38,13 +39,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--jobs", type=int, default=None, help="mutants judged and graded at once (default: one per core)")
     p.add_argument("--out", type=Path, help="results folder (default: out/audit/)")
     p.add_argument("--rubric", type=Path, help="the rubric to audit (default: grader/grading/rubric.toml)")
-    p.add_argument("--quick", action="store_true", help="grade with the smaller direction sets")
-    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
-                   help="do not use bubblewrap (privilege-drop mode as root; otherwise needs --unsafe-no-sandbox)")
-    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
-                   help="run the mutants even where they cannot be isolated")
-    p.add_argument("--allow-stale", action="store_true", help="audit even when fixtures/ is stale")
-    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bars")
+    options.quick(p)
+    options.isolation(p)
+    options.allow_stale(p)
+    options.progress(p)
 
 
 def run(args) -> int:

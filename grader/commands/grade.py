@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from ..i18n.languages import CODES
+from . import options
 
 HELP = "grade one submission (a folder, a .cpp, a .zip or a .tar.gz) and write its reports"
 EXAMPLES = PROJECT_ROOT / "examples"
@@ -48,16 +48,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--kit-answers", type=Path, metavar="NPZ",
                    help="with --kit-inputs: the reference's lookup answers from this recording "
                         "(grader.kit.answers) instead of the live reference, as the kit has them")
-    p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
+    options.quick(p)
     p.add_argument("--sanitize", action="store_true", help="build with AddressSanitizer for exact memory-error reports")
-    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
-                   help="do not use bubblewrap (privilege-drop mode as root; otherwise needs --unsafe-no-sandbox)")
-    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
-                   help="grade even where student code cannot be isolated (no bubblewrap, not root): the "
-                        "submission could then read the grader's environment and write its files")
-    p.add_argument("--lang", choices=CODES,
-                   help="language of the student-facing reports (default: the rubric's grading.language)")
-    p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
+    options.isolation(p)
+    options.language(p)
+    options.allow_stale(p)
     p.add_argument("--strict", action="store_true",
                    help="refuse (exit 3) when library or compiler versions differ from those that made fixtures/")
 

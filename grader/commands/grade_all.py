@@ -30,7 +30,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from ..i18n.languages import CODES
+from . import options
 
 HELP = "grade every submission in a folder (one sub-folder or archive per student)"
 
@@ -43,16 +43,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", type=Path, help="results folder (default: out/<folder name>/)")
     p.add_argument("--jobs", type=int, default=None, help="submissions graded at once (default: one per core)")
     p.add_argument("--force", action="store_true", help="regrade everything, even what is unchanged")
-    p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
-    p.add_argument("--no-sandbox", dest="sandbox", action="store_false", default=None,
-                   help="do not use bubblewrap (privilege-drop mode as root; otherwise needs --unsafe-no-sandbox)")
-    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
-                   help="grade even where student code cannot be isolated (no bubblewrap, not root): a "
-                        "submission could then read the grader's environment and write its files")
-    p.add_argument("--lang", choices=CODES,
-                   help="language of what students read (default: the rubric's grading.language)")
-    p.add_argument("--allow-stale", action="store_true", help="grade even when fixtures/ is stale")
-    p.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    options.quick(p)
+    options.isolation(p)
+    options.language(p)
+    options.allow_stale(p)
+    options.progress(p)
     p.add_argument("--roster", type=Path, metavar="CSV",
                    help="class roster (student id, name, email; Gradescope or Canvas export): adds those "
                         "columns to gradebook.csv")

@@ -24,7 +24,7 @@ import sys
 from pathlib import Path
 
 from .. import PROJECT_ROOT
-from ..i18n.languages import CODES
+from . import options
 
 HELP = "build autograder.zip for Gradescope"
 
@@ -38,11 +38,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="instead: grade SUBMISSION as Gradescope does (run_autograder calls this)")
     p.add_argument("--results", type=Path, default=Path("/autograder/results"),
                    help="with --grade: where results.json goes (default: /autograder/results)")
-    p.add_argument("--lang", choices=CODES,
-                   help="language of what students read (default: the rubric's grading.language)")
-    p.add_argument("--quick", action="store_true", help="with --grade: smaller direction sets (tests)")
-    p.add_argument("--unsafe-no-sandbox", dest="allow_unsafe", action="store_true",
-                   help="with --grade: grade even where student code cannot be isolated (no bubblewrap, not root)")
+    options.language(p)
+    options.quick(p, when="with --grade: ")
+    options.isolation(p, when="with --grade: ", no_sandbox=False)
 
 
 def run(args) -> int:

@@ -20,9 +20,10 @@ class InputError(ValueError):
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from ..envmap.library import FILTERS
     parser.add_argument("--map", required=True, metavar="FILE.hdr",
                         help="environment map: a Radiance .hdr vertical cross")
-    parser.add_argument("--filter", choices=("nearest", "bilinear", "seamless"), default="bilinear",
+    parser.add_argument("--filter", choices=sorted(FILTERS), default="bilinear",
                         help="texture filter (default: bilinear, the grading reference)")
 
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..i18n.languages import CODES
+from . import options
 
 HELP = "grade /grade/student for PrairieLearn's external grader (writes /grade/results/results.json)"
 
@@ -31,9 +31,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.description = __doc__.split("\n", 1)[1].strip("\n")
     p.add_argument("--root", type=Path, default=Path("/grade"),
                    help="PrairieLearn's grading folder (default: /grade)")
-    p.add_argument("--quick", action="store_true", help="smaller direction sets (for trying the grader out)")
-    p.add_argument("--lang", choices=CODES,
-                   help="language of what students read (default: the rubric's grading.language)")
+    options.quick(p)
+    options.language(p)
     p.add_argument("--check-question", type=Path, metavar="INFO_JSON",
                    help="instead: check a question's info.json (timeout, entry point, serverFilesCourse)")
     p.add_argument("--keep-reports", action="store_true",

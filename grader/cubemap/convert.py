@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..envmap import library as reference
+from ..envmap import library
 from ..envmap.imaging import read_image
 from .directions import average_over_texels
 from .projections import (direction_to_angular, direction_to_latlong, latlong_to_direction)
@@ -105,7 +105,7 @@ def angular_to_faces(angular: np.ndarray, face_size: int) -> np.ndarray:
 def faces_to_latlong(faces: np.ndarray, width: int, filter: str = "seamless") -> np.ndarray:
     """A lat-long image (width/2, width, 3) float32 of a cube map, looked up with the reference."""
     height = width // 2
-    cube = reference.CubeMap(faces)
+    cube = library.CubeMap(faces)
     face_size = faces.shape[2]
     samples = _samples_per_side((2.0 * np.pi / width) / (2.0 / face_size))
     offsets = (np.arange(samples) + 0.5) / samples
@@ -126,9 +126,9 @@ def faces_to_latlong(faces: np.ndarray, width: int, filter: str = "seamless") ->
 def write_cross(path: str | os.PathLike, faces: np.ndarray) -> None:
     """Write faces (6, N, N, 3) as a vertical-cross .hdr (the reference's layout and writer)."""
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    reference.write_hdr(path, reference.faces_to_cross(faces))
+    library.write_hdr(path, library.faces_to_cross(faces))
 
 
 def read_cross(path: str | os.PathLike) -> np.ndarray:
     """Faces (6, N, N, 3) of a vertical-cross .hdr or .exr."""
-    return reference.cross_to_faces(read_environment(path))
+    return library.cross_to_faces(read_environment(path))

@@ -20,7 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .. import PROJECT_ROOT  # noqa: E402
-from ..envmap import library as reference
+from ..envmap import library
 from ..envmap.imaging import tone_map  # noqa: E402
 from .convert import faces_to_latlong  # noqa: E402
 from ..envmap.geometry import FACE_NAMES, cross_cells, face_frames, face_uv_formulas, face_uv_to_direction  # noqa: E402
@@ -186,13 +186,13 @@ def mirror_sphere(faces: np.ndarray, size: int = 320) -> np.ndarray:
     nz = np.sqrt(np.clip(1 - a * a - b * b, 0, 1))
     normal = np.stack([a, b, nz], axis=-1)
     reflected = np.array([0.0, 0.0, -1.0]) + 2 * nz[..., None] * normal
-    rgb = reference.CubeMap(faces).fetch(reflected.reshape(-1, 3)).reshape(size, size, 3)
+    rgb = library.CubeMap(faces).fetch(reflected.reshape(-1, 3)).reshape(size, size, 3)
     return np.where(inside[..., None], rgb, 1.0).astype(np.float32)
 
 
 def test_environment_map(path: Path, map_path: Path) -> None:
-    cross = reference.read_hdr(map_path)
-    faces = reference.cross_to_faces(cross)
+    cross = library.read_hdr(map_path)
+    faces = library.cross_to_faces(cross)
     fig = plt.figure(figsize=(12, 7.2))
     ax = fig.add_axes([0.01, 0.02, 0.37, 0.9])
     ax.imshow(tone_map(np.where(cross > 0, cross, 1.0)))
@@ -233,8 +233,8 @@ GENERATED_PREVIEWS = (("sky_cross.hdr", -4.0, "Preetham clear sky, sun 35 deg up
 def generated_maps(path: Path, cubemap_dir: Path) -> None:
     fig, axes = plt.subplots(2, 3, figsize=(13, 8.4), gridspec_kw=dict(height_ratios=[2, 1]))
     for column, (name, exposure, title) in enumerate(GENERATED_PREVIEWS):
-        cross = reference.read_hdr(cubemap_dir / name)
-        faces = reference.cross_to_faces(cross)
+        cross = library.read_hdr(cubemap_dir / name)
+        faces = library.cross_to_faces(cross)
         axes[0, column].imshow(tone_map(np.where(cross > 0, cross, 2.0 ** -exposure), exposure))
         axes[0, column].set_title(f"{name}\n{title}", fontsize=10)
         axes[1, column].imshow(tone_map(faces_to_latlong(faces, 768), exposure))

@@ -21,9 +21,9 @@ from functools import cache
 
 import numpy as np
 
-from . import oracle, library as reference
+from . import oracle, library
 
-FACE_NAMES = reference.FACE_NAMES
+FACE_NAMES = library.FACE_NAMES
 
 
 def direction_to_face_uv(dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -78,7 +78,7 @@ def cross_cells() -> dict[str, tuple[int, int]]:
     top of the image: where the reference's em_cubemap_to_cross puts it."""
     faces = np.zeros((6, 1, 1, 3), np.float32)
     faces[:, 0, 0, :] = np.arange(1, 7)[:, None]
-    cross = reference.faces_to_cross(faces)[..., 0]
+    cross = library.faces_to_cross(faces)[..., 0]
     return {FACE_NAMES[int(cross[row, col]) - 1]: (int(col), int(row))
             for row, col in zip(*np.nonzero(cross))}
 

@@ -30,7 +30,7 @@ from typing import Iterator, Protocol
 
 import numpy as np
 
-from . import library as reference
+from . import library
 
 
 class Oracle(Protocol):
@@ -38,18 +38,18 @@ class Oracle(Protocol):
     def fetch(self, texels: np.ndarray, dirs: np.ndarray, filter: str = "bilinear") -> np.ndarray: ...
     def read_texture(self, texels: np.ndarray, faces, uv: np.ndarray, filter: str = "bilinear") -> np.ndarray: ...
     def load_cross(self, path: str | os.PathLike) -> np.ndarray: ...
-    def trace(self, scene: str | os.PathLike, size: tuple[int, int], spp: int) -> reference.Escapes: ...
-    def resolve(self, escapes: reference.Escapes, rgb: np.ndarray) -> np.ndarray: ...
+    def trace(self, scene: str | os.PathLike, size: tuple[int, int], spp: int) -> library.Escapes: ...
+    def resolve(self, escapes: library.Escapes, rgb: np.ndarray) -> np.ndarray: ...
 
 
 class Renderer:
     """The renderer's questions, computed by the C library (no lookup in them)."""
 
     def load_cross(self, path):
-        return reference.CubeMap.load_cross(path).faces
+        return library.CubeMap.load_cross(path).faces
 
     def trace(self, scene, size, spp):
-        loaded = reference.Scene.load(scene)
+        loaded = library.Scene.load(scene)
         loaded.set_resolution(*size)
         loaded.set_samples(spp)
         return loaded.trace()
@@ -62,13 +62,13 @@ class LiveReference(Renderer):
     """The C reference (grader.envmap.library), exactly as the checks called it before."""
 
     def direction_to_face(self, dirs):
-        return reference.direction_to_face(dirs)
+        return library.direction_to_face(dirs)
 
     def fetch(self, texels, dirs, filter="bilinear"):
-        return reference.CubeMap(texels).fetch(dirs, filter)
+        return library.CubeMap(texels).fetch(dirs, filter)
 
     def read_texture(self, texels, faces, uv, filter="bilinear"):
-        return reference.CubeMap(texels).read_texture(faces, uv, filter)
+        return library.CubeMap(texels).read_texture(faces, uv, filter)
 
 
 def _digest(method: str, *parts) -> str:

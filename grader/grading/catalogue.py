@@ -5,7 +5,9 @@ find; reports look the id up here for the title, the explanation and what to
 do about it. The words are written for a student who has the handout; the
 conventions they cite are docs/assignment.md's. docs/diagnoses.md is generated
 from this table (`python -m grader.grading.catalogue > docs/diagnoses.md`), and a test
-checks that the two agree.
+checks that the two agree. Each entry names the modules that emit it;
+tests/unit/grading/test_diagnosis_catalogue.py holds each id to them (and
+each of them to the ids it emits).
 """
 from __future__ import annotations
 
@@ -31,6 +33,8 @@ class DiagnosisInfo:
     and read out in the current language."""
     id: str
     kind: str             # a KINDS key
+    emitted_by: tuple[str, ...]   # the modules (under grader.) that emit it: a Diagnosis, a refusal,
+                                  # a SubmissionError with this id, or their DIAGNOSIS_IDS holds it
     title_id: str         # one line, plain words
     explanation_id: str   # what happened and why it matters
     what_to_do_id: str    # the fix, or how to find it
@@ -51,7 +55,7 @@ class DiagnosisInfo:
 _ENTRIES = [
     # ---- building ---------------------------------------------------------
     DiagnosisInfo(
-        "build-error", "build",
+        "build-error", "build", ("build",),
         N_("Your code did not compile"),
         N_("The compiler stopped with errors, so none of the checks could run. The "
         "compiler's messages are shown below the score."),
@@ -60,7 +64,7 @@ _ENTRIES = [
         "the visible checks too) before you submit."),
     ),
     DiagnosisInfo(
-        "no-source", "build",
+        "no-source", "build", ("build", "intake"),
         N_("No EnvironmentMap.cpp in your submission"),
         N_("The grader grades one file, EnvironmentMap.cpp, and could not find it "
         "in what you submitted. The message lists what your submission holds."),
@@ -68,7 +72,7 @@ _ENTRIES = [
         "that holds it (under that name)."),
     ),
     DiagnosisInfo(
-        "empty-submission", "build",
+        "empty-submission", "build", ("build", "intake"),
         N_("Your submission is empty"),
         N_("The file, folder or archive you submitted holds nothing to grade (or "
         "EnvironmentMap.cpp in it is empty)."),
@@ -76,7 +80,7 @@ _ENTRIES = [
         "you uploaded it."),
     ),
     DiagnosisInfo(
-        "unknown-format", "build",
+        "unknown-format", "build", ("build", "intake"),
         N_("The grader cannot read what you submitted"),
         N_("What you submitted is neither a C++ source file nor an archive the "
         "grader reads (.zip, .tar, .tar.gz), for example a .rar or .7z "
@@ -86,7 +90,7 @@ _ENTRIES = [
         ".tar or .tar.gz made with your system's ordinary tools."),
     ),
     DiagnosisInfo(
-        "unreadable-archive", "build",
+        "unreadable-archive", "build", ("build", "intake"),
         N_("Your archive could not be read"),
         N_("The archive is damaged, incomplete, password-protected, uses a "
         "compression method the grader does not read (such as Deflate64), or "
@@ -96,7 +100,7 @@ _ENTRIES = [
         "EnvironmentMap.cpp alone always works."),
     ),
     DiagnosisInfo(
-        "refused-include", "build",
+        "refused-include", "build", ("build",),
         N_("Your code includes a file it may not"),
         N_("A submission may include only the C++ standard library and the "
         "template's headers (EnvironmentMap.h, Vector3.h, Color.h), by name. "
@@ -108,7 +112,7 @@ _ENTRIES = [
         "EnvironmentMap.cpp itself."),
     ),
     DiagnosisInfo(
-        "calls-reference", "build",
+        "calls-reference", "build", ("build",),
         N_("Your code calls the grader's reference solution"),
         N_("Your code calls functions of the grader's reference solution (their names start with em_). "
         "They are not part of your program: the grader builds your file with "
@@ -118,7 +122,7 @@ _ENTRIES = [
         "declarations and calls of em_* functions."),
     ),
     DiagnosisInfo(
-        "forbidden-object", "build",
+        "forbidden-object", "build", ("build",),
         N_("Your compiled code holds something a submission may not"),
         N_("The object file compiled from your code uses a function that is "
         "neither in the C/C++ standard library nor in EnvironmentMap.h, or "
@@ -129,7 +133,7 @@ _ENTRIES = [
         "your own file, and remove inline assembly and section attributes."),
     ),
     DiagnosisInfo(
-        "load-error", "build",
+        "load-error", "build", ("checks.context",),
         N_("Your compiled code could not be loaded"),
         N_("The code compiled, but the library built from it could not be "
         "loaded, for example because a function it declares is never defined, "
@@ -142,7 +146,7 @@ _ENTRIES = [
     ),
     # ---- running ----------------------------------------------------------
     DiagnosisInfo(
-        "crash", "runtime",
+        "crash", "runtime", ("checks.context",),
         N_("Your code crashed"),
         N_("The program stopped with a signal (for example SIGSEGV, a segmentation "
         "fault) while running your code. The grader repeated the failing batch "
@@ -155,7 +159,7 @@ _ENTRIES = [
         "calls itself without end (a stack overflow)."),
     ),
     DiagnosisInfo(
-        "out-of-bounds-read", "runtime",
+        "out-of-bounds-read", "runtime", ("checks.context",),
         N_("readTexture read outside the face"),
         N_("Your code read memory just before or just after the texels it was "
         "given. The grader puts an inaccessible page right next to the "
@@ -167,7 +171,7 @@ _ENTRIES = [
         "gives `u*W = W`, and that x1 goes past the edge whenever x0 = W-1."),
     ),
     DiagnosisInfo(
-        "exception", "runtime",
+        "exception", "runtime", ("checks.context",),
         N_("Your code threw a C++ exception that nobody caught"),
         N_("An exception (for example std::out_of_range from vector::at, or "
         "std::bad_alloc when memory runs out) left fetchColor or readTexture, "
@@ -178,7 +182,7 @@ _ENTRIES = [
         "for memory allocated on every call or in a loop."),
     ),
     DiagnosisInfo(
-        "timeout", "runtime",
+        "timeout", "runtime", ("checks.context",),
         N_("Your code took too long and was stopped"),
         N_("A check did not finish within its time limit. Only that check lost its "
         "points; the other checks still ran."),
@@ -188,7 +192,7 @@ _ENTRIES = [
         "four texel reads: it needs no loop."),
     ),
     DiagnosisInfo(
-        "exited", "runtime",
+        "exited", "runtime", ("checks.context",),
         N_("Your code ended the program"),
         N_("The program stopped in the middle of a check without crashing, for "
         "example through exit() or quick_exit(). The checks that were running "
@@ -198,7 +202,7 @@ _ENTRIES = [
         "instead."),
     ),
     DiagnosisInfo(
-        "forbidden-syscall", "runtime",
+        "forbidden-syscall", "runtime", ("checks.context",),
         N_("Your code tried something the grader does not allow"),
         N_("Your code tried to start a process, open a file or a network "
         "connection, or another operation that is blocked while grading. A "
@@ -208,7 +212,7 @@ _ENTRIES = [
         "out before submitting."),
     ),
     DiagnosisInfo(
-        "protocol", "runtime",
+        "protocol", "runtime", ("checks.context",),
         N_("Your code disturbed the grader's connection to it"),
         N_("The grader talks to your code through a pipe, and the replies it got "
         "were garbled: your code wrote to a file descriptor it does not own, or "
@@ -219,7 +223,7 @@ _ENTRIES = [
         "files or descriptors."),
     ),
     DiagnosisInfo(
-        "nan-output", "runtime",
+        "nan-output", "runtime", ("checks.fetch_sweep", "checks.stability"),
         N_("Your code returned NaN or infinity"),
         N_("For some finite, non-zero direction your code returned a colour that "
         "is not a number (NaN) or is infinite. One such pixel spoils a whole "
@@ -238,7 +242,7 @@ _ENTRIES = [
     # Patterns first: one cause over several faces reads before the per-face
     # symptoms it explains (reports list mistakes in this order).
     DiagnosisInfo(
-        "signed-major", "mapping",
+        "signed-major", "mapping", ("checks.instruments.face_recovery",),
         N_("You divide by the signed major component"),
         N_("On -X, -Y and -Z, and only there, u and v both run the wrong way: "
         "those are the faces where the major component is negative, so "
@@ -248,7 +252,7 @@ _ENTRIES = [
         "for it."),
     ),
     DiagnosisInfo(
-        "opengl-table", "mapping",
+        "opengl-table", "mapping", ("checks.instruments.face_recovery",),
         N_("You use OpenGL's cube-map table, not this assignment's"),
         N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
         "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
@@ -257,7 +261,7 @@ _ENTRIES = [
         N_("Take u and v for every face from the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
-        "face-order", "mapping",
+        "face-order", "mapping", ("checks.instruments.face_recovery",),
         N_("Your face numbers are in another order than the buffer's"),
         N_("Several faces read another face, one for one: your code "
         "numbers the faces in another order (for example +X, +Y, +Z, -X, -Y, -Z) "
@@ -267,7 +271,7 @@ _ENTRIES = [
         "convert yours in one place. Keep your (u, v) formulas."),
     ),
     DiagnosisInfo(
-        "uv-rotated", "mapping",
+        "uv-rotated", "mapping", ("checks.instruments.face_recovery",),
         N_("On several faces, (u, v) are turned 90, 180 or 270 degrees"),
         N_("On the faces named, the picture is turned about the face's centre: u "
         "and v are swapped and one of them runs the wrong way (90 or 270 "
@@ -278,7 +282,7 @@ _ENTRIES = [
         "the component and its sign. The details say what your u and v are."),
     ),
     DiagnosisInfo(
-        "wrong-face", "mapping",
+        "wrong-face", "mapping", ("checks.instruments.face_recovery",),
         N_("fetchColor read from the wrong face"),
         N_("For directions that exit through one face, your code read the colour "
         "from another face (the details say which). The face is the one along "
@@ -292,7 +296,7 @@ _ENTRIES = [
         "the red, green and blue arrows must point along +x, +y and +z."),
     ),
     DiagnosisInfo(
-        "u-flipped", "mapping",
+        "u-flipped", "mapping", ("checks.instruments.face_recovery",),
         N_("On this face, u runs the wrong way"),
         N_("The face's picture is mirrored left to right: where the correct u is "
         "0.2 your code uses 0.8. On the face named, u should be the value in "
@@ -303,7 +307,7 @@ _ENTRIES = [
         "faces of the cross meet without a jump."),
     ),
     DiagnosisInfo(
-        "v-flipped", "mapping",
+        "v-flipped", "mapping", ("checks.instruments.face_recovery",),
         N_("On this face, v runs the wrong way"),
         N_("The face's picture is upside down: where the correct v is 0.2 your "
         "code uses 0.8. v = 0 is the bottom row of the face (y = 0 in the "
@@ -313,7 +317,7 @@ _ENTRIES = [
         N_("Check the sign in front of the component that gives v on this face."),
     ),
     DiagnosisInfo(
-        "uv-inset", "mapping",
+        "uv-inset", "mapping", ("checks.instruments.face_recovery",),
         N_("fetchColor moves (u, v) inward from the face's border"),
         N_("Read back from your answers, (u, v) run from a little above 0 to a "
         "little below 1 on the faces: the face's outer texels are never "
@@ -324,7 +328,7 @@ _ENTRIES = [
         "without scaling or insetting them."),
     ),
     DiagnosisInfo(
-        "uv-offset", "mapping",
+        "uv-offset", "mapping", ("checks.instruments.face_recovery",),
         N_("fetchColor shifts (u, v) by a constant"),
         N_("Read back from your answers, fetchColor reads a fixed distance away "
         "from the (u, v) the table gives, on every face."),
@@ -333,7 +337,7 @@ _ENTRIES = [
         "says where the texels are."),
     ),
     DiagnosisInfo(
-        "uv-swapped", "mapping",
+        "uv-swapped", "mapping", ("checks.instruments.face_recovery",),
         N_("On this face, u and v are swapped"),
         N_("Your fetchColor used the component that should give v for u and the "
         "other way round on this face, so the face appears turned on its "
@@ -343,7 +347,7 @@ _ENTRIES = [
         "for this face."),
     ),
     DiagnosisInfo(
-        "not-divided-by-m", "mapping",
+        "not-divided-by-m", "mapping", ("checks.instruments.face_recovery",),
         N_("fetchColor does not divide by m, the largest |component|"),
         N_("The point where the ray meets the face is found by dividing the "
         "direction by m, the absolute value of its largest component (the "
@@ -358,7 +362,7 @@ _ENTRIES = [
         "components, which overflows for huge directions: `length-overflow`)."),
     ),
     DiagnosisInfo(
-        "not-implemented", "mapping",
+        "not-implemented", "mapping", ("checks.instruments.face_recovery",),
         N_("fetchColor still returns black"),
         N_("Every direction gave black (or a colour that is not in the texture), "
         "as the starting code does: fetchColor does not look anything up yet."),
@@ -367,7 +371,7 @@ _ENTRIES = [
         "`readTexture(faceAddress(face), u, v)`."),
     ),
     DiagnosisInfo(
-        "uv-mismatch", "mapping",
+        "uv-mismatch", "mapping", ("checks.instruments.face_recovery",),
         N_("On this face, (u, v) follow no pattern the grader recognises"),
         N_("Your code reads the right face, but at places that are neither the "
         "correct (u, v) nor a flip or swap of them. The per-face table in the "
@@ -377,7 +381,7 @@ _ENTRIES = [
         "must give 0 or 1) and compare them with the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
-        "uv-range", "mapping",
+        "uv-range", "mapping", ("checks.instruments.face_recovery",),
         N_("(u, v) are not mapped to [0, 1]"),
         N_("Your code reads the right face and the right direction of u and v, "
         "but does not turn the face-plane coordinate s = component / m (which "
@@ -387,7 +391,7 @@ _ENTRIES = [
         "table in README.md; the face's centre must give (0.5, 0.5)."),
     ),
     DiagnosisInfo(
-        "tie-untouched-face", "mapping",
+        "tie-untouched-face", "mapping", ("checks.instruments.face_recovery",),
         N_("A direction on an edge or corner samples a face it does not touch"),
         N_("When two or three components tie as the largest in magnitude, the "
         "direction lies on an edge or corner of the cube and every face it "
@@ -398,7 +402,7 @@ _ENTRIES = [
         "picks one of the tied axes. The details name a direction to try."),
     ),
     DiagnosisInfo(
-        "float-precision", "mapping",
+        "float-precision", "mapping", ("checks.instruments.face_recovery",),
         N_("Tiny or huge directions lose their precision in float"),
         N_("The components go through float somewhere (`float x = direction.x`, "
         "or a helper with float parameters). float cannot hold magnitudes "
@@ -410,7 +414,7 @@ _ENTRIES = [
         "safe in float."),
     ),
     DiagnosisInfo(
-        "length-overflow", "mapping",
+        "length-overflow", "mapping", ("checks.instruments.face_recovery",),
         N_("Huge or tiny directions overflow when squared"),
         N_("Your code squares the components (to normalise the direction, or to "
         "compare lengths): x*x + y*y + z*z overflows to infinity above "
@@ -421,7 +425,7 @@ _ENTRIES = [
         "must normalise, divide by m first and square afterwards."),
     ),
     DiagnosisInfo(
-        "face-not-analysed", "mapping",
+        "face-not-analysed", "mapping", ("checks.instruments.face_recovery",),
         N_("The analysis of one face stopped at a crash"),
         N_("The grader could not find out what fetchColor does toward this face, "
         "because your code crashed on the directions it needed. The face is "
@@ -431,7 +435,7 @@ _ENTRIES = [
         "report will then say what happens on this face."),
     ),
     DiagnosisInfo(
-        "fetch-not-analysed", "mapping",
+        "fetch-not-analysed", "mapping", ("checks.instruments.face_recovery",),
         N_("fetchColor could not be analysed through your readTexture"),
         N_("The grader finds out where fetchColor samples by reading back what "
         "your readTexture returns from textures that encode their positions. "
@@ -442,7 +446,7 @@ _ENTRIES = [
         "on the next submission."),
     ),
     DiagnosisInfo(
-        "discontinuous-seam", "mapping",
+        "discontinuous-seam", "mapping", ("checks.stability",),
         N_("Colours jump where two faces meet"),
         N_("Moving a direction across the edge between two faces changes the "
         "colour by much more than the handout's method does there. The "
@@ -456,7 +460,7 @@ _ENTRIES = [
     ),
     # ---- filtering (readTexture) -----------------------------------------
     DiagnosisInfo(
-        "kept-between-calls", "filtering",
+        "kept-between-calls", "filtering", ("checks.read_texture",),
         N_("readTexture keeps something from an earlier call"),
         N_("On the same face size and texels, your readTexture read other texels "
         "after it had been called on a face of another size than it does when it "
@@ -467,7 +471,7 @@ _ENTRIES = [
         "caches."),
     ),
     DiagnosisInfo(
-        "face-size-dependent", "filtering",
+        "face-size-dependent", "filtering", ("checks.read_texture",),
         N_("readTexture answers otherwise on large faces"),
         N_("On every small face the grader measured, your readTexture answered as "
         "the handout's equations do; on a large face of random texels it did not. "
@@ -477,7 +481,7 @@ _ENTRIES = [
         "lattice points clamped to the face, equations (1)-(3)."),
     ),
     DiagnosisInfo(
-        "not-a-blend", "filtering",
+        "not-a-blend", "filtering", ("checks.read_texture",),
         N_("readTexture's answer is not a blend of the texels it reads"),
         N_("The grader measured which texels your readTexture reads, and with what "
         "weights, on textures that are 1 on one texel and 0 elsewhere. On a random "
@@ -490,7 +494,7 @@ _ENTRIES = [
         "test on the texels' values."),
     ),
     DiagnosisInfo(
-        "texel-index-transposed", "filtering",
+        "texel-index-transposed", "filtering", ("checks.read_texture",),
         N_("readTexture's texel index is transposed"),
         N_("Your readTexture reads the texel the handout reads at (x, y) from "
         "`addr[3 * (x * W + y)]`: on a square face that is texel (y, x), on other "
@@ -499,7 +503,7 @@ _ENTRIES = [
         "row (y = 0 the bottom row), x the column."),
     ),
     DiagnosisInfo(
-        "nearest-neighbor", "filtering",
+        "nearest-neighbor", "filtering", ("checks.read_texture",),
         N_("readTexture still returns the nearest texel"),
         N_("readTexture returns a single texel, as the starting code does, so "
         "renders show blocks. The assignment asks for bilinear interpolation "
@@ -510,7 +514,7 @@ _ENTRIES = [
         "`c = (1-beta) c0 + beta c1`."),
     ),
     DiagnosisInfo(
-        "half-texel-offset", "filtering",
+        "half-texel-offset", "filtering", ("checks.read_texture",),
         N_("readTexture is shifted by half a texel"),
         N_("Your interpolation is centred half a texel away from the handout's: "
         "for example `p = (u*W - 0.5, v*H - 0.5)`, the texel-centre convention "
@@ -521,7 +525,7 @@ _ENTRIES = [
         "`x0 = floor(p.x)`, `alpha = p.x - x0` (and the same for y), then clamp."),
     ),
     DiagnosisInfo(
-        "width-height-swapped", "filtering",
+        "width-height-swapped", "filtering", ("checks.read_texture",),
         N_("readTexture mixes up the face's width and height"),
         N_("On faces that are not square, your readTexture scales u by the face "
         "height or v by the width (or indexes rows with the height), so it "
@@ -532,7 +536,7 @@ _ENTRIES = [
         "`addr[3*(y*m_FaceWidth + x)]`."),
     ),
     DiagnosisInfo(
-        "scaled-by-size-minus-one", "filtering",
+        "scaled-by-size-minus-one", "filtering", ("checks.read_texture",),
         N_("readTexture scales u by W-1 instead of W"),
         N_("Your readTexture puts the sample at p = (u(W-1), v(H-1)), so u = 1 lands "
         "exactly on the last texel. That is a common convention elsewhere, but "
@@ -543,7 +547,7 @@ _ENTRIES = [
         "4 says, and keep the two clamp lines for x and y."),
     ),
     DiagnosisInfo(
-        "weights-swapped", "filtering",
+        "weights-swapped", "filtering", ("checks.read_texture",),
         N_("readTexture mixes the four texels with the wrong weights"),
         N_("The interpolation weights are the wrong way round: for example "
         "`alpha c00 + (1-alpha) c10` instead of `(1-alpha) c00 + alpha c10`, or "
@@ -554,7 +558,7 @@ _ENTRIES = [
         "fractional part of `v*H` and weighs c1 (the row above)."),
     ),
     DiagnosisInfo(
-        "texel-offset", "filtering",
+        "texel-offset", "filtering", ("checks.read_texture",),
         N_("readTexture reads a whole texel off"),
         N_("The lattice position is shifted by a whole texel, for example "
         "p = (uW - 1, vH - 1): every colour comes from one texel to the left "
@@ -564,7 +568,7 @@ _ENTRIES = [
         "point (x, y)."),
     ),
     DiagnosisInfo(
-        "truncation-of-negatives", "filtering",
+        "truncation-of-negatives", "filtering", ("checks.read_texture",),
         N_("(int) truncates negative positions toward zero"),
         N_("Your p can be negative (it is shifted before rounding), and (int)p "
         "rounds toward zero, so for p between -1 and 0 it gives 0 instead of "
@@ -574,7 +578,7 @@ _ENTRIES = [
         "shift p: with p = (uW, vH) it is never negative."),
     ),
     DiagnosisInfo(
-        "unclamped-edge", "filtering",
+        "unclamped-edge", "filtering", ("checks.read_texture",),
         N_("readTexture's lattice points are not clamped to the face"),
         N_("At the edges of a face your lookup uses x = W, x = -1, y = H or "
         "y = -1: it reads the first texel of the next row, the texel before "
@@ -585,7 +589,7 @@ _ENTRIES = [
         "x0 = W - 1)."),
     ),
     DiagnosisInfo(
-        "wrapped-edge", "filtering",
+        "wrapped-edge", "filtering", ("checks.read_texture",),
         N_("readTexture wraps around the face instead of clamping"),
         N_("At an edge your lookup reads the texel on the opposite side of the "
         "same face (x = W becomes x = 0, with % W or a repeat mode). A cube "
@@ -594,14 +598,14 @@ _ENTRIES = [
         "them modulo the size."),
     ),
     DiagnosisInfo(
-        "scaled-by-size-plus-one", "filtering",
+        "scaled-by-size-plus-one", "filtering", ("checks.read_texture",),
         N_("readTexture uses p = (u(W+1), v(H+1))"),
         N_("The lattice position is scaled by W + 1 instead of W, so the lookup "
         "drifts by up to a texel toward the far edge of each face."),
         N_("Use p = (uW, vH) as in the handout."),
     ),
     DiagnosisInfo(
-        "constant-weights", "filtering",
+        "constant-weights", "filtering", ("checks.read_texture",),
         N_("readTexture's weights do not follow the position"),
         N_("Your lookup gives the texels it blends the same weights wherever p "
         "is (for example alpha = beta = 0.5, or a box filter), so the colour "
@@ -611,7 +615,7 @@ _ENTRIES = [
         "is always 0)."),
     ),
     DiagnosisInfo(
-        "rows-flipped", "filtering",
+        "rows-flipped", "filtering", ("checks.read_texture",),
         N_("readTexture reads the rows top-down"),
         N_("Your lookup reads row H-1-y (or uses 1 - v) where the handout's "
         "buffer has y = 0 as the bottom row (v = 0). Every face is upside "
@@ -620,7 +624,7 @@ _ENTRIES = [
         "as README.md describes the buffer."),
     ),
     DiagnosisInfo(
-        "texture-u-flipped", "filtering",
+        "texture-u-flipped", "filtering", ("checks.read_texture",),
         N_("readTexture runs u from right to left"),
         N_("Your readTexture reads at 1 - u: on every face, whatever fetchColor "
         "asks for, u = 0 gives the right column instead of the left one."),
@@ -628,7 +632,7 @@ _ENTRIES = [
         "x = 0); do not flip it there."),
     ),
     DiagnosisInfo(
-        "texture-v-flipped", "filtering",
+        "texture-v-flipped", "filtering", ("checks.read_texture",),
         N_("readTexture runs v from top to bottom"),
         N_("Your readTexture reads at 1 - v: on every face, whatever fetchColor "
         "asks for, v = 0 gives the top row instead of the bottom one."),
@@ -636,14 +640,14 @@ _ENTRIES = [
         "in the buffer); do not flip it there."),
     ),
     DiagnosisInfo(
-        "texture-uv-swapped", "filtering",
+        "texture-uv-swapped", "filtering", ("checks.read_texture",),
         N_("readTexture uses u for the rows and v for the columns"),
         N_("Your readTexture takes the column from v and the row from u, on "
         "every face whatever fetchColor asks for."),
         N_("In readTexture, x comes from u (times W) and y from v (times H)."),
     ),
     DiagnosisInfo(
-        "columns-flipped", "filtering",
+        "columns-flipped", "filtering", ("checks.read_texture",),
         N_("readTexture reads the columns right to left"),
         N_("Your lookup reads column W-1-x (or uses 1 - u) where the handout's "
         "buffer has x = 0 as the left column (u = 0). Every face is mirrored, "
@@ -652,7 +656,7 @@ _ENTRIES = [
     ),
     # ---- renders ----------------------------------------------------------
     DiagnosisInfo(
-        "arrow-wrong", "render",
+        "arrow-wrong", "render", ("checks.arrows",),
         N_("An axis arrow on the test map points the wrong way"),
         N_("This is the handout's own debugging check: rendered with "
         "`test_environment_map.hdr`, the red, green and blue arrows must point "
@@ -664,7 +668,7 @@ _ENTRIES = [
         "face to fix."),
     ),
     DiagnosisInfo(
-        "arrow-missing", "render",
+        "arrow-missing", "render", ("checks.arrows",),
         N_("An axis arrow on the test map is missing"),
         N_("Rendered with `test_environment_map.hdr`, one of the red, green and "
         "blue arrows does not appear at all: the part of the map that holds "
@@ -675,7 +679,7 @@ _ENTRIES = [
         "+X, -X, +Y, -Y, +Z, -Z."),
     ),
     DiagnosisInfo(
-        "render-mismatch", "render",
+        "render-mismatch", "render", ("checks.renders",),
         N_("Your render differs from the reference"),
         N_("A scene rendered with your lookup was compared with the same scene "
         "rendered with the reference lookup, for its structure and for how "
@@ -687,7 +691,7 @@ _ENTRIES = [
     ),
     # ---- speed ------------------------------------------------------------
     DiagnosisInfo(
-        "slow", "speed",
+        "slow", "speed", ("checks.speed",),
         N_("Your lookups are much slower than they need to be"),
         N_("Measured in the same run, your fetchColor takes several times as long "
         "per lookup as the reference, beyond the generous band that gets full "
@@ -698,7 +702,7 @@ _ENTRIES = [
         "printing while grading."),
     ),
     DiagnosisInfo(
-        "timed-output-wrong", "speed",
+        "timed-output-wrong", "speed", ("checks.speed",),
         N_("Your lookups answer differently while they are being timed"),
         N_("The speed check keeps the colours of every timed lookup and compares "
         "them with your own code's untimed answers to the same directions. They "
@@ -709,7 +713,7 @@ _ENTRIES = [
         "from earlier calls."),
     ),
     DiagnosisInfo(
-        "fetch-not-returned", "mapping",
+        "fetch-not-returned", "mapping", ("checks.fetch_sweep",),
         N_("fetchColor does not return the colour readTexture gives it"),
         N_("The grader watched every readTexture call your fetchColor makes and "
         "answered each with a colour of its own: fetchColor returned something "
@@ -717,7 +721,7 @@ _ENTRIES = [
         N_("Return readTexture's answer unchanged: `return readTexture(faceAddress(face), u, v);`."),
     ),
     DiagnosisInfo(
-        "asks-otherwise", "mapping",
+        "asks-otherwise", "mapping", ("checks.fetch_sweep",),
         N_("fetchColor asks for other texels depending on who answers readTexture"),
         N_("The grader records every readTexture call your fetchColor makes twice: "
         "answered by your own readTexture, and answered with colours of its own. "
@@ -728,7 +732,7 @@ _ENTRIES = [
         "call readTexture once with them, whatever readTexture answers."),
     ),
     DiagnosisInfo(
-        "address-not-face-start", "mapping",
+        "address-not-face-start", "mapping", ("checks.fetch_sweep",),
         N_("fetchColor passes readTexture an address where no face starts"),
         N_("readTexture expects the first texel of one face (docs/assignment.md: face k "
         "starts k * W * H * 3 floats into the buffer). Your fetchColor passed an "
@@ -737,7 +741,7 @@ _ENTRIES = [
         "the face's first texel, nothing added for u or v."),
     ),
     DiagnosisInfo(
-        "texture-context-dependent", "filtering",
+        "texture-context-dependent", "filtering", ("checks.instruments.fetch_record",),
         N_("Your readTexture answers fetchColor differently from other callers"),
         N_("The grader recorded the readTexture calls your fetchColor makes, with "
         "your readTexture's answers, and made the same calls directly: some were "
@@ -747,7 +751,7 @@ _ENTRIES = [
         "the faces' size: no separate paths."),
     ),
     DiagnosisInfo(
-        "timing-faces-wrong", "speed",
+        "timing-faces-wrong", "speed", ("checks.speed",),
         N_("Your lookup is wrong on the faces the speed check times"),
         N_("On the speed check's large smooth faces, fetchColor's answers are "
         "right (what your own readTexture gives at the handout's face and "
@@ -757,7 +761,7 @@ _ENTRIES = [
         "no cheaper path for large faces."),
     ),
     DiagnosisInfo(
-        "refused-source", "build",
+        "refused-source", "build", ("build",),
         N_("Your code uses something a submission may not"),
         N_("A submission needs no inline assembly (asm, __asm__), no #line or "
         "line markers, no _Pragma and no pragmas beyond a few harmless ones "

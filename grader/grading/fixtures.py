@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import PROJECT_ROOT
-from ..envmap import library as reference
+from ..envmap import library
 
 FIXTURES = PROJECT_ROOT / "fixtures"
 MANIFEST = FIXTURES / "manifest.json"
@@ -90,12 +90,12 @@ def render_fixtures() -> list[RenderFixture]:
     scenes/ with its own map."""
     out = [RenderFixture(MAIN_SCENE, m) for m in maps()]
     for scene_path in sorted((PROJECT_ROOT / "scenes").glob("*.cfg")):
-        out.append(RenderFixture(scene_path, reference.Scene.load(scene_path).environment_path))
+        out.append(RenderFixture(scene_path, library.Scene.load(scene_path).environment_path))
     return out
 
 
-def prepared_scene(fixture: RenderFixture) -> reference.Scene:
-    scene = reference.Scene.load(fixture.scene)
+def prepared_scene(fixture: RenderFixture) -> library.Scene:
+    scene = library.Scene.load(fixture.scene)
     scene.set_resolution(*RENDER_SIZE)
     scene.set_samples(RENDER_SPP)
     return scene
@@ -133,7 +133,7 @@ def generate(progress=print) -> dict:
     """Regenerate every fixture and the manifest; returns the manifest."""
     files: list[Path] = []
     for fixture in render_fixtures():
-        cube = reference.CubeMap.load_cross(fixture.map)
+        cube = library.CubeMap.load_cross(fixture.map)
         image = prepared_scene(fixture).render(cube, "bilinear")
         buffer = io.BytesIO()
         np.save(buffer, np.ascontiguousarray(image, np.float32), allow_pickle=False)

@@ -73,9 +73,12 @@ ENTRY_POINT = "grader.kit.selfcheck"
 # timings), which the kit leaves out (grader.kit.NOT_IN_KIT): not followed.
 NOT_FOLLOWED = ("grader.study",)
 # Files beside the modules that they read (grader-relative): the build's
-# shim (grader.build.common._shim_files), the worker's source (grader.worker.native).
+# shim (grader.build.common._shim_files), the worker's source (grader.worker.native),
+# report.html's templates and stylesheet (grader.reports.templating).
 # The null submission and reference_submission.c serve only speed.
 GRADER_FILES = ("build/shim/shim.cpp", "build/shim/submission_abi.h",
+                "reports/templates/report.html", "reports/templates/figure.html",
+                "reports/templates/report.css",
                 *(f"worker/{path.name}" for path in WORKER_SOURCES if path.parent.name == "worker"))
 # What the kit's rubric keeps of [grading] (never the secret); [checks] whole.
 GRADING_KEYS = ("language",)
@@ -235,11 +238,11 @@ def _copy_template(dest: Path) -> list[Path]:
 
 def build_kit(out: Path = DEFAULT_OUT, zip_path: Path | None = None) -> Kit:
     """Write the kit into `out` (replaced) and `out`.zip; returns both."""
-    from ..envmap import library as reference
+    from ..envmap import library
 
     out = Path(out)
     zip_path = Path(zip_path) if zip_path else out.with_suffix(".zip")
-    reference.ensure_built()
+    library.ensure_built()
     with tempfile.TemporaryDirectory(prefix=".kit-", dir=out.parent if out.parent.exists() else None) as tmp:
         staging = Path(tmp) / out.name
         staging.mkdir(parents=True)

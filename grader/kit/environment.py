@@ -37,6 +37,7 @@ KIT_PACKAGES = (
     "OpenImageIO",      # grader.envmap.imaging: images in and out; the arrows picture's resizing and text
     "flip-evaluator",   # the render check's FLIP
     "markdown-it-py",   # report.html's tables and summary
+    "jinja2",           # report.html's template (with markupsafe, its one dependency)
     "rich",             # the terminal summary (grader.reports.terminal); with pygments, 6.5 MB
 )
 

@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from ..grading import catalogue as catalogue
+from ..grading import catalogue
 from ..i18n import N_, Translated, _
 from ..grading.results import (BUILD_ERROR, ERROR, FAILED, GRADED, PASSED, SKIPPED, TIMEOUT, UNGRADABLE,
                                CheckResult, Diagnosis, GradeResult, TexelHit)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from grader.grading import fixtures
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.grading.grade import GradeOptions, grade
 from grader.grading.results import BUILD_ERROR, GRADED, TIMEOUT
 from grading_cache import grade_once
@@ -77,8 +77,8 @@ def not_reached(faces) -> float:
     escapes = fixtures.prepared_scene(fixture).trace()
     only = np.zeros((6, 4, 4, 3), np.float32)
     for name in faces:
-        only[reference.FACE_NAMES.index(name)] = 1.0
-    reach = escapes.resolve(reference.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
+        only[library.FACE_NAMES.index(name)] = 1.0
+    reach = escapes.resolve(library.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
     return float((reach <= 0.0).mean())
 
 

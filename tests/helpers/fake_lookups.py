@@ -20,11 +20,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.worker.protocol import RECORD_ROW
 from grader.worker.runner import Failure, Outcome
 
-FACES = reference.FACE_NAMES
+FACES = library.FACE_NAMES
 
 # readTexture mistakes: (filter, (u, v) as the reference should read them).
 TEXTURE_MISTAKES = {
@@ -66,13 +66,13 @@ class FakeLookups:
         self.ns_per_lookup = ns_per_lookup
         self.faces = np.zeros((6, 1, 1, 3), np.float32)
         self.isolation, self.warnings, self.calls = "fake", [], 0
-        self._cube = reference.CubeMap(self.faces)
+        self._cube = library.CubeMap(self.faces)
 
     # ---- SubmissionLookups ------------------------------------------------
 
     def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
         self.faces = np.ascontiguousarray(faces, dtype=np.float32)
-        self._cube = reference.CubeMap(self.faces)
+        self._cube = library.CubeMap(self.faces)
 
     def read_texture(self, face: int, uv: np.ndarray, placement: str = "end") -> Outcome:
         self.calls += 1
@@ -111,7 +111,7 @@ class FakeLookups:
 
     def _requests(self, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The (face, u, v) this fake's fetchColor asks readTexture for."""
-        faces, uv = reference.direction_to_face(dirs)
+        faces, uv = library.direction_to_face(dirs)
         faces, uv = faces.copy(), uv.copy()
         mistakes = self.fetch_mistakes
         if mistakes == "inset":

@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks.instruments import texture_model as tm
 from grader.worker.runner import Failure, Outcome
 
-FACES = reference.FACE_NAMES
+FACES = library.FACE_NAMES
 
 UV_MISTAKES = {
     "u-flipped": lambda uv: np.stack([1 - uv[:, 0], uv[:, 1]], 1),
@@ -50,7 +50,7 @@ class ModelLookups:
                 dirs = dirs.astype(np.float32).astype(np.float64)
             if mistake == "normalise-first":  # x / sqrt(x*x + y*y + z*z)
                 dirs = dirs / np.sqrt((dirs ** 2).sum(axis=1))[:, None]
-            face, uv = reference.direction_to_face(np.nan_to_num(dirs, nan=0.0, posinf=0.0, neginf=0.0))
+            face, uv = library.direction_to_face(np.nan_to_num(dirs, nan=0.0, posinf=0.0, neginf=0.0))
             bad = ~np.isfinite(dirs).all(axis=1) | (np.abs(dirs).max(axis=1) == 0)
         if mistake == "strict-ties":          # ties fall through to the z face
             a = np.abs(dirs)

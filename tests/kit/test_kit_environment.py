@@ -50,9 +50,10 @@ def test_the_kit_requirements_are_the_locks_pins_and_hashes_of_what_the_kit_impo
     path = environment.write_requirements(tmp_path)
     assert path == tmp_path / "requirements-kit.txt"
     pins, lock = pins_of(path), locked()
-    # The kit's packages, and what they depend on (cffi needs pycparser, rich pygments and markdown-it-py, ...).
+    # The kit's packages, and what they depend on (cffi needs pycparser, rich pygments and markdown-it-py,
+    # jinja2 markupsafe, ...).
     assert set(pins) == {"numpy", "cffi", "pycparser", "openimageio", "flip-evaluator", "markdown-it-py", "mdurl",
-                         "rich", "pygments"}
+                         "rich", "pygments", "jinja2", "markupsafe"}
     for name, (version, hashes) in pins.items():
         assert (version, sorted(hashes)) == (lock[name][0], sorted(lock[name][1])), name
         assert hashes
@@ -419,8 +420,8 @@ def test_the_real_first_use_installs_the_locked_packages_within_budget(tmp_path)
     (kit.root / "selfcheck" / "grader" / "kit" / "selfcheck.py").write_text(textwrap.dedent("""
         import json, sys
         from importlib import metadata
-        import numpy, cffi, OpenImageIO, flip_evaluator, rich.console, markdown_it
-        names = ["numpy", "cffi", "openimageio", "flip-evaluator", "rich", "markdown-it-py"]
+        import numpy, cffi, OpenImageIO, flip_evaluator, rich.console, markdown_it, jinja2
+        names = ["numpy", "cffi", "openimageio", "flip-evaluator", "rich", "markdown-it-py", "jinja2"]
         print(json.dumps({n: metadata.version(n) for n in names}))
     """))
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}

@@ -39,9 +39,9 @@ def test_a_student_build_step_sees_no_project_folder(tmp_path):
     # The student's compile and link get a scratch folder with copies of the
     # API headers and our objects: not even the template or the reference's
     # headers are mounted.
-    from grader.build.compiler import Deadline, _run
+    from grader.build.compiler import Deadline, run_compiler
     probe = " || ".join(f"test -e {p}" for p in (REFERENCE / "include" / "envmap.h",
                                                    TEMPLATE / "EnvironmentMap.h", PROJECT_ROOT / "grader"))
-    step = _run(["/bin/sh", "-c", f"{probe} || echo hidden; id -u"], tmp_path, Deadline.of(30),
+    step = run_compiler(["/bin/sh", "-c", f"{probe} || echo hidden; id -u"], tmp_path, Deadline.of(30),
                 "bubblewrap")
     assert step.output.startswith("hidden"), step.output

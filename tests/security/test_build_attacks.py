@@ -21,13 +21,14 @@ from pathlib import Path
 
 import pytest
 
-from grader import PROJECT_ROOT, build, intake as submissions
-from grader.build.include_policy import _dependencies, _outside_files, refused_directives
+from grader import PROJECT_ROOT, build, intake
+from grader.build.include_policy import make_rule_files, outside_files, refused_directives
 from grader.build import build_submission
 from grader.build.objects import inspect_object
 from fake_bwrap import write_failing_bwrap
 from project_paths import SUBMISSIONS
 from cases import cases
+from red_team import REDTEAM
 
 ATTACKS = sorted((SUBMISSIONS / "attacks").glob("*.cpp"))
 GOOD = (SUBMISSIONS / "correct" / "idiomatic.cpp").read_bytes()
@@ -93,11 +94,11 @@ def test_ordinary_sources_are_not_refused(text):
 def test_the_preprocessor_file_list_is_checked():
     # What -M wrote for a file that included /etc/hostname through a path
     # the text check could not see.
-    deps = _dependencies("EnvironmentMap.o: EnvironmentMap.cpp \\\n /usr/include/c++/12/cmath \\\n"
+    deps = make_rule_files("EnvironmentMap.o: EnvironmentMap.cpp \\\n /usr/include/c++/12/cmath \\\n"
                          " /etc/host\\ name /tmp/x/include/EnvironmentMap.h\n")
     assert deps == ["EnvironmentMap.cpp", "/usr/include/c++/12/cmath", "/etc/host name",
                     "/tmp/x/include/EnvironmentMap.h"]
-    assert _outside_files(deps, Path("/tmp/x")) == ["/etc/host name"]
+    assert outside_files(deps, Path("/tmp/x")) == ["/etc/host name"]
 
 
 def test_the_template_headers_only(cache, tmp_path):
@@ -136,8 +137,8 @@ def test_object_reader_refuses_malformed_objects():
 
 def test_compiler_stdin_is_dev_null(tmp_path):
     # The grader's stdin carries data; a compiler reading /dev/stdin must not see it.
-    script = ("import sys, time; from pathlib import Path; from grader.build.compiler import Deadline, _run;"
-              "step = _run(['/bin/cat', '/dev/stdin'], Path(sys.argv[1]), Deadline.of(20), 'none');"
+    script = ("import sys, time; from pathlib import Path; from grader.build.compiler import Deadline, run_compiler;"
+              "step = run_compiler(['/bin/cat', '/dev/stdin'], Path(sys.argv[1]), Deadline.of(20), 'none');"
               "print(repr(step.output))")
     done = subprocess.run([sys.executable, "-c", script, str(tmp_path)], input="GRADER-STDIN-SECRET",
                           capture_output=True, text=True, cwd=PROJECT_ROOT, timeout=60)
@@ -170,7 +171,7 @@ def test_link_runs_in_the_sandbox(cache, tmp_path, monkeypatch):
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0, reason="privilege drop needs root")
 def test_privilege_drop_builds_as_an_unprivileged_uid(cache, tmp_path, monkeypatch):
     monkeypatch.setattr(build, "build_isolation", lambda: "privilege-drop")
-    step = build._run(["/usr/bin/id", "-u"], tmp_path, build.Deadline.of(20), "privilege-drop")
+    step = build.run_compiler(["/usr/bin/id", "-u"], tmp_path, build.Deadline.of(20), "privilege-drop")
     # Neither root nor nobody (the uid a privilege-dropped worker runs student code as).
     assert step.output.strip() == str(build.BUILD_UID) and build.BUILD_UID not in (0, 65534)
     source = tmp_path / "EnvironmentMap.cpp"
@@ -280,7 +281,7 @@ def test_unreadable_archive_is_a_verdict(name, cache, tmp_path):
     assert result.diagnosis_id == "unreadable-archive", result.log
     assert result.log.startswith("your archive could not be read:")
     assert "Traceback" not in result.log
-    assert elapsed < submissions.MAX_UNPACK_SECONDS + 5  # never the hours an unbounded read takes
+    assert elapsed < intake.MAX_UNPACK_SECONDS + 5  # never the hours an unbounded read takes
 
 
 @pytest.mark.parametrize("source_first", [True, False])
@@ -297,7 +298,7 @@ def test_a_tar_declaring_a_terabyte_ends_quickly(source_first, cache, tmp_path):
         path.write_bytes(info.tobuf(format=tarfile.GNU_FORMAT) + b"\0" * (1200 << 10))
     started = time.monotonic()
     result = build_submission(path, cache_dir=cache)
-    assert time.monotonic() - started < submissions.MAX_UNPACK_SECONDS
+    assert time.monotonic() - started < intake.MAX_UNPACK_SECONDS
     if source_first:
         assert result.ok, result.log
     else:
@@ -313,7 +314,7 @@ def test_encrypted_and_deflate64_say_why(cache, tmp_path):
 
 
 def test_too_many_members_is_refused_before_reading(cache, tmp_path, monkeypatch):
-    monkeypatch.setattr(submissions, "MAX_MEMBERS", 5)
+    monkeypatch.setattr(intake, "MAX_MEMBERS", 5)
     path = tmp_path / "many.zip"
     path.write_bytes(zip_bytes({f"f{i}.txt": b"x" for i in range(10)} | {"EnvironmentMap.cpp": GOOD}))
     result = build_submission(path, cache_dir=cache)
@@ -403,7 +404,7 @@ def test_links_and_special_files_in_a_folder_are_never_read(cache, tmp_path):
     result = build_submission(folder, cache_dir=cache)
     assert time.monotonic() - started < 10  # a FIFO opened for reading would block forever
     assert not result.ok and result.diagnosis_id == "empty-submission", result.log
-    assert submissions.hash_submission(folder)  # hashing skips them too, without blocking
+    assert intake.hash_submission(folder)  # hashing skips them too, without blocking
     link = tmp_path / "link.cpp"
     link.symlink_to(SUBMISSIONS / "correct" / "idiomatic.cpp")
     assert build_submission(link, cache_dir=cache).diagnosis_id == "no-source"
@@ -413,11 +414,11 @@ def test_hash_skips_links(tmp_path):
     folder = tmp_path / "dave"
     folder.mkdir()
     (folder / "EnvironmentMap.cpp").write_bytes(GOOD)
-    before = submissions.hash_submission(folder)
+    before = intake.hash_submission(folder)
     (folder / "mem").symlink_to("/proc/self/mem")
-    assert submissions.hash_submission(folder) == before
+    assert intake.hash_submission(folder) == before
     (folder / "EnvironmentMap.cpp").write_bytes(GOOD + b"\n")
-    assert submissions.hash_submission(folder) != before
+    assert intake.hash_submission(folder) != before
 
 
 def test_refusals_are_plain_text_naming_the_upload(cache, tmp_path):
@@ -455,8 +456,8 @@ def test_a_folder_deeper_than_any_project_is_not_walked_to_the_bottom(tmp_path):
     limit = sys.getrecursionlimit()
     sys.setrecursionlimit(len(inspect.stack()) + 100)
     try:
-        chosen = submissions.select_source(folder, build.TEMPLATE)
-        digest = submissions.hash_submission(folder)
+        chosen = intake.select_source(folder, build.TEMPLATE)
+        digest = intake.hash_submission(folder)
     finally:
         sys.setrecursionlimit(limit)
     assert chosen.name == "EnvironmentMap.cpp" and digest
@@ -602,3 +603,42 @@ def test_a_refused_submission_is_not_reported_as_a_compile_error(tmp_path):
         assert "refused before it could be built or run" in text
     junit = ET.parse(tmp_path / "out" / "junit.xml").getroot()
     assert junit.findall(".//failure") and "did not compile" not in ET.tostring(junit, encoding="unicode")
+
+
+# ---- the first red-team round (tests/submissions/redteam/) ------------------------
+# - warning_flood: a macro repeating `#pragma GCC warning` made the compiler
+#   print gigabytes, all held in the grader's memory (4.8 GB RSS for 1 GB) and
+#   written to the build cache, and the submission still scored 100. Now the
+#   compiler is stopped at 4 MiB of messages.
+# - ballast: 240 MiB of zeros in .data (a 4 KiB source) made a 240 MiB
+#   library, stored in the build cache and copied into every worker's folder;
+#   it scored 100. Now a library over 64 MiB is refused (forbidden-object).
+
+RED_TEAM = {"redteam": {"warning_flood", "ballast"}}
+CAP_BYTES = 4 << 20    # grader.build.messages.MAX_COMPILER_OUTPUT_BYTES
+
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_a_flood_of_warnings_stops_the_compiler_and_is_a_build_error(tmp_path):
+    result = build_submission(REDTEAM / "warning_flood.cpp", cache_dir=tmp_path)
+    assert not result.ok and result.diagnosis_id == "build-error"
+    assert result.log.splitlines()[0].startswith(
+        f"The compiler printed more than {CAP_BYTES >> 20} MiB of messages")
+    assert len(result.log) < 10_000
+    # The cache holds at most the cap, not what the compiler would have printed.
+    records = list(tmp_path.glob("*/build.json"))
+    assert records and all(r.stat().st_size < CAP_BYTES * 1.5 for r in records)
+
+
+# slow: several real builds each, in more than one isolation mode (12-16 s)
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_a_huge_library_is_refused_and_not_cached(tmp_path):
+    result = build_submission(REDTEAM / "ballast.cpp", cache_dir=tmp_path)
+    assert not result.ok and result.diagnosis_id == "forbidden-object"
+    assert "more than 64 MiB" in result.log
+    # Our own objects (common-*, with a 28 MB precompiled header) are in the cache whatever was built.
+    stored = sum(f.stat().st_size for f in tmp_path.rglob("*")
+                 if f.is_file() and not f.relative_to(tmp_path).parts[0].startswith("common-"))
+    assert stored < 16 << 20

@@ -17,6 +17,10 @@ from pathlib import Path
 import pytest
 
 from grader import PROJECT_ROOT
+from grader.grading.grade import GradeOptions, grade
+from grader.grading.results import GRADED, UNGRADABLE
+from project_paths import SUBMISSIONS
+from red_team import REDTEAM
 from test_report_injection import (FAKE_HEADING, FAKE_LINK, HTML_TAGS, MD_TAGS, Page,
                                    assert_nothing_formed, assert_shown_literally, commonmark, gfm)
 
@@ -114,3 +118,75 @@ def test_no_name_runs_as_script_in_a_browser(graded_class, tmp_path):
         dom = probe(page, tmp_path)
         assert "data-pwned" not in dom.body, page
         assert dom.body["data-scripts"] == "1" and dom.body["data-handlers"] == "0", page
+
+
+# ---- the first red-team round (tests/submissions/redteam/) ------------------------
+# - terminal_escapes: an exception's text reached the terminal summary with
+#   its ANSI escapes (cursor up, erase line: the score line can be
+#   overwritten), and right-to-left overrides reached every report. Now
+#   diagnosis details are clean()ed in the view, and clean() removes bidi
+#   controls (grader/reports/view.py, text.py).
+# - grade-all: a submission named summary.html.zip (or gradebook.csv.zip, ...)
+#   became a folder where the class summary goes, and grade-all stopped with a
+#   traceback after grading everyone; a name near the 255-byte limit made the
+#   temporary folder's name too long and the student "ungradable". Now class
+#   files' names are kept free and temporary names are cut short
+#   (grader/course/grade_all.py). A file name that is not UTF-8 (a Shift-JIS zip
+#   unpacked on Linux: no malice needed) stopped grade-all at the gradebook
+#   (UnicodeEncodeError); names are now made text first.
+
+RED_TEAM = {"redteam": {"terminal_escapes"}}   # and grade-all's names, made here
+SYNTAX_ERROR = SUBMISSIONS / "wrong" / "syntax-error.cpp"
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_escapes_in_an_exception_reach_no_terminal_and_no_report(tmp_path):
+    from grader.reports.terminal import print_summary
+    from rich.console import Console
+    import io
+    result = grade(REDTEAM / "terminal_escapes.cpp", tmp_path,
+                   GradeOptions(allow_stale=True, quick=True, only=("fetch_sweep",)))
+    assert result.status == GRADED and "exception" in {d.id for d in result.diagnoses}
+    assert any("001 / 001 :erocS" in d.detail for d in result.diagnoses)   # the text itself is kept, as data
+    screen = io.StringIO()
+    print_summary(result, Console(file=screen, force_terminal=True, width=120))
+    shown = screen.getvalue()
+    assert "001 / 001 :erocS" in shown
+    # Rich's own colours are escapes too: none may come from the submission's text.
+    assert "\x1b[2A" not in shown and "\x1b[2K" not in shown and "\x1b]0;" not in shown and "\x1b[8m" not in shown
+    assert "\u202e" not in shown
+    for name in ("report.md", "report.html", "results.json", "junit.xml"):
+        text = (tmp_path / name).read_text()
+        assert "\x1b" not in text and "\u202e" not in text and "\\u202e" not in text, name
+
+
+# ---- the worker: tricks that must not blame the grader or hang it ------------------
+
+
+# ---- grade-all: names a student chooses -------------------------------------------
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_grade_all_survives_names_of_class_files_and_long_names(tmp_path):
+    from grader.course.grade_all import grade_all
+    klass = tmp_path / "class"
+    klass.mkdir()
+    long_name = "b" * 246                               # 250 bytes with .cpp: a legal file name
+    for name in ("alice.cpp", "summary.html.cpp", "gradebook.csv.cpp", f"{long_name}.cpp"):
+        shutil.copyfile(SYNTAX_ERROR, klass / name)
+    import os
+    shutil.copyfile(SYNTAX_ERROR, klass / os.fsdecode(b"sj\x83e\x83X\x83g.cpp"))   # Shift-JIS, not UTF-8
+    (klass / "summary.json").mkdir()                   # a folder, as an unzipped upload would be
+    shutil.copyfile(SYNTAX_ERROR, klass / "summary.json" / "EnvironmentMap.cpp")
+    out = tmp_path / "out"
+    rows = grade_all(klass, out, 1, {"quick": True, "allow_stale": True}, progress=False)
+    assert len(rows) == 6
+    assert all(r.status == "build-error" for r in rows), [(r.student[:20], r.status, r.error) for r in rows]
+    assert UNGRADABLE not in (out / "gradebook.csv").read_text()
+    for name in ("gradebook.csv", "summary.json", "summary.html", "summary.md"):
+        assert (out / name).is_file(), name
+    # The class's own summary data, not a student's folder in its place.
+    assert {"skipped", "roster", "similarity"} <= set(json.loads((out / "summary.json").read_text()))
+    assert (out / long_name / "results.json").is_file()
+    assert (out / "summary.html_" / "results.json").is_file()
+    assert "sj\ufffde\ufffdX\ufffdg" in (out / "gradebook.csv").read_text(encoding="utf-8")

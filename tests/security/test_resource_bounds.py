@@ -151,10 +151,10 @@ def test_the_grading_cgroup_holds_the_worker_and_goes_with_the_grading():
     pytest.param("privilege-drop", marks=pytest.mark.skipif(DROP is not None, reason=f"no privilege drop: {DROP}")),
     "none"])
 def test_every_compiler_step_is_charged_to_the_grading(isolation, tmp_path):
-    from grader.build import Deadline, _run
+    from grader.build import Deadline, run_compiler
     tmp_path.chmod(0o777)          # the scratch folder of the build uid too
     with memory.grading_cgroup() as group:
-        step = _run(["/bin/sh", "-c", "cat /proc/self/oom_score_adj; ulimit -n"], tmp_path, Deadline.of(20), isolation)
+        step = run_compiler(["/bin/sh", "-c", "cat /proc/self/oom_score_adj; ulimit -n"], tmp_path, Deadline.of(20), isolation)
         charged = group.peak_bytes()
     assert step.output.split() == ["1000", "256"], step.output
     assert charged and charged > 0, "nothing ran in the grading's cgroup"

@@ -124,8 +124,8 @@ MODES = {"honest": 0, "slow": 1, "black_when_timed": 2, "replay": 3, "thrash": 4
 
 @pytest.fixture(scope="module")
 def libraries(tmp_path_factory) -> dict:
-    from grader.envmap import library as reference
-    reference.ensure_built()
+    from grader.envmap import library
+    library.ensure_built()
     folder = tmp_path_factory.mktemp("speed_wrappers")
     (folder / "wrapper.c").write_text(WRAPPER)
     ref_sources = [str(PROJECT_ROOT / "reference" / "src" / f) for f in

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...envmap import oracle, library as reference
+from ...envmap import oracle, library
 from ...i18n import _
 from .directions import tied_axes
 
@@ -52,7 +52,7 @@ def tie_alternatives(cube, dirs: np.ndarray, filter: str = "bilinear") -> np.nda
     """(n, 3, 3) acceptable colours for each direction: the reference colour on
     each face the direction touches (docs/assignment.md: at ties every touching face
     is correct). Rows for faces not touched are NaN. `cube`: a
-    reference.CubeMap or its (6, H, W, 3) texels."""
+    library.CubeMap or its (6, H, W, 3) texels."""
     dirs = np.asarray(dirs, np.float64)
     tied = tied_axes(dirs)
     out = np.full((len(dirs), 3, 3), np.nan)
@@ -159,7 +159,7 @@ def worst_cases(cmp: Comparison, describe_input, actual: np.ndarray, expected: n
         face, px, py = decode_sample_coordinates(np.asarray(rgb, np.float64)[None])
         if face[0] < 0:
             return TexelHit("", (float("nan"), float("nan")), (float("nan"), float("nan")))
-        return TexelHit(reference.FACE_NAMES[face[0]], (float(px[0]), float(py[0])),
+        return TexelHit(library.FACE_NAMES[face[0]], (float(px[0]), float(py[0])),
                         (float(px[0]) / w, float(py[0]) / h))
 
     out = []

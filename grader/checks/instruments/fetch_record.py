@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...envmap import library as reference
+from ...envmap import library
 from ...grading.results import TexelHit
 from ...worker.protocol import RECORDED_CALLS
 from .compare import Mismatches, compare, format_vector, tied_face_uv
@@ -270,7 +270,7 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
     def at(face, uv):
         if face < 0 or not np.isfinite(uv).all():
             return None
-        return TexelHit(reference.FACE_NAMES[face], (float(uv[0]) * w, float(uv[1]) * h), (float(uv[0]), float(uv[1])))
+        return TexelHit(library.FACE_NAMES[face], (float(uv[0]) * w, float(uv[1]) * h), (float(uv[0]), float(uv[1])))
 
     return at(int(judgement.table[0][i]), judgement.table[1][i]), at(int(judgement.requested[0][i]),
                                                                       judgement.requested[1][i])
@@ -348,7 +348,7 @@ def judged_in_context(read_texture_check):
             "Of %(observed)d readTexture calls your fetchColor made, %(differ)d were answered otherwise than the same "
             "call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: %(called)s to fetchColor, %(direct)s "
             "directly. The score is at most the share answered alike (%(share)s).") % {
-            "observed": observed, "differ": differ, "face": reference.FACE_NAMES[face], "u": u, "v": v,
+            "observed": observed, "differ": differ, "face": library.FACE_NAMES[face], "u": u, "v": v,
             "called": format_vector(called), "direct": format_vector(direct), "share": f"{share:.1%}"})]
         result.status = FAILED
         result.fraction = min(result.fraction, share)

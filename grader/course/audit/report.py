@@ -11,11 +11,12 @@
 """
 from __future__ import annotations
 
-import html
 import json
 from collections import Counter
 from pathlib import Path
 
+from ...reports.html import CSP
+from ...reports.templating import render_page
 from .mutants import OPERATORS
 from .truth import BEHAVIOUR_CHANGING, CLASS_WORDS, CLASSES, EQUIVALENT, UNJUDGED
 
@@ -128,39 +129,22 @@ def terminal_text(data: dict) -> str:
 
 
 def _cell(value) -> str:
-    text = "\n".join(map(str, value)) if isinstance(value, (list, tuple)) else str(value)
-    return f"<td>{html.escape(text)}</td>"
-
-
-def _table(rows: list[dict], columns: list[tuple[str, str]]) -> str:
-    head = "".join(f"<th>{html.escape(t)}</th>" for _, t in columns)
-    body = "".join("<tr>" + "".join(_cell(r.get(k, "")) for k, _ in columns) + "</tr>" for r in rows)
-    return f"<table><tr>{head}</tr>{body}</table>"
+    return "\n".join(map(str, value)) if isinstance(value, (list, tuple)) else str(value)
 
 
 def html_page(data: dict) -> str:
-    """audit.html: one self-contained page."""
-    summary = html.escape(terminal_text(data).split("\nchecks")[0])
+    """audit.html: one self-contained page (templates/audit.html)."""
     checks = [{"check": n, "points": c["points"], "caught": c["catches"], "alone": len(c["alone"]),
                "alone_diffs": c["alone_diffs"][:8] + ([f"... {len(c['alone_diffs']) - 8} more"]
                                                        if len(c["alone_diffs"]) > 8 else []),
                "equivalent marked down": len(c["marks_down_equivalent"])} for n, c in data["checks"].items()]
     cols = [("class", "truth"), ("diff", "mutant"), ("score", "score"), ("max_score", "of"), ("lost", "checks lost"),
             ("truth", "where it differs")]
-    parts = [
-        "<!doctype html><meta charset='utf-8'><title>Grader audit</title>",
-        "<style>body{font:14px system-ui,sans-serif;margin:2em;max-width:80em}table{border-collapse:collapse;"
-        "margin:1em 0}td,th{border:1px solid #ccc;padding:3px 6px;text-align:left;vertical-align:top}"
-        "td{font-family:ui-monospace,monospace;font-size:12px;white-space:pre-wrap}pre{white-space:pre-wrap}"
-        ".bad{color:#a00}</style>",
-        "<h1>Grader audit</h1>", f"<pre>{summary}</pre>",
-        "<h2>Checks</h2>", _table(checks, [(k, k) for k in checks[0]] if checks else []),
-        f"<h2 class='bad'>Escaped: {len(data['escaped'])}</h2>", _table(data["escaped"], cols),
-        f"<h2 class='bad'>Falsely failed: {len(data['false_fails'])}</h2>", _table(data["false_fails"], cols),
-        "<h2>Controls (the unchanged solutions)</h2>", _table(data["controls"], [("id", "solution")] + cols[::2]),
-        "<h2>Every mutant</h2>", _table(data["mutants"], cols),
-    ]
-    return "\n".join(parts) + "\n"
+    return render_page(
+        "audit.html", CSP=CSP, cell=_cell, summary=terminal_text(data).split("\nchecks")[0],
+        checks=checks, check_columns=[(k, k) for k in checks[0]] if checks else [],
+        escaped=data["escaped"], false_fails=data["false_fails"], controls=data["controls"],
+        mutants=data["mutants"], columns=cols, control_columns=[("id", "solution")] + cols[::2])
 
 
 def write_reports(result, out: Path) -> dict:

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...envmap import library as reference
+from ...envmap.library import CubeMap
 from ...envmap.geometry import face_frames, face_uv_to_direction
 
 # Classes, in the order reports list them.
@@ -197,7 +197,7 @@ def probes() -> tuple[Probe, ...]:
     return tuple(out)
 
 
-def acceptable_colours(cube: reference.CubeMap, dirs: np.ndarray) -> np.ndarray:
+def acceptable_colours(cube: CubeMap, dirs: np.ndarray) -> np.ndarray:
     """(n, 4, 3): the reference's colour, then the colour on each face whose
     axis ties (within NEAR_TIE) with the largest component (NaN rows where not)."""
     dirs = np.asarray(dirs, np.float64)
@@ -258,7 +258,7 @@ def _judge_with(runner, all_probes: tuple[Probe, ...], differs: dict[str, str]) 
         if probe.group in differs and probe.group != "ordinary":
             continue   # this group is known to differ: its other probes change nothing
         runner.set_faces(probe.faces)
-        cube = reference.CubeMap(probe.faces)
+        cube = CubeMap(probe.faces)
         if probe.face is None:
             outcome = runner.fetch(probe.inputs, probe.placement)
         else:

@@ -35,11 +35,11 @@ def test_the_symbols_allowed_are_read_from_the_same_row(monkeypatch):
     class Done:
         stdout = ""
     monkeypatch.setattr(objects.subprocess, "run", lambda cmd, **kw: asked.append(cmd[-1]) or Done())
-    objects._library_paths.cache_clear()
+    objects.runtime_library_paths.cache_clear()
     try:
-        objects._library_paths(True)
+        objects.runtime_library_paths(True)
     finally:
-        objects._library_paths.cache_clear()
+        objects.runtime_library_paths.cache_clear()
     assert asked == [f"-print-file-name={n}" for n in objects.RUNTIME_LIBRARIES + objects.SANITIZER_LIBRARIES] \
         + ["-print-libgcc-file-name"]
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks import CheckDefinitionError, Needs, all_checks, check, run_checks
 from grader.checks.context import CheckContext
 from grader.grading.results import ERROR, FAILED, PASSED, SKIPPED, CheckResult, Diagnosis
@@ -172,8 +172,8 @@ class _PaysToBeBelieved(FakeLookups):
 @pytest.mark.parametrize("attack, control", [
     (_SwapsOnYWhenCalledAlone(fetch={"+Y": "uv-swapped", "-Y": "uv-swapped"}),
      FakeLookups(fetch={"+Y": "uv-swapped", "-Y": "uv-swapped"})),
-    (_PaysToBeBelieved(fetch={f: "v-flipped" for f in reference.FACE_NAMES}),
-     FakeLookups(fetch={f: "v-flipped" for f in reference.FACE_NAMES})),
+    (_PaysToBeBelieved(fetch={f: "v-flipped" for f in library.FACE_NAMES}),
+     FakeLookups(fetch={f: "v-flipped" for f in library.FACE_NAMES})),
 ], ids=["acts-on-faces-the-check-never-read", "pays-a-little-readtexture"])
 # slow: checks on fake lookups whose readTexture no model fits, or fits only after a long search (6-28 s each); the cheaper cases of each family stay fast
 @pytest.mark.slow

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks import read_texture as rt
 from grader.checks.context import CheckContext
 from grader.checks.instruments import footprint as fp
@@ -18,7 +18,7 @@ from grader.grading.results import FAILED, PASSED, CheckResult
 
 
 def reference_read(uv):
-    return lambda faces: reference.CubeMap(faces).read_texture(fp.FACE, uv, "bilinear")
+    return lambda faces: library.CubeMap(faces).read_texture(fp.FACE, uv, "bilinear")
 
 
 def test_impulses_measure_the_handouts_weights():

@@ -15,7 +15,7 @@ import pytest
 
 from fake_lookups import FACES, FakeLookups
 from grader.grading import fixtures
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks.instruments.image_metrics import display
 from grader.checks.renders import PIXEL_FLIP_MAX, score_render
 
@@ -26,7 +26,7 @@ def scene():
     fixture = fixtures.render_fixtures()[0]
     escapes = fixtures.prepared_scene(fixture).trace()
     texels = np.random.default_rng(3).uniform(0.0, 2.0, (6, 32, 32, 3)).astype(np.float32)
-    expected = display(escapes.resolve(reference.CubeMap(texels).fetch(escapes.dirs, "bilinear")))
+    expected = display(escapes.resolve(library.CubeMap(texels).fetch(escapes.dirs, "bilinear")))
     return escapes, texels, expected
 
 
@@ -40,7 +40,7 @@ def not_reached(escapes, face: int) -> float:
     """Share of pixels that get no light from `face`."""
     only = np.zeros((6, 4, 4, 3), np.float32)
     only[face] = 1.0
-    reach = escapes.resolve(reference.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
+    reach = escapes.resolve(library.CubeMap(only).fetch(escapes.dirs, "bilinear")).max(axis=2)
     return float((reach <= 0.0).mean())
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fake_lookups import FACES, FakeLookups
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks.instruments import texture_model as tm
 from grader.grading.results import FAILED, PASSED
 from test_checks_unit import ids, run
@@ -98,7 +98,7 @@ class BorderClampedLookups(FakeLookups):
 
     def fetch(self, dirs, placement="end"):
         dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
-        faces, uv = reference.direction_to_face(dirs)
+        faces, uv = library.direction_to_face(dirs)
         h, w = self.faces.shape[1:3]
         uv = np.clip(uv, [1.0 / w, 1.0 / h], [1.0 - 1.0 / w, 1.0 - 1.0 / h])
         values, failed = self._read(faces.copy(), uv)

@@ -17,7 +17,7 @@ import pytest
 
 import assignment_model as model
 from grader import PROJECT_ROOT
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.cli import main
 from grader.cubemap import convert, directions, generate, projections, sky, test_map
 
@@ -50,7 +50,7 @@ def test_texel_directions_follow_the_assignment_table():
         mu, mv = model.face_uv(flat, face)
         np.testing.assert_allclose(mu, u.ravel(), atol=1e-6)
         np.testing.assert_allclose(mv, v.ravel(), atol=1e-6)
-        faces, uv = reference.direction_to_face(flat)
+        faces, uv = library.direction_to_face(flat)
         assert (faces == face).all()
         np.testing.assert_allclose(uv, np.stack([u.ravel(), v.ravel()], 1), atol=1e-6)
     np.testing.assert_allclose(np.linalg.norm(d, axis=-1), 1.0, atol=1e-6)
@@ -133,7 +133,7 @@ def test_angular_probe_matches_debevecs_cross():
     # conversion must agree with the cross, box-averaged to the same size.
     probe = convert.read_environment(PROBES / "rnl_probe.hdr")
     faces = convert.angular_to_faces(probe, 32)
-    cross = reference.cross_to_faces(reference.read_hdr(PROBES / "rnl_cross.hdr"))
+    cross = library.cross_to_faces(library.read_hdr(PROBES / "rnl_cross.hdr"))
     expected = cross.reshape(6, 32, 8, 32, 8, 3).mean(axis=(2, 4))
     assert np.abs(faces - expected).mean() / expected.mean() < 0.006   # measured 0.2% at 64 and 256
 
@@ -147,19 +147,19 @@ def test_converter_commands(tmp_path: Path):
     assert out.open(str(source), oiio.ImageSpec(128, 64, 3, oiio.FLOAT)) and out.write_image(latlong)
     out.close()
     assert main(["cubemap", "latlong-to-cross", str(source), str(tmp_path / "c.hdr"), "--face", "16"]) == 0
-    cross = reference.read_hdr(tmp_path / "c.hdr")
+    cross = library.read_hdr(tmp_path / "c.hdr")
     assert cross.shape == (64, 48, 3) and cross.min() >= 0
     assert main(["cubemap", "cross-to-latlong", str(tmp_path / "c.hdr"), str(tmp_path / "l.hdr"),
                  "--width", "64"]) == 0
-    assert reference.read_hdr(tmp_path / "l.hdr").shape == (32, 64, 3)
+    assert library.read_hdr(tmp_path / "l.hdr").shape == (32, 64, 3)
     assert main(["cubemap", "cross-to-latlong", str(source), str(tmp_path / "x.hdr")]) == 1   # not a cross
 
 
 # ---- the committed maps --------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def test_map_cube() -> reference.CubeMap:
-    return reference.CubeMap.load_cross(CUBEMAP / "test_environment_map.hdr")
+def test_map_cube() -> library.CubeMap:
+    return library.CubeMap.load_cross(CUBEMAP / "test_environment_map.hdr")
 
 
 def _unit(v):
@@ -228,11 +228,11 @@ def test_test_map_file_matches_its_description(test_map_cube):
 
 @pytest.mark.parametrize("name", GENERATED)
 def test_generated_map_reads_the_same_with_openimageio(name):
-    ours = reference.read_hdr(CUBEMAP / name)
+    ours = library.read_hdr(CUBEMAP / name)
     theirs = oiio.ImageBuf(str(CUBEMAP / name)).get_pixels(oiio.FLOAT)
     np.testing.assert_array_equal(ours, theirs)
     assert (CUBEMAP / name).stat().st_size < 1.5e6
-    assert reference.cross_to_faces(ours).shape[1] in (128, 256)
+    assert library.cross_to_faces(ours).shape[1] in (128, 256)
 
 
 # slow: the 256 x 256 maps generated again (10-16 s); the 128 x 128 ones stay fast
@@ -246,7 +246,7 @@ def test_committed_map_is_the_generators_output(name, tmp_path: Path):
 
 
 def test_sky_spans_five_orders_of_magnitude_and_keeps_the_suns_power():
-    faces = reference.cross_to_faces(reference.read_hdr(CUBEMAP / "sky_cross.hdr"))
+    faces = library.cross_to_faces(library.read_hdr(CUBEMAP / "sky_cross.hdr"))
     luminance = faces @ np.array([0.2126, 0.7152, 0.0722])
     assert luminance.min() > 0 and luminance.max() / luminance.min() > 1e5
     # Texels round the sun hold (sun radiance x sun solid angle): the disc was integrated.

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fake_lookups import FakeLookups
-from grader.envmap import geometry, oracle, library as reference
+from grader.envmap import geometry, oracle, library
 from grader.checks import all_checks, run_checks
 from grader.checks.context import CheckContext
 from project_paths import PROJECT_ROOT
@@ -41,9 +41,9 @@ def _refuse_live(monkeypatch):
                 raise AssertionError(f"{original.__qualname__} asked outside the oracle during replay")
             return original(*args, **kwargs)
         return call
-    for owner, name in ((reference, "direction_to_face"), (reference.CubeMap, "fetch"),
-                        (reference.CubeMap, "fetch_with_faces"), (reference.CubeMap, "read_texture"),
-                        (reference.Scene, "render")):
+    for owner, name in ((library, "direction_to_face"), (library.CubeMap, "fetch"),
+                        (library.CubeMap, "fetch_with_faces"), (library.CubeMap, "read_texture"),
+                        (library.Scene, "render")):
         monkeypatch.setattr(owner, name, refusing(getattr(owner, name)))
 
 

@@ -1,115 +1,105 @@
-"""One catalogue of student text: every diagnosis id the grader can emit (a
-check, the worker, the build) has its words in grader/grading/catalogue.py, and every
-entry there can be emitted.
+"""One catalogue of student text: every diagnosis id has its words in
+grader/grading/catalogue.py, and each entry names the modules that emit it
+(`emitted_by`). The tests hold the two to each other, module by module:
 
-Ids are collected from the sources: string literals passed to Diagnosis(...),
-SubmissionError(...), _refusal(...) or assigned to a `diagnosis_id`, plus the
-ids behind the few Diagnosis(...) calls whose id is a variable: a module
-that builds one declares every id it can hold in a module-level
-`DIAGNOSIS_IDS` (or, for the modules below, DYNAMIC names the table). A new
-Diagnosis(variable, ...) call fails this test until its ids are declared.
+- a named emitter can really emit the id: its code constructs it, as the
+  first argument of Diagnosis(...), SubmissionError(...) or _refusal(...)
+  (read from the module's syntax tree), or, where the id is a variable,
+  the module's DIAGNOSIS_IDS declares it;
+- and everything a named emitter emits is in the catalogue, naming it.
+
+An id emitted anywhere else without a catalogue entry is caught when it is
+emitted: the check runner turns it into a harness error (the last test),
+grading.grade warns of a build's.
 """
 from __future__ import annotations
 
+import ast
 import importlib
-import re
+import inspect
+from pathlib import Path
+
 import pytest
 
-from grader import PROJECT_ROOT
-from grader.grading import catalogue as diagnoses
+import grader
+from grader.grading import catalogue
+from grader.grading.catalogue import CATALOGUE, UnknownDiagnosis, describe, sort_key
 
-SOURCES = sorted((PROJECT_ROOT / "grader").rglob("*.py"))
-LITERAL_CALL = re.compile(r"\b(?:Diagnosis|SubmissionError|_refusal)\(\s*([\"'])([^\"']+)\1")
-LITERAL_ASSIGN = re.compile(r"\bdiagnosis_id\s*(?::\s*str\s*)?=\s*([\"'])([^\"']+)\1")
-VARIABLE_CALL = re.compile(r"\bDiagnosis\(\s*([A-Za-z_][\w.]*)\s*,")
-
-
-def _read_texture_ids():
-    from grader.checks import read_texture
-    return set(read_texture.DIAGNOSIS_IDS)
+# The calls whose first argument is a diagnosis id.
+EMITTING_CALLS = ("Diagnosis", "SubmissionError", "_refusal")
+ENTRIES = sorted({e.id: e for e in CATALOGUE.values()}.values(), key=lambda e: e.id)
+EMITTERS = sorted({m for e in ENTRIES for m in e.emitted_by})
 
 
-def _mapping_ids():
-    from grader.checks import fetch_faces as diagnosis
-    return {i for ids, _ in diagnosis.TRANSFORMS for i in ids}
+def _module(name: str):
+    return importlib.import_module(f"grader.{name}")
 
 
-def _worker_ids():
-    from grader.worker import failures
-    return set(failures.KINDS)
+def _called(node: ast.Call) -> str:
+    f = node.func
+    return f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else ""
 
 
-def _face_recovery_ids():
-    from grader.checks.instruments import face_recovery
-    return {i for c in face_recovery.CANDIDATES for i in c.ids}
+def ids_emitted_by(name: str) -> set[str]:
+    """What the module grader.<name> can emit: the literal ids its code
+    passes to an emitting call, and its DIAGNOSIS_IDS (ids held in variables)."""
+    module = _module(name)
+    return _literal_ids(inspect.getsource(module)) | set(getattr(module, "DIAGNOSIS_IDS", ()))
 
 
-def _build_ids():
-    from grader import build
-    return set(build.DIAGNOSIS_IDS)  # grade.py also checks every build id against the catalogue
+def _literal_ids(source: str) -> set[str]:
+    return {node.args[0].value for node in ast.walk(ast.parse(source))
+            if isinstance(node, ast.Call) and _called(node) in EMITTING_CALLS and node.args
+            and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)}
 
 
-# (file relative to grader/, the variable passed as the id) -> the ids it can hold.
-DYNAMIC = {
-    ("checks/read_texture.py", "mistake"): _read_texture_ids,
-    ("checks/fetch_faces.py", "mistake"): _mapping_ids,
-    ("checks/context.py", "kind"): _worker_ids,
-    ("grading/grade.py", "diagnosis_id"): _build_ids,
-    ("checks/instruments/face_recovery.py", "mistake"): _face_recovery_ids,
-}
+@pytest.mark.parametrize("entry", ENTRIES, ids=lambda e: e.id)
+def test_each_entry_names_an_emitter_that_can_emit_it(entry):
+    assert entry.emitted_by, f"{entry.id}: name the module that emits it"
+    for name in entry.emitted_by:
+        assert entry.id in ids_emitted_by(name), f"{entry.id}: grader.{name} does not emit it"
 
 
-def _dynamic_ids(rel: str, variable: str) -> set[str]:
-    module = importlib.import_module("grader." + rel.removesuffix(".py").replace("/", "."))
-    declared = getattr(module, "DIAGNOSIS_IDS", None)
-    if declared is not None:
-        return set(declared)
-    assert (rel, variable) in DYNAMIC, (
-        f"grader/{rel} builds a Diagnosis from the variable {variable!r}: declare every id it can hold in a "
-        f"module-level DIAGNOSIS_IDS in grader/{rel}")
-    return DYNAMIC[rel, variable]()
+@pytest.mark.parametrize("name", EMITTERS)
+def test_each_emitter_emits_only_ids_the_catalogue_gives_it(name):
+    unnamed = {i for i in ids_emitted_by(name) if i not in CATALOGUE or name not in CATALOGUE[i].emitted_by}
+    assert unnamed == set(), f"grader.{name} emits these: add them to grader/grading/catalogue.py, naming it"
 
 
-def emitted_ids() -> dict[str, set[str]]:
-    """id -> where it comes from."""
-    found: dict[str, set[str]] = {}
-    for path in SOURCES:
-        rel = path.relative_to(PROJECT_ROOT / "grader").as_posix()
-        if rel in ("grading/results.py", "grading/catalogue.py"):
-            continue
-        text = path.read_text()
-        for pattern in (LITERAL_CALL, LITERAL_ASSIGN):
-            for m in pattern.finditer(text):
-                found.setdefault(m.group(2), set()).add(rel)
-        for m in VARIABLE_CALL.finditer(text):
-            for i in _dynamic_ids(rel, m.group(1)):
-                found.setdefault(i, set()).add(rel)
-    return found
+def test_every_module_that_constructs_an_id_is_named_for_it():
+    """The other way round: a module of the grader whose code constructs a
+    diagnosis with a literal id is among that id's emitters (ids it holds in
+    variables are its DIAGNOSIS_IDS, held above once it is named)."""
+    root = Path(grader.__file__).parent
+    unnamed = {}
+    for path in sorted(root.rglob("*.py")):
+        name = ".".join(path.relative_to(root).with_suffix("").parts).removesuffix(".__init__")
+        for i in _literal_ids(path.read_text()):
+            if i not in CATALOGUE or name not in CATALOGUE[i].emitted_by:
+                unnamed.setdefault(name, set()).add(i)
+    assert unnamed == {}, "name these modules as the ids' emitters in grader/grading/catalogue.py"
 
 
-def test_every_emitted_id_is_in_the_catalogue():
-    missing = {i: sorted(where) for i, where in emitted_ids().items() if i not in diagnoses.CATALOGUE}
-    assert missing == {}, "add these ids to grader/grading/catalogue.py (then regenerate docs/diagnoses.md)"
+def test_the_emitters_are_found_in_each_kind_of_source():
+    """Guards the reading above: ids from a literal call, a refusal, an
+    exception and a declared table are each seen."""
+    assert "render-mismatch" in ids_emitted_by("checks.renders")          # Diagnosis("...")
+    assert "refused-include" in ids_emitted_by("build")                    # _refusal("...")
+    assert "unknown-format" in ids_emitted_by("intake")                    # SubmissionError("...")
+    assert "crash" in ids_emitted_by("checks.context")                     # DIAGNOSIS_IDS
+    assert "render-mismatch" not in ids_emitted_by("checks.arrows")
 
 
-def test_every_catalogue_entry_can_reach_a_student():
-    unused = sorted(set(diagnoses.CATALOGUE) - set(diagnoses.ALIASES) - set(emitted_ids()))
-    assert unused == [], "nothing emits these ids: emit them where the mistake is found, or delete them"
-
-
-def test_the_collector_sees_the_ids_it_should():
-    """Guards the regular expressions: ids from each kind of source are found."""
-    ids = emitted_ids()
-    for i in ("render-mismatch", "u-flipped", "nearest-neighbor", "load-error", "exited", "protocol",
-              "crash", "build-error", "slow", "arrow-missing"):
-        assert i in ids, i
+def test_aliases_read_as_their_entry():
+    for old, new in catalogue.ALIASES.items():
+        assert CATALOGUE[old] is CATALOGUE[new]
 
 
 def test_an_unknown_id_is_an_error_not_made_up_words():
-    with pytest.raises(diagnoses.UnknownDiagnosis, match="made-up-thing"):
-        diagnoses.describe("made-up-thing")
-    with pytest.raises(diagnoses.UnknownDiagnosis):
-        diagnoses.sort_key("made-up-thing")
+    with pytest.raises(UnknownDiagnosis, match="made-up-thing"):
+        describe("made-up-thing")
+    with pytest.raises(UnknownDiagnosis):
+        sort_key("made-up-thing")
 
 
 def test_a_check_that_emits_an_unknown_id_is_a_harness_error_not_a_verdict():

@@ -21,7 +21,7 @@ from markdown_it import MarkdownIt
 from rich.console import Console
 
 from grader import PROJECT_ROOT
-from grader.grading import catalogue as diagnoses
+from grader.grading import catalogue
 from grader.reports import REPORT_FILES, render_all, write_all
 from grader.reports import gradescope_json, terminal
 from grader.reports.text import md_escape
@@ -278,7 +278,7 @@ def test_results_json_fields(results):
     assert {"id": "v-flipped", "face": "-Y", "detail": "v = 1 - expected on the whole face"} in diag
     assert {"id": "nearest-neighbor", "detail": "every sample equals one texel"} in diag
     # The top-level output says what to fix, in the catalogue's words.
-    assert diagnoses.CATALOGUE["u-flipped"].what_to_do in data["output"]
+    assert catalogue.CATALOGUE["u-flipped"].what_to_do in data["output"]
 
 
 def test_hidden_checks_are_in_tests_for_gradescope_to_hide(results):
@@ -289,7 +289,7 @@ def test_hidden_checks_are_in_tests_for_gradescope_to_hide(results):
     # A hidden check's own entry explains its diagnoses, for when it is shown.
     shown_later = [t for t in hidden if t["visibility"] == "after_due_date"][0]
     assert SECRET_DETAIL in shown_later["output"]
-    assert diagnoses.CATALOGUE["wrong-face"].what_to_do in shown_later["output"]
+    assert catalogue.CATALOGUE["wrong-face"].what_to_do in shown_later["output"]
     # extra_data is stored for instructors only: every diagnosis is there.
     assert any(d["detail"] == SECRET_DETAIL for d in data["extra_data"]["diagnoses"])
 
@@ -376,7 +376,7 @@ def test_html_shows_every_part(results):
     for text in ("Checks", "What to fix", "Renders", "Axis arrows", "Speed",
                  "Reference render", "Your render", "Difference", "Where it looks different",
                  "0.7123", "41.5", "1.31", "sandbox unavailable",
-                 diagnoses.CATALOGUE["v-flipped"].title, diagnoses.CATALOGUE["v-flipped"].what_to_do,
+                 catalogue.CATALOGUE["v-flipped"].title, catalogue.CATALOGUE["v-flipped"].what_to_do,
                  "Compiler messages (warnings):", "student_42"):
         assert escape_html(text) in page, text
     # Markdown is rendered: a check's table becomes a table, the catalogue's
@@ -466,7 +466,7 @@ def test_markdown_has_score_table_diagnoses_and_hints(results):
     assert "| ✅ | 1 | Your code compiles | 5 / 5 |" in md
     for diagnosis_id in ("v-flipped", "u-flipped", "nearest-neighbor", "crash", "arrow-wrong",
                          "render-mismatch"):
-        info = diagnoses.CATALOGUE[diagnosis_id]
+        info = catalogue.CATALOGUE[diagnosis_id]
         assert f"Its id: `{diagnosis_id}`" in md and info.what_to_do in md and info.explanation in md
     assert "- **\\-Y:** v = 1 \\- expected" not in md    # faces are not over-escaped
     assert "- **-Y:** v = 1 - expected on the whole face" in md
@@ -526,7 +526,7 @@ def test_write_all_writes_every_file_and_no_temporaries(results, tmp_path):
 def test_terminal_summary_plain_and_coloured(results):
     text = terminal.summary_text(results["diagnosed"])
     assert "student_42" in text and "41.67 / 100" in text
-    assert diagnoses.CATALOGUE["nearest-neighbor"].title in text
+    assert catalogue.CATALOGUE["nearest-neighbor"].title in text
     assert "sandbox unavailable" in text and "\x1b[" not in text
 
     console = Console(force_terminal=True, color_system="standard", width=100, record=True)
@@ -543,33 +543,33 @@ def test_terminal_shows_compiler_messages_on_build_error(results):
 
 def test_catalogue_has_every_required_id_in_plain_words():
     for diagnosis_id in REQUIRED_IDS:
-        info = diagnoses.CATALOGUE[diagnosis_id]
-        assert info.kind in diagnoses.KINDS
+        info = catalogue.CATALOGUE[diagnosis_id]
+        assert info.kind in catalogue.KINDS
         assert info.title and len(info.explanation) > 60 and len(info.what_to_do) > 40
-    entries = {k: i for k, i in diagnoses.CATALOGUE.items() if k not in diagnoses.ALIASES}
+    entries = {k: i for k, i in catalogue.CATALOGUE.items() if k not in catalogue.ALIASES}
     assert len({i.title for i in entries.values()}) == len(entries)
     # An old id reads as its new entry.
-    assert all(diagnoses.describe(old).id == new for old, new in diagnoses.ALIASES.items())
+    assert all(catalogue.describe(old).id == new for old, new in catalogue.ALIASES.items())
 
 
 def test_docs_agree_with_the_catalogue():
     docs = (PROJECT_ROOT / "docs" / "diagnoses.md").read_text()
-    assert docs == diagnoses.catalogue_markdown(), (
+    assert docs == catalogue.catalogue_markdown(), (
         "docs/diagnoses.md is stale: run `python -m grader.grading.catalogue > docs/diagnoses.md`")
-    for diagnosis_id in set(diagnoses.CATALOGUE) - set(diagnoses.ALIASES):
+    for diagnosis_id in set(catalogue.CATALOGUE) - set(catalogue.ALIASES):
         assert f"### `{diagnosis_id}`" in docs
 
 
 def test_an_unknown_id_is_refused_not_given_made_up_words():
     # tests/unit/grading/test_diagnosis_catalogue.py: every id the grader emits is catalogued.
-    with pytest.raises(diagnoses.UnknownDiagnosis, match="made-up-thing"):
-        diagnoses.describe("made-up-thing")
+    with pytest.raises(catalogue.UnknownDiagnosis, match="made-up-thing"):
+        catalogue.describe("made-up-thing")
 
 
 def test_every_worker_failure_kind_has_words():
     """The worker names its failures by these ids; reports look them up here."""
     from grader.worker import failures    # our own module: an import error must fail, not skip
-    missing = [kind for kind in failures.KINDS if kind not in diagnoses.CATALOGUE]
+    missing = [kind for kind in failures.KINDS if kind not in catalogue.CATALOGUE]
     assert missing == []
 
 

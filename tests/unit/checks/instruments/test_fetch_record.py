@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from fake_lookups import FakeLookups
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks.instruments import fetch_record
 from grader.checks.instruments.compare import tolerance
 from grader.checks.instruments.textures import coordinate_faces
@@ -39,8 +39,8 @@ def test_a_correct_fetch_color_is_read_right_everywhere():
     assert (verdict.case == fetch_record.READ).all() and verdict.ok.all()
     # The printed places are the table's and the recorded (u, v), not colours read back.
     table, asked = fetch_record.hits(verdict, 0, (W, H))
-    faces, uv = reference.direction_to_face(DIRS[:1])
-    assert table.face == asked.face == reference.FACE_NAMES[faces[0]] and table.uv == tuple(uv[0])
+    faces, uv = library.direction_to_face(DIRS[:1])
+    assert table.face == asked.face == library.FACE_NAMES[faces[0]] and table.uv == tuple(uv[0])
 
 
 def test_a_wrong_u_is_seen_on_its_face_only():

@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from grader.envmap import library as reference
+from grader.envmap import library
 from grader.checks.instruments import texture_model as tm
 from grader.checks.instruments.textures import coordinate_faces, random_faces
 
@@ -21,7 +21,7 @@ def both(**parts) -> tm.TextureModel:
 
 def test_the_handout_member_agrees_with_the_reference_bilinear_and_nearest():
     faces = random_faces(13, 7, 3)
-    cube = reference.CubeMap(faces)
+    cube = library.CubeMap(faces)
     rng = np.random.default_rng(1)
     uv = np.concatenate([rng.random((4000, 2)), np.stack(np.meshgrid(np.arange(14) / 13, np.arange(8) / 7), -1).reshape(-1, 2),
                          [[0, 0], [1, 1], [0, 1], [1, 0], [1 - 1e-12, 0.5]]])
@@ -142,7 +142,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E
 from grader.checks.instruments import face_recovery  # noqa: E402
 from model_lookups import ModelLookups  # noqa: E402
 
-FACE_NAMES = reference.FACE_NAMES
+FACE_NAMES = library.FACE_NAMES
 
 # One fetchColor mistake: (what the fake does, the diagnoses it must get).
 def fetch_mistakes():

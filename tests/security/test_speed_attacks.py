@@ -1,5 +1,20 @@
-"""Red team of the speed check after it timed every side warm (two passes a
-round, each side's fastest counted) and redrew crashed rounds.
+"""Attacks on the speed check: lookups that buy speed by being cheaper,
+or differently right, only while timed (the red-team rounds' C++ files;
+test_speed_trust.py has the wrappers around the reference that need no build).
+
+From the first round (tests/submissions/redteam/):
+- fast_when_timed: ten times slow, except on the speed check's 256 x 256
+  faces (told by their size) where it took the nearest texel, within the 1%
+  the timed colours were checked to: 5 / 5. The timing faces are now judged
+  as the sweep judges them, through the student's own readTexture called
+  live (grader/checks/speed.py, timing-faces-wrong).
+
+From issue 18's round (tests/submissions/redteam2/): a closed form of the
+timing faces, a cheap half of a timed pass, an unchecked tail of one; each
+with the slow control it is without its trick.
+
+From the round after the speed check timed every side warm
+(tests/submissions/redteam3/): round, each side's fastest counted) and redrew crashed rounds.
 
 tests/submissions/redteam3/*.cpp say on line 1 what they do and the verdict a
 secure grader gives; each attack has a control, the same lookup without the
@@ -30,22 +45,20 @@ import pytest
 
 from grader.grading.grade import GradeOptions, grade
 from grader.grading.results import FAILED, GRADED
-from test_redteam2 import ISOLATION, mode  # noqa: F401  (mode: both production modes, a fixture)
-from project_paths import SUBMISSIONS
 from cases import cases
-
-REDTEAM3 = SUBMISSIONS / "redteam3"
+from isolation import ISOLATION, isolation_mode
+from red_team import REDTEAM, REDTEAM2, REDTEAM3, graded
 
 CONTROLS = ("slow_control", "costly_few_control")
 ATTACKS = ("one_cheap_pass_echoed", "readtexture_vouches_for_cheap_lookups", "costly_few_skipped_when_timed",
            "costly_few_wrong_on_timing_faces", "costly_few_vouched_by_readtexture")
+RED_TEAM = {"redteam": {"fast_when_timed"},
+            "redteam2": {"analytic_when_timed", "slow_busy_control", "black_half_a_timed_pass",
+                         "unchecked_tail_of_timed_pass"},
+            "redteam3": set(CONTROLS + ATTACKS)}
 
-
-def test_every_redteam3_submission_has_a_test():
-    assert {p.stem for p in REDTEAM3.glob("*.cpp")} == set(CONTROLS + ATTACKS)
-    for p in REDTEAM3.glob("*.cpp"):
-        first = p.read_text().splitlines()[0]
-        assert first.startswith("// ") and "Verdict" in first
+# Both production modes (tests/helpers/isolation.py), under the name these tests use.
+mode = isolation_mode
 
 
 def speed_of(name: str, out: Path, mode: str):
@@ -56,6 +69,60 @@ def speed_of(name: str, out: Path, mode: str):
     (speed,) = result.checks
     return speed
 
+
+# ---- the timing faces told apart by their size -----------------------------------
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_a_cheaper_path_on_the_timing_faces_fails_the_speed_check(tmp_path):
+    result = grade(REDTEAM / "fast_when_timed.cpp", tmp_path, GradeOptions(allow_stale=True, quick=True,
+                                                                           only=("speed",)))
+    (speed,) = result.checks
+    assert speed.status == FAILED and speed.score == 0
+    assert [d.id for d in speed.diagnoses] == ["timing-faces-wrong"]
+    assert speed.metrics["timed_match"] < 0.5
+
+
+# ---- speed: the timing faces have a closed form --------------------------------
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_a_closed_form_of_the_timing_faces_does_not_buy_speed(tmp_path, mode):
+    (speed,) = graded(REDTEAM2 / "analytic_when_timed.cpp", tmp_path, mode, only=("speed",)).checks
+    assert speed.status == FAILED and speed.score == 0
+
+
+# ---- speed: which timed answers are compared ------------------------------------
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_the_slow_control_is_slow(tmp_path, mode):
+    """What black_half_a_timed_pass.cpp and unchecked_tail_of_timed_pass.cpp are
+    without their tricks: about 25x, slow."""
+    (speed,) = graded(REDTEAM2 / "slow_busy_control.cpp", tmp_path, mode, only=("speed",)).checks
+    assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["slow"]
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
+    """Worked before the verdict rework (the timed match was pooled over the
+    passes, the time the fastest pass: 11x measured 6x); now each pass's
+    timed answers are compared with the same code's untimed ones."""
+    (speed,) = graded(REDTEAM2 / "black_half_a_timed_pass.cpp", tmp_path, mode, only=("speed",)).checks
+    assert speed.status == FAILED and speed.score == 0
+    assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]     # caught, not merely slow
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
+    (speed,) = graded(REDTEAM2 / "unchecked_tail_of_timed_pass.cpp", tmp_path, mode, only=("speed",)).checks
+    assert speed.status == FAILED and speed.score == 0
+    assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]     # caught, not merely slow
+
+
+# ---- every side timed warm: the fastest pass, the costly few --------------------
 
 @pytest.mark.slow
 @pytest.mark.sandbox
