@@ -31,6 +31,8 @@ class SubmissionLookups(Protocol):
     # fetchColor with readTexture's calls recorded (grader.checks.instruments.fetch_record)
     def record_fetch(self, dirs: np.ndarray, tags: np.ndarray | None) -> Any: ...
     def restart(self) -> None: ...    # the next call in a fresh worker (no state carried over)
+    # run_checks, before each check, where the lookups have it (grader.worker.runner)
+    def reset_failure_budget(self) -> None: ...
     def time_fetch(self, passes: list[np.ndarray]) -> Any: ...    # grader.worker.runner.TimedPasses
 
 

@@ -11,7 +11,8 @@ evaluates one input per submission call and notes the index of the input it
 is on in a page the grader reads (Worker.progress): that index is a hint
 (the submission can write the page), taken once the inputs before it
 evaluate in a fresh worker (and, for a timeout, once the input was seen
-spinning on, or hangs alone); a hint that does not hold falls back to
+spinning on, or hangs alone; never after a corrupted reply, as the worker
+went on); a hint that does not hold falls back to
 bisection. The inputs before it keep their values, and the rest of the
 batch continues in that worker. The result is
 an Outcome: values (n, 3), NaN rows where nothing could be evaluated, and the
@@ -19,8 +20,9 @@ failures, each with the input in words and a hint. The search is the same
 every time for the same submission, so the report is too. After
 `max_failures` failures in one call, `max_timeouts` timeouts, or when the
 batch has used `budget_s` seconds, the rest of the batch is given up cleanly
-(NaN, `gave_up`); after `max_failed_runs` failed worker runs over the
-runner's life, a failing batch is no longer narrowed down (_give_up).
+(NaN, `gave_up`); after `max_failed_runs` failed worker runs since the
+runner began (or since reset_failure_budget(): the checks call it each), a
+failing batch is no longer narrowed down (_give_up).
 """
 from __future__ import annotations
 
@@ -33,14 +35,15 @@ from typing import Callable
 import numpy as np
 
 from ..i18n import _
-from .failures import FACE_NAMES, TIMEOUT, SubmissionFailure, from_crash, hint
+from .failures import FACE_NAMES, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash, hint
 from .process import Limits, Worker, WorkerHarnessError
 from .protocol import RECORD_ROW
 from .sandbox import ISOLATION, resolve_mode
 
 
-# Worker runs that may fail over one submission's grading (one runner)
-# before failing batches are no longer narrowed down (SubmissionRunner._give_up):
+# Worker runs that may fail in one check of a submission's grading
+# (SubmissionRunner.reset_failure_budget) before failing batches are no longer
+# narrowed down (SubmissionRunner._give_up):
 # each costs a worker start (20-50 ms), and a submission that fails all over
 # would otherwise cost seconds per check. Faults the worker goes on past
 # (issue 19) are no failed runs: a missing clamp no longer reaches this. Partial credit: past the budget, the
@@ -197,6 +200,13 @@ class SubmissionRunner:
             except SubmissionFailure:
                 self._drop_worker()   # the next call starts a fresh worker with these faces
 
+    def reset_failure_budget(self) -> None:
+        """Failed runs count towards `max_failed_runs` from zero again: each
+        check has its own budget, so one check's random inputs never decide
+        how far another's are narrowed down (issue 30: the kit's and the
+        grader's draws differ)."""
+        self.failed_runs = 0
+
     def restart(self) -> None:
         """The next call runs in a fresh worker with the current faces: no
         state the submission kept (a cache of answers) carries over."""
@@ -311,8 +321,12 @@ class SubmissionRunner:
                     self._take_faults(outcome, worker, lo, function, describe)
                     return None
                 except SubmissionFailure as failure:
-                    # Which input was running, as the worker's progress page says.
-                    hint[0] = self._worker.progress() if self._worker is not None else None
+                    # Which input was running, as the worker's progress page says. Not
+                    # after a reply the worker did not send (protocol): it went on, and
+                    # its page says how far it got before the grader looked, which the
+                    # machine's load decides; bisection does not (issue 30: forged_reply).
+                    hint[0] = (self._worker.progress() if self._worker is not None and failure.kind != PROTOCOL
+                               else None)
                     stuck[0] = self._worker.stuck if self._worker is not None else None
                     self._drop_worker()     # a fresh worker after any failure: no state carries over
                     if failure.grader_limit and tries == 1:

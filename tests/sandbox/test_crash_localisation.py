@@ -27,7 +27,9 @@ MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(
 #   x == 5: switches its alternate signal stack off, then faults;
 #   x == 7: writes y into the grader's progress page (found in /proc/self/maps), then aborts;
 #   x == 8: aborts on the process's z-th call (state: only a fresh worker forgets it);
-#   x == 9: sleeps 0.3 s (no CPU time).
+#   x == 9: sleeps 0.3 s (no CPU time);
+#   x == 6: writes a forged reply ("bad argument") onto the reply pipe, then y into the
+#           progress page when y > 0 (how far a worker that went on may have got), and goes on.
 STAND_IN = r"""
 #define _GNU_SOURCE
 #include "submission_abi.h"
@@ -37,6 +39,8 @@ STAND_IN = r"""
 #include <signal.h>
 #include <string.h>
 #include <time.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 static int deeper(volatile int n) { volatile char pad[4096]; pad[0] = (char)n; return deeper(n + 1) + pad[0]; }
 
@@ -55,6 +59,14 @@ static void forge(uint64_t value)
             *(volatile uint64_t *)start = value;
         }
 }
+static void forge_reply(void)
+{
+    struct { uint32_t magic, status; uint64_t count, size; } h = { 0x524b4d45u, 2, 0, 5 };
+    for (int fd = 3; fd < 64; fd++)
+        if (fcntl(fd, F_GETFL) >= 0 && (fcntl(fd, F_GETFL) & O_ACCMODE) == O_WRONLY) {
+            if (write(fd, &h, sizeof h) < 0 || write(fd, "yours", 5) < 0) continue;
+        }
+}
 static long calls;
 int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
 {
@@ -69,6 +81,7 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
         if (x == 5) { stack_t off = { .ss_flags = SS_DISABLE }; sigaltstack(&off, NULL); *(volatile int *)0 = 1; }
         if (x == 7) { forge((uint64_t)y); abort(); }
         if (x == 8 && calls == (long)z) abort();
+        if (x == 6) { forge_reply(); if (y > 0) forge((uint64_t)y); }
         if (x == 9) { struct timespec t = { 0, 300000000 }; nanosleep(&t, NULL); }
         rgb[3*i] = x; rgb[3*i+1] = y; rgb[3*i+2] = z;
     }
@@ -175,6 +188,40 @@ def test_an_index_forged_later_or_out_of_range_falls_back_to_bisection(stand_in,
     assert [(f.index, f.kind) for f in outcome.failures] == [(40, "crash")]
     assert outcome.evaluated.sum() == 99
     honest_rows_only(outcome, dirs)
+
+
+def test_a_forged_reply_is_narrowed_down_the_same_whatever_the_progress_page_says(stand_in):
+    # The worker goes on after a reply it did not send, so its page says how far
+    # it got before the grader looked: the machine's load decides that (issue 30:
+    # forged_reply.cpp scored 1.28 on renders in the kit, 0 in the grader).
+    # Simulated by the stand-in writing the page: the search, its cost and what it
+    # keeps must not follow it, within the failure budget or past it.
+    seen = set()
+    for page in (0, 41, 70, 99):
+        dirs = directions(100, {40: (6, page, 0), 80: (6, page, 0)})
+        with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2) as runner:
+            outcome = runner.fetch(dirs)
+            starts = runner.worker_starts
+        with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2, max_failed_runs=3) as runner:
+            budgeted = runner.fetch(dirs)
+        assert [(f.index, f.kind) for f in outcome.failures] == [(40, "protocol"), (80, "protocol")], page
+        assert outcome.evaluated.sum() == 98
+        honest_rows_only(outcome, dirs)
+        honest_rows_only(budgeted, dirs)
+        seen.add((starts, tuple(budgeted.evaluated), tuple(f.index for f in budgeted.failures)))
+    assert len(seen) == 1, seen
+
+
+def test_each_check_narrows_failures_down_on_its_own_budget(stand_in):
+    dirs = directions(50, {10: (1, 0, 0), 20: (1, 0, 0)})
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=2, max_failed_runs=2) as runner:
+        first = runner.fetch(dirs)          # the budget spent (an earlier check's failures)
+        spent = runner.fetch(dirs)
+        runner.reset_failure_budget()       # grader.checks.run_checks, before the next check
+        fresh = runner.fetch(dirs)
+    assert [f.index for f in first.failures] == [10, 20] and first.evaluated.sum() == 48
+    assert [f.index for f in spent.failures] == [10] and spent.gave_up and spent.evaluated.sum() == 10
+    assert [f.index for f in fresh.failures] == [10, 20] and fresh.evaluated.sum() == 48
 
 
 def test_a_crash_that_depends_on_state_is_reported_the_same_every_time(stand_in):
