@@ -248,8 +248,9 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
             inputs = [done[check_of(n.check).name].finding for n in c.requires]
             # Each check narrows failures down on its own budget: how many an
             # earlier check's random inputs hit decides nothing here.
-            # (In-process stand-ins, which never fail a run, have no budget.)
-            reset = getattr(ctx.lookups, "reset_failure_budget", None)
+            # (In-process stand-ins, which never fail a run, have no budget; tests
+            # of this runner pass no context.)
+            reset = getattr(getattr(ctx, "lookups", None), "reset_failure_budget", None)
             if reset is not None:
                 reset()
             t0 = time.monotonic()
