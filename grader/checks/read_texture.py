@@ -65,26 +65,22 @@ PLACEMENTS = ("end", "start")
 BIG = (96, 80)
 
 
-def big_points(width: int, height: int, seed: int) -> np.ndarray:
-    """(n, 2) (u, v) on a big face where the handout blends: a random point
-    in each of a fixed set of texels whose lattice points are inside the
-    face, and the same with one coordinate at 0, 1, just below 1 or a texel
-    edge. The texels are fixed, so where the points fall (and the score of a
-    mistake made in some texels only) does not depend on the draw."""
-    rng = np.random.default_rng([seed, width, height, 1])
-
-    def inside(cells, size):
-        return (cells + 0.05 + 0.9 * rng.random(len(cells))) / size
-
+def big_points(width: int, height: int) -> np.ndarray:
+    """(n, 2) (u, v) on a big face where the handout blends: a point inside
+    each of a fixed set of texels whose lattice points are inside the face
+    (footprint.inside_texels), and the same with one coordinate at 0, 1, just
+    below 1 or a texel edge. Fixed, so the score of a mistake made in some
+    texels or in part of each does not depend on a draw."""
     cols = np.tile(np.arange(1, width - 1), 3)
     rows = 1 + (cols * np.repeat([7, 11, 13], width - 2)) % (height - 2)
     edges_u = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], np.arange(1, 10) * (width // 10) / width])
     edges_v = np.concatenate([[0.0, 1.0, 1.0 - 2.0 ** -20], np.arange(1, 10) * (height // 10) / height])
     across_v = 1 + np.arange(8) * (height - 2) // 8
     across_u = 1 + np.arange(8) * (width - 2) // 8
-    return np.concatenate([np.stack([inside(cols, width), inside(rows, height)], axis=1),
-                           np.stack([np.repeat(edges_u, 8), inside(np.tile(across_v, len(edges_u)), height)], axis=1),
-                           np.stack([inside(np.tile(across_u, len(edges_v)), width), np.repeat(edges_v, 8)], axis=1)])
+    inside = fp.inside_texels
+    return np.concatenate([np.stack([inside(cols, width, 0), inside(rows, height, 1)], axis=1),
+                           np.stack([np.repeat(edges_u, 8), inside(np.tile(across_v, len(edges_u)), height, 1)], axis=1),
+                           np.stack([inside(np.tile(across_u, len(edges_v)), width, 0), np.repeat(edges_v, 8)], axis=1)])
 
 
 @dataclass
@@ -97,7 +93,7 @@ class Answers:
 
 def _answers(ctx: CheckContext, failures: list) -> Answers:
     w, h = BIG
-    uv = big_points(w, h, ctx.seed)
+    uv = big_points(w, h)
     texels = np.ascontiguousarray(random_faces(w, h, ctx.seed), np.float32)
     ctx.lookups.set_faces(texels)
     right, case = np.ones(len(uv), bool), None
@@ -156,7 +152,7 @@ class Measured:
 
 def _measure(ctx: CheckContext, size: tuple[int, int], failures: list) -> Measured:
     w, h = size
-    uv = fp.probe_points(w, h, ctx.seed)
+    uv = fp.probe_points(w, h)
 
     def theirs(faces):
         ctx.lookups.set_faces(faces)
@@ -626,7 +622,7 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     if exact:
         result.output = _("At all %(total)d (u, v) probed on %(sizes)d face sizes, readTexture reads the texels the "
                           "handout reads with its weights (u, v at 0, 1, just below 1, texel edges, centres, quarters "
-                          "and random points), and blends random texels as those weights say; at all %(big)d (u, v) on a "
+                          "and one more point inside each texel), and blends random texels as those weights say; at all %(big)d (u, v) on a "
                           "%(w)d x %(h)d face of random texels it answers as the handout does.") % {
             "total": probes, "sizes": len(set(SIZES)), "big": len(big.uv), "w": BIG[0], "h": BIG[1]}
         return ReadTextureFinding(ok=True, fraction=result.fraction, by_size=by_size, by_face=by_face)
