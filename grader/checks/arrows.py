@@ -15,7 +15,7 @@ from .. import PROJECT_ROOT
 from ..envmap import oracle
 from ..i18n import N_, _, and_list, language, languages
 from ..grading.results import FAILED, CheckResult, Diagnosis
-from . import check
+from . import check, shown
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import axes, fibonacci_sphere
 
@@ -73,11 +73,11 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
     verdicts, passed = [], 0
     for k, (colour, axis) in enumerate(ARROWS):
         where = [AXIS_NAMES[i] for i in found[k]]
-        shape = float(np.mean(sub_sphere[ref_sphere == k] == k))
+        shape = shown(float(np.mean(sub_sphere[ref_sphere == k] == k)))   # decided as printed
         pole_ok = where == [axis]
         shape_ok = shape >= SHAPE_AGREEMENT
         passed += pole_ok + shape_ok
-        words = {"colour": _(colour), "axis": axis, "where": and_list(where), "shape": f"{shape:.0%}"}
+        words = {"colour": _(colour), "axis": axis, "where": and_list(where), "shape": f"{shape:.2%}"}
         if not where:
             verdicts.append(_("%(colour)s arrow: missing (no %(colour)s disc at any axis)") % words)
             diagnoses.append(Diagnosis("arrow-missing", _("The %(colour)s arrow's head (%(colour)s disc at %(axis)s) "
@@ -95,6 +95,10 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
     result.fraction = passed / 6
     result.diagnoses = unique_diagnoses(diagnoses)
     result.output = "\n".join(f"- {v}" for v in verdicts)
+    if passed < 6:
+        result.output += "\n\n" + _("%(passed)d of 6 halves (%(share)s): each arrow earns half for pointing along its "
+                                    "axis and half for %(shape)s or more of it in place.") % {
+            "passed": passed, "share": f"{shown(passed / 6):.2%}", "shape": f"{SHAPE_AGREEMENT:.0%}"}
     if passed < 6:
         result.status = FAILED
     try:

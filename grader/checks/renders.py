@@ -11,7 +11,7 @@ from ..grading import fixtures
 from ..envmap import oracle
 from ..i18n import _
 from ..grading.results import FAILED, CheckResult, Diagnosis
-from . import check
+from . import check, shown
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
@@ -118,8 +118,8 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         scored = score_render(expected, got)
         s, f_mean, f_map, ok = scored.ssim, scored.flip_mean, scored.flip_map, scored.passed
         passed += ok
-        earned += scored.score
-        rows.append(f"| {render_name(fixture)} | {s:.5f} | {f_mean:.5f} | {scored.matched:.1%} "
+        earned += shown(scored.score)       # as the table prints it: the numbers shown are the numbers used
+        rows.append(f"| {render_name(fixture)} | {s:.5f} | {f_mean:.5f} | {shown(scored.matched):.2%} "
                     f"| {_('pass') if ok else _('FAIL')} |")
         result.metrics[f"ssim_{fixture.name}"] = s
         result.metrics[f"flip_mean_{fixture.name}"] = f_mean
@@ -142,6 +142,9 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
                                                         "(SSIM below %(ssim)s or FLIP above %(flip)s).")
                                    % {"wrong": len(items) - passed, "total": len(items), "ssim": SSIM_MIN, "flip": FLIP_MAX}))
     result.diagnoses = unique_diagnoses(diagnoses)
+    if passed < len(items):
+        rows.append("\n" + _("The check's share: %(share)s, the mean of the %(count)d renders' shares above "
+                              "(one not run counts 0%%).") % {"share": f"{shown(result.fraction):.2%}", "count": len(items)})
     header = [f"| {_('render')} | SSIM | FLIP | {_('pixels that match')} | |", "|---|---:|---:|---:|---|"]
     shown = ("\n\n" + _("The pictures show %(render)s, the render that differs most.") % {"render": render_name(worst[2])}
              if worst else "")
