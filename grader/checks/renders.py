@@ -146,12 +146,12 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         rows.append("\n" + _("The check's share: %(share)s, the mean of the %(count)d renders' shares above "
                               "(one not run counts 0%%).") % {"share": f"{shown(result.fraction):.2%}", "count": len(items)})
     header = [f"| {_('render')} | SSIM | FLIP | {_('pixels that match')} | |", "|---|---:|---:|---:|---|"]
-    shown = ("\n\n" + _("The pictures show %(render)s, the render that differs most.") % {"render": render_name(worst[2])}
+    pictured = ("\n\n" + _("The pictures show %(render)s, the render that differs most.") % {"render": render_name(worst[2])}
              if worst else "")
     result.output = (_("Pass: SSIM >= %(ssim)s and mean FLIP <= %(flip)s on tone-mapped images. "
                        "A render that fails earns the share of its pixels that match (per-pixel FLIP <= %(pixel)s).")
                      % {"ssim": SSIM_MIN, "flip": FLIP_MAX, "pixel": PIXEL_FLIP_MAX}
-                     + "\n\n" + "\n".join(header + rows) + shown)
+                     + "\n\n" + "\n".join(header + rows) + pictured)
 
 
 def render_name(fixture) -> str:
