@@ -51,6 +51,7 @@ SUBSET = [SUBMISSIONS / name for name in (
     "redteam/terminal_escapes.cpp",
     "redteam2/believed_on_two_faces.cpp",
     "redteam3/readtexture_vouches_for_cheap_lookups.cpp",
+    "resources/pipe_filler.cpp",
     "runtime_attacks/forged_reply.cpp",
     "wrong/u-flipped-pos-x.cpp",
 )]
@@ -65,10 +66,13 @@ def _name(path: Path) -> str:
 def test_the_subset_covers_every_zoo():
     assert all(p.is_file() for p in SUBSET), [str(p) for p in SUBSET if not p.is_file()]
     # kit_redteam: every one of its files is compared in tests/kit/test_kit_redteam.py.
-    # resources: issue 32's zoo of 2026-12-07 (memory cgroups, pipes, spinners),
-    # not yet in the subset: its agreement was not run before it landed.
-    assert {p.relative_to(SUBMISSIONS).parts[0] for p in SUBSET} == {z.name for z in ZOOS} - {
-        "kit_redteam", "resources"}
+    # resources (issue 32): pipe_filler here; the spinners agree too but take the
+    # pair 72 s and 180 s on a busy machine; memory_hog touches 1 GiB in every new
+    # worker, so under load its grading can spend the 150 s all lookups share
+    # (grader.worker.lookups.GRADING_BUDGET_S, a wall-clock limit) before the renders:
+    # measured 2026-12-07, kit and grader run at once, renders 5.71 in the kit
+    # ("used up the 150 s") and 20 in the grader: the machine decides, not the code.
+    assert {p.relative_to(SUBMISSIONS).parts[0] for p in SUBSET} == {z.name for z in ZOOS} - {"kit_redteam"}
     assert set(WITHOUT_BWRAP) <= set(SUBSET)
 
 
