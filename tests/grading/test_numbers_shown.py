@@ -57,5 +57,6 @@ def test_partial_points_come_from_the_shares_printed(graded, name, lang):
 @pytest.mark.parametrize("name", NAMES)
 def test_both_languages_print_the_same_numbers(graded, name):
     en, ja = graded[name, "en"], graded[name, "ja"]
-    assert [(c.name, c.score, PERCENT.findall(c.output)) for c in en.checks] == \
-           [(c.name, c.score, PERCENT.findall(c.output)) for c in ja.checks]
+    # speed's numbers are times, measured afresh in each grading (0.9 and 0.8 seen): its points only.
+    assert [(c.name, c.score, PERCENT.findall(c.output) if c.name != "speed" else []) for c in en.checks] == \
+           [(c.name, c.score, PERCENT.findall(c.output) if c.name != "speed" else []) for c in ja.checks]
