@@ -31,13 +31,16 @@ REPRESENTATIVE = [SUBMISSIONS / name for name in (
 def copies(source: Path, folder: Path) -> list[Path]:
     """COPIES copies of `source` under other names, each with its own comments
     (one line before the code, one after): the same code, another hash."""
-    text = source.read_text(errors="surrogateescape")
+    text = source.read_bytes().decode("utf-8", "surrogateescape")    # line ends as they are (CRLF too)
+    # A byte-order mark stays first (kit_redteam/bom_crlf): after a comment it is a stray character.
+    bom = "\ufeff" if text.startswith("\ufeff") else ""
+    text = text[len(bom):]
     out = []
     for i in range(COPIES):
         path = folder / f"student{i}_{source.stem}" / f"{['EnvironmentMap', 'envmap', 'mine', 'submission', 'final_v2'][i]}.cpp"
         path.parent.mkdir(parents=True)
-        path.write_text(f"// {['first try', 'works?', 'hw3', 'done', 'x'][i]}\n{text}\n// copy {i}: {'.' * i}\n",
-                        errors="surrogateescape")
+        path.write_bytes(f"{bom}// {['first try', 'works?', 'hw3', 'done', 'x'][i]}\n{text}\n// copy {i}: {'.' * i}\n"
+                         .encode("utf-8", "surrogateescape"))
         out.append(path)
     return out
 
