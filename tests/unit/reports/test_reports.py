@@ -272,6 +272,10 @@ def test_results_json_fields(results):
     assert by_name["sweeps"]["status"] == "failed" and by_name["sweeps"]["score"] == 20.0
     assert by_name["build"]["status"] == "passed" and by_name["build"]["number"] == "1"
     assert by_name["sweeps"]["tags"] == ["sweeps"]
+    # Each visible check's own ids (the kit's agreement test compares them per check).
+    assert {name: t["extra_data"]["diagnoses"] for name, t in by_name.items()} == {
+        c.name: sorted({d.id for d in c.diagnoses}) for c in result.checks}
+    assert any(t["extra_data"]["diagnoses"] for t in data["tests"])
     assert data["extra_data"]["status"] == GRADED
     assert data["extra_data"]["warnings"] == result.warnings
     diag = data["extra_data"]["diagnoses"]
