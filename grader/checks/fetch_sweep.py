@@ -53,6 +53,9 @@ def working_share(fraction: float) -> float:
 class SweepFinding:
     """What the fetch_sweep check tells later checks."""
     fraction: float             # share of the fixed sets' directions that match the reference, as shown
+    # Share of the Fibonacci sphere's (unit directions, as the speed check
+    # draws them: a lookup right only at other lengths is compared like with like).
+    sphere: float | None = None
 
     @property
     def working(self) -> float:
@@ -182,7 +185,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
                   "the handout's table gives and return what it answered; the %(itself)d that make no call give "
                   "the colour the handout's readTexture gives there.")
     result.output = first % words + "\n\n" + "\n".join(table) + random_words + notes
-    return SweepFinding(fraction=fraction)
+    return SweepFinding(fraction=fraction, sphere=shown(even))
 
 
 def _record_diagnoses(verdict, rec, dirs: np.ndarray, size: tuple[int, int]) -> list[Diagnosis]:

@@ -421,6 +421,25 @@ _ENTRIES = [
         "must normalise, divide by m first and square afterwards."),
     ),
     DiagnosisInfo(
+        "length-dependent", "mapping",
+        N_("The same direction gives another answer at another length"),
+        N_("The grader asked the same direction at several lengths, scaled by "
+        "powers of two (which change no digit of the ratios between its "
+        "components), and your fetchColor asked readTexture for another face "
+        "or (u, v), or for nothing, at some of them. Only the ratios to m "
+        "matter, so the length must change nothing. The two calls shown are "
+        "what was observed; what in your code depends on the size of the "
+        "components is for you to find: a guard that treats short directions "
+        "as zero, a product computed before the division (0.5 * z is 0 for "
+        "the tiniest z), integer magnitudes when choosing the axis (an int "
+        "abs, an (int) cast), float variables, or a squared length."),
+        N_("Run your fetchColor on the two calls shown and print each value "
+        "they compute until the first one that differs in more than its "
+        "scale. Choose the axis with fabs in double, divide by m before "
+        "anything else, and treat only a zero, NaN or infinite direction as "
+        "having no face."),
+    ),
+    DiagnosisInfo(
         "face-not-analysed", "mapping",
         N_("The analysis of one face stopped at a crash"),
         N_("The grader could not find out what fetchColor does toward this face, "
