@@ -398,6 +398,20 @@ _ENTRIES = [
         "picks one of the tied axes. The details name a direction to try."),
     ),
     DiagnosisInfo(
+        "black-without-lookup", "mapping",
+        N_("fetchColor returns black without calling readTexture"),
+        N_("For some directions your fetchColor returned black and made no "
+        "readTexture call at all, while it looks up the others. Every "
+        "finite, non-zero direction exits through a face at a (u, v) in "
+        "[0, 1] x [0, 1], borders included, so every one has a colour to "
+        "read. The details say what the skipped directions have in common "
+        "where the record shows it (a border of the face, a short length)."),
+        N_("Find the condition that returns black before readTexture is "
+        "called and remove it: only a zero, NaN or infinite direction may "
+        "skip the lookup. Clamping the edge texels is readTexture's job, and "
+        "a short direction has a face like any other."),
+    ),
+    DiagnosisInfo(
         "float-precision", "mapping",
         N_("Tiny or huge directions lose their precision in float"),
         N_("The components go through float somewhere (`float x = direction.x`, "

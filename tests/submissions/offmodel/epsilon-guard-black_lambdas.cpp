@@ -14,7 +14,9 @@
 //     made no readTexture call and returned black. What to fix leads to the
 //     guard: only a zero (or NaN, infinite) direction may skip the lookup
 //     (`length-dependent`, its two calls: one short, no readTexture call
-//     and black; the same direction near length 1, the table's request).
+//     and black; the same direction near length 1, the table's request;
+//     and the sweep's `black-without-lookup`: every direction it skipped is
+//     shorter than every one it looked up).
 #include "EnvironmentMap.h"
 
 #include <algorithm>
