@@ -1,4 +1,4 @@
-"""Issue 29's patterns 2, 6, 8 and 11 (tests/submissions/offmodel/, their
+"""Issue 29's patterns 2, 6, 8, 10 (its guard) and 11 (tests/submissions/offmodel/, their
 verdicts asserted with the rest of that zoo by test_offmodel_zoo.py) and
 pattern 13, the sentences a report's own tables contradict.
 
@@ -94,7 +94,14 @@ def int_abs_axis(dirs):
         return faces, (1 + s / m) / 2, (1 + t / m) / 2
 
 
+def edge_guard(dirs):
+    """The table's request, none (-2) where its u or v is not below 1."""
+    faces, u, v = table(dirs)
+    return np.where((u < 1) & (v < 1), faces, -2), u, v
+
+
 REQUESTS = {
+    "edge-guard-black_array": edge_guard,
     "row-below-at-v0_face-table": row_below_at_v0,
     "half-before-divide_signed-if-chain": half_before_divide,
     "epsilon-guard-black_lambdas": epsilon_guard,
@@ -118,6 +125,9 @@ def test_each_restated_request_differs_from_the_model_exactly_where_its_header_s
             assert wrong.any() and not (wrong & ~denormal).any()
             k = np.flatnonzero((dirs == TINY).all(axis=1))[0]
             assert (f[k], ru[k], rv[k]) == (0, 0.5, 0.5) and (u[k], v[k]) == (1, 1)
+        elif name.startswith("edge-guard"):
+            # No call exactly where the table's u or v is 1 (faces' right and top borders, edges, corners).
+            assert (wrong == (valid & ((u == 1) | (v == 1)))).all() and wrong.any()
         elif name.startswith("epsilon"):
             assert (wrong == (valid & (np.abs(dirs).max(axis=1) <= 1e-9))).all() and wrong.any()
         else:
@@ -200,6 +210,16 @@ def test_pattern_8_a_short_direction_is_shown_making_no_call(graded):
                      r"the same direction at another length, fetchColor\(Vector3\([-0-9.e, ]+\)\), asks readTexture "
                      r"for face [-+][XYZ]", fix), fix
     assert "treat only a zero, NaN or infinite direction as having no face" in fix
+
+
+@pytest.mark.slow
+@pytest.mark.sandbox
+def test_pattern_10_a_guard_at_u_or_v_one_is_shown_on_the_border(graded):
+    result, md = graded("edge-guard-black_array")
+    fix = what_to_fix(md)
+    assert "fetchColor returns black without calling readTexture" in fix
+    assert re.search(r"For (\d+) of (\d+) directions fetchColor made no readTexture call and returned black", fix)
+    assert "Each of them lies on a face's border" in fix and "reads the texels itself" not in md
 
 
 @pytest.mark.slow
@@ -291,3 +311,16 @@ def test_a_read_texture_that_keeps_the_first_face_size_loses_the_end_to_end_chec
     assert all(by_name[c].score < by_name[c].max_score for c in ("read_texture", "arrows", "renders"))
     assert all(by_name[c].score == by_name[c].max_score for c in ("fetch_sweep", "stability"))
     assert "kept-between-calls" in {d.id for d in result.diagnoses}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, kept", [("footprint/static-face-size_table", False), ("record/static-face-size_switch", False),
+                                        ("correct/idiomatic", True)])
+def test_the_arrows_see_a_kept_face_size_in_both_isolation_modes(isolation_mode, name, kept, tmp_path):
+    """The arrows' faces follow a first call on larger faces in the same
+    worker, in bubblewrap and in privilege-drop mode alike."""
+    from grader.grading.grade import grade
+    result = grade(SUBMISSIONS / f"{name}.cpp", tmp_path, GradeOptions(quick=True, only=("arrows",)), write_reports=False)
+    assert result.isolation == isolation_mode
+    arrows = {c.name: c for c in result.checks}["arrows"]
+    assert (arrows.score == arrows.max_score) == kept, arrows.output
