@@ -49,6 +49,20 @@ class CheckContext:
         return self.artifacts / name
 
 
+# A direction no check asks (the first call, on faces of another size).
+FIRST_CALL = np.array([[0.7071067811865476, 0.5772156649015329, -0.3141592653589793]])
+
+
+def set_faces_after_another_size(lookups: SubmissionLookups, faces: np.ndarray) -> None:
+    """Set `faces` (6, H, W, 3) in a worker whose first lookup was on faces
+    8 texels larger each way: a size kept from the first call (a static,
+    issue 29's pattern 12) shows in what follows, as in the sweep's second size."""
+    _, h, w, _ = faces.shape
+    lookups.set_faces(np.ones((6, h + 8, w + 8, 3), np.float32))
+    lookups.fetch(FIRST_CALL)
+    lookups.set_faces(faces, same_process=True)
+
+
 def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:
     """One diagnosis per distinct failure kind (grader.worker.Failure), with
     the input that caused it. A failure's kind (grader.worker.failures.KINDS)

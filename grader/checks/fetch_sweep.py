@@ -53,6 +53,9 @@ def working_share(fraction: float) -> float:
 class SweepFinding:
     """What the fetch_sweep check tells later checks."""
     fraction: float             # share of the fixed sets' directions that match the reference, as shown
+    # Share of the Fibonacci sphere's (unit directions, as the speed check
+    # draws them: a lookup right only at other lengths is compared like with like).
+    sphere: float | None = None
 
     @property
     def working(self) -> float:
@@ -137,15 +140,23 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     result.fraction = fraction
     result.metrics.update(cases=total, matched=matched, random_share=shown(drawn))
     scored = [part for part in parts if part[0] != RANDOM_SET]
-    itself = np.concatenate([verdict.case == fetch_record.READS_ITSELF for *_, verdict in scored])
+    black = np.concatenate([black_without_lookup(verdict, rec) for *_, rec, verdict in scored])
     all_dirs = np.concatenate([dirs for _name, dirs, *_ in scored])
+    if black.any() and not black.all():      # black everywhere is the starting code (not-implemented)
+        diagnoses.append(Diagnosis("black-without-lookup", _black_words(
+            black, np.concatenate([verdict.ok for *_, verdict in scored]),
+            np.concatenate([verdict.table[0] for *_, verdict in scored]),
+            np.concatenate([verdict.table[1] for *_, verdict in scored]), all_dirs)))
+    itself = np.concatenate([verdict.case == fetch_record.READS_ITSELF for *_, verdict in scored])
     notes = ""
-    if itself.any():
+    # Those that returned black with no call are told by black-without-lookup, not here.
+    if (itself & ~black).any():
         result.metrics["reads_itself"] = int(itself.sum())
         notes = "\n\n" + _("For %(count)d directions your fetchColor made no readTexture call (it reads the texels "
                             "itself, or calls EnvironmentMap::readTexture by its qualified name), e.g. %(call)s: "
                             "their colours are judged end to end against the handout's readTexture.") % {
-            "count": int(itself.sum()), "call": describe_direction(all_dirs[np.flatnonzero(itself)[0]])}
+            "count": int((itself & ~black).sum()),
+            "call": describe_direction(all_dirs[np.flatnonzero(itself & ~black)[0]])}
     table = [f"| {_('direction set')} | {_('cases')} | {_('match')} |", "|---|---:|---:|"]
     table += [f"| {_(name)} | {n} | {ok / n:.2%} |" if n else f"| {_(name)} | 0 | - |" for name, n, ok in rows]
     table += ["", f"| {_('face')} | {_('directions')} | {_('match')} |", "|---|---:|---:|"]
@@ -182,7 +193,39 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
                   "the handout's table gives and return what it answered; the %(itself)d that make no call give "
                   "the colour the handout's readTexture gives there.")
     result.output = first % words + "\n\n" + "\n".join(table) + random_words + notes
-    return SweepFinding(fraction=fraction)
+    return SweepFinding(fraction=fraction, sphere=shown(even))
+
+
+def black_without_lookup(verdict, rec) -> np.ndarray:
+    """(n,) directions for which fetchColor made no readTexture call and
+    returned exact black where the reference is not black: on the sweep's
+    faces no texel is black, so nothing was read (a guard returned it)."""
+    return (verdict.case == fetch_record.READS_ITSELF) & ~verdict.ok & (rec.values == 0).all(axis=1)
+
+
+def _black_words(black: np.ndarray, ok: np.ndarray, faces: np.ndarray, uv: np.ndarray, dirs: np.ndarray) -> str:
+    """The count, one direction with the table's request, and what the
+    directions share where the record shows it: u or v exactly 0 or 1, or a
+    length below every direction that was looked up."""
+    rows = np.flatnonzero(black)
+    i = rows[0]
+    words = _("For %(count)d of %(total)d directions fetchColor made no readTexture call and returned black, e.g. "
+              "%(call)s, where the table asks face %(face)s at (u, v) = (%(u)s, %(v)s).") % {
+        "count": len(rows), "total": len(black), "call": describe_direction(dirs[i]),
+        "face": reference.FACE_NAMES[int(faces[i])] if faces[i] >= 0 else "-",
+        "u": f"{uv[i, 0]:.6g}", "v": f"{uv[i, 1]:.6g}"}
+    edge = (uv[rows] == 0) | (uv[rows] == 1)
+    if edge.any(axis=1).all():
+        words += " " + _("Each of them lies on a face's border: the table gives u or v exactly 0 or 1 there "
+                         "(%(ones)d with a 1, %(zeros)d with a 0).") % {
+            "ones": int((uv[rows] == 1).any(axis=1).sum()), "zeros": int((uv[rows] == 0).any(axis=1).sum())}
+    length = np.abs(dirs).max(axis=1)
+    looked_up = ~black & ok
+    if looked_up.any() and length[rows].max() < length[looked_up].min():
+        words += " " + _("Each of them is shorter than every direction that was looked up: largest |component| "
+                         "at most %(short)s, against %(long)s and above.") % {
+            "short": f"{length[rows].max():.3g}", "long": f"{length[looked_up].min():.3g}"}
+    return words
 
 
 def _record_diagnoses(verdict, rec, dirs: np.ndarray, size: tuple[int, int]) -> list[Diagnosis]:

@@ -12,7 +12,7 @@ from ..envmap import oracle
 from ..i18n import _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
-from .context import CheckContext, failure_diagnoses, unique_diagnoses
+from .context import CheckContext, failure_diagnoses, set_faces_after_another_size, unique_diagnoses
 from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
 # Measured on the correct solutions (-O0, -O3, -ffast-math, float and double)
@@ -87,7 +87,7 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
     """(image, outcome): the fixture's scene traced by the reference, the
     environment looked up by the submission in its worker."""
     escapes = _traced(_stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
-    ctx.lookups.set_faces(_faces(_stamp(fixture.map)))
+    set_faces_after_another_size(ctx.lookups, _faces(_stamp(fixture.map)))
     outcome = ctx.lookups.fetch(escapes.dirs)
     rgb = np.nan_to_num(outcome.values, nan=0.0, posinf=0.0, neginf=0.0)
     return oracle.current().resolve(escapes, rgb), outcome

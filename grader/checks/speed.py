@@ -163,11 +163,14 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                 break   # clearly slow: more rounds would only cost the student's time budget
     right_fraction, agree_fraction = right / total, agree / total
     fastest_ns, fastest_right, fastest_agree = min(each_pass)        # the pass whose time counts
-    slack = min(TIMED_SLACK, max(SLACK_FLOOR, 2 * (1 - sweep.fraction)))
+    # The timing directions are unit directions: held to the sweep's share of
+    # those (a fetchColor right only at other lengths is no cheaper path).
+    like = sweep.fraction if sweep.sphere is None else sweep.sphere
+    slack = min(TIMED_SLACK, max(SLACK_FLOOR, 2 * (1 - like)))
     # Where the pool passes but the pass that counts does not, its share is the one said.
     right_total = agree_total = total
-    pass_wrong = fastest_right < sweep.fraction - PASS_SLACK
-    if pass_wrong and right_fraction >= sweep.fraction - slack:
+    pass_wrong = fastest_right < like - PASS_SLACK
+    if pass_wrong and right_fraction >= like - slack:
         right_fraction, right_total = fastest_right, JUDGED // PASSES
     if fastest_agree < min(agree_fraction, 1.0 - TIMED_DIFFER):
         agree_fraction, agree_total = fastest_agree, JUDGED // PASSES
@@ -183,17 +186,17 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
                                       _("Timed lookups differ from the same code's untimed answers on "
                                         "%(share)s of directions.") % values)]
         return
-    if right_fraction < sweep.fraction - slack or pass_wrong:
+    if right_fraction < like - slack or pass_wrong:
         result.status, result.fraction = FAILED, 0.0
         values = {"size": TIMED_FACE, "right": f"{right_fraction:.1%}", "total": right_total,
-                  "sweep": f"{sweep.fraction:.1%}"}
+                  "sweep": f"{like:.1%}"}
         result.output = _("On the timing faces (%(size)d x %(size)d texels), fetchColor matched what your own "
                           "readTexture gives at the handout's face and (u, v) on %(right)s of %(total)d random "
-                          "directions, against %(sweep)s in the sweep: the time of lookups that do not "
+                          "directions, against %(sweep)s of the sweep's Fibonacci sphere: the time of lookups that do not "
                           "work there does not count.") % values
         result.diagnoses = [Diagnosis("timing-faces-wrong",
                                       _("On the timing faces fetchColor is right on %(right)s of directions "
-                                        "(the sweep: %(sweep)s).") % values)]
+                                        "(the sweep's Fibonacci sphere: %(sweep)s).") % values)]
         return
     # Each side's time is its fastest round (noise only adds time), less the
     # protocol's cost; at least 1% of the raw figure, so a ratio stays defined.

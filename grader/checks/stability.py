@@ -7,13 +7,14 @@ import numpy as np
 from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Needs, check, shown
-from .instruments.compare import describe_direction, tolerance, worst_cases
-from .context import CheckContext, failure_diagnoses, unique_diagnoses
-from .instruments.directions import corners, edges
+from .instruments.compare import describe_direction, format_vector, tolerance, worst_cases
+from .context import CheckContext, failure_diagnoses, set_faces_after_another_size, unique_diagnoses
+from .instruments.directions import corners, edges, fibonacci_sphere
 from .instruments import fetch_record
 from .read_texture import ReadTextureFinding, read_texture
 from .fetch_sweep import WORKING_CREDIT, SweepFinding, fetch_sweep
 from ..cubemap.directions import texel_directions
+from ..envmap import library as reference
 from ..envmap.geometry import face_uv_to_direction
 from .instruments.textures import coordinate_faces
 
@@ -38,6 +39,71 @@ def extreme_directions() -> np.ndarray:
         [HUGE, 0, 0], [0, -HUGE, 0], [HUGE, HUGE, HUGE], [HUGE, 1, 1], [1, HUGE, -HUGE],
         [1e-300, 1e-300, 1], [1, 1e-300, 1e-300], [1e300, 1e-300, 0],
     ], np.float64)
+
+
+# Lengths as exact powers of two: a direction scaled by 2^k is the same
+# direction to the last bit where the scaled components are exact (kept only
+# there), so an answer that changes between two of them is the length's doing.
+LENGTH_EXPONENTS = (-1000, -600, -140, -30, 0, 10, 30, 140, 600, 1000)
+LENGTH_BASES = 24   # directions of the sphere asked at every length, beside the extreme ones
+
+
+def same_direction_lengths(extreme: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(dirs (n, 3), base (n,)): each base direction at every length of
+    LENGTH_EXPONENTS where the scaling is exact, and each finite, non-zero
+    extreme direction as it is beside its own base (itself brought, exactly,
+    to a largest component in [0.5, 1))."""
+    finite = extreme[np.isfinite(extreme).all(axis=1) & (np.abs(extreme).max(axis=1) > 0)]
+    _mantissa, e = np.frexp(np.abs(finite).max(axis=1))
+    bases = np.concatenate([np.ldexp(finite, -e[:, None]), fibonacci_sphere(LENGTH_BASES)])
+    dirs, base = [finite], [np.arange(len(finite))]
+    with np.errstate(over="ignore", under="ignore"):
+        for k in LENGTH_EXPONENTS:
+            scaled = np.ldexp(bases, k)
+            exact = np.isfinite(scaled).all(axis=1) & (np.ldexp(scaled, -k) == bases).all(axis=1)
+            dirs.append(scaled[exact])
+            base.append(np.flatnonzero(exact))
+    return np.concatenate(dirs), np.concatenate(base)
+
+
+def _asked(rec, i: int) -> str:
+    """What fetchColor did for direction i, as the record shows it."""
+    faces, uv = rec.request()
+    if rec.calls[i] == 0:
+        return _("makes no readTexture call and returns %(rgb)s") % {"rgb": format_vector(rec.values[i])}
+    if faces[i] >= 0:
+        return _("asks readTexture for face %(face)s at (u, v) = (%(u)s, %(v)s)") % {
+            "face": reference.FACE_NAMES[int(faces[i])], "u": f"{uv[i, 0]:.6g}", "v": f"{uv[i, 1]:.6g}"}
+    return _("returns %(rgb)s") % {"rgb": format_vector(rec.values[i])}
+
+
+def length_dependence(lookups, extreme: np.ndarray, texels: np.ndarray, tol) -> Diagnosis | None:
+    """The same direction at two lengths, right at one and wrong at the
+    other (both recorded): length-dependent, with the pair, or None."""
+    dirs, base = same_direction_lengths(extreme)
+    rec, verdict = fetch_record.observe(lookups, dirs, texels, tol)
+    answered = rec.calls >= 0
+    changing = [b for b in np.unique(base)
+                if verdict.ok[(base == b) & answered].any() and (~verdict.ok[(base == b) & answered]).any()]
+    if not changing:
+        return None
+    # The pair at the most ordinary lengths (nearest 1): the easiest two calls to try.
+    scale = np.abs(np.log2(np.abs(dirs).max(axis=1)))
+    pairs = []
+    for b in changing:
+        rows = np.flatnonzero((base == b) & answered)
+        wrong = min(rows[~verdict.ok[rows]], key=lambda i: scale[i])
+        right = min(rows[verdict.ok[rows]], key=lambda i: scale[i])
+        pairs.append((scale[wrong] + scale[right], wrong, right))
+    _cost, wrong, right = min(pairs)
+    return Diagnosis("length-dependent", _(
+        "%(wrong)s %(wrong_asked)s; the same direction at another length, %(right)s, %(right_asked)s, as the "
+        "table gives. The two differ by a power of two only (no digit of the ratios changes), so the length "
+        "alone changes your answer: %(count)d of %(bases)d directions asked at several lengths, from the "
+        "smallest denormals to 1e308, do this.") % {
+        "wrong": describe_direction(dirs[wrong]), "wrong_asked": _asked(rec, wrong),
+        "right": describe_direction(dirs[right]), "right_asked": _asked(rec, right),
+        "count": len(changing), "bases": len(np.unique(base))})
 
 
 def ulp_moved(dirs: np.ndarray) -> np.ndarray:
@@ -103,7 +169,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # its readTexture were the handout's: the student's readTexture plays no part.
     size = (FACE_SIZE, FACE_SIZE)
     texels = coordinate_faces(FACE_SIZE, FACE_SIZE)
-    ctx.lookups.set_faces(texels)
+    set_faces_after_another_size(ctx.lookups, texels)
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0)
     parts, diagnoses = [], []
 
@@ -130,6 +196,11 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     result.mismatches += worst_cases(verdict, lambda i: describe_direction(extreme[i]), verdict.actual, verdict.expected,
                                      group=group, hits=lambda i: fetch_record.hits(verdict, i, size))
     result.mismatch_counts[group] = len(verdict.failures)
+    # The same directions at other lengths (not scored): says, with a pair of
+    # calls, when only the length changes the answer (issue 29, patterns 6, 8, 11).
+    found = length_dependence(ctx.lookups, extreme, texels, tol)
+    if found is not None:
+        diagnoses.append(found)
 
     # 3. Ties moved by one ulp: either touching face is right.
     ties = ulp_moved(np.concatenate([corners(), edges(4)]))

@@ -402,6 +402,20 @@ _ENTRIES = [
         "picks one of the tied axes. The details name a direction to try."),
     ),
     DiagnosisInfo(
+        "black-without-lookup", "mapping", ("checks.fetch_sweep",),
+        N_("fetchColor returns black without calling readTexture"),
+        N_("For some directions your fetchColor returned black and made no "
+        "readTexture call at all, while it looks up the others. Every "
+        "finite, non-zero direction exits through a face at a (u, v) in "
+        "[0, 1] x [0, 1], borders included, so every one has a colour to "
+        "read. The details say what the skipped directions have in common "
+        "where the record shows it (a border of the face, a short length)."),
+        N_("Find the condition that returns black before readTexture is "
+        "called and remove it: only a zero, NaN or infinite direction may "
+        "skip the lookup. Clamping the edge texels is readTexture's job, and "
+        "a short direction has a face like any other."),
+    ),
+    DiagnosisInfo(
         "float-precision", "mapping", ("checks.instruments.face_recovery",),
         N_("Tiny or huge directions lose their precision in float"),
         N_("The components go through float somewhere (`float x = direction.x`, "
@@ -423,6 +437,25 @@ _ENTRIES = [
         "only the ratios to the largest component matter."),
         N_("Divide by m, the largest |component|, instead of the length; if you "
         "must normalise, divide by m first and square afterwards."),
+    ),
+    DiagnosisInfo(
+        "length-dependent", "mapping", ("checks.stability",),
+        N_("The same direction gives another answer at another length"),
+        N_("The grader asked the same direction at several lengths, scaled by "
+        "powers of two (which change no digit of the ratios between its "
+        "components), and your fetchColor asked readTexture for another face "
+        "or (u, v), or for nothing, at some of them. Only the ratios to m "
+        "matter, so the length must change nothing. The two calls shown are "
+        "what was observed; what in your code depends on the size of the "
+        "components is for you to find: a guard that treats short directions "
+        "as zero, a product computed before the division (0.5 * z is 0 for "
+        "the tiniest z), integer magnitudes when choosing the axis (an int "
+        "abs, an (int) cast), float variables, or a squared length."),
+        N_("Run your fetchColor on the two calls shown and print each value "
+        "they compute until the first one that differs in more than its "
+        "scale. Choose the axis with fabs in double, divide by m before "
+        "anything else, and treat only a zero, NaN or infinite direction as "
+        "having no face."),
     ),
     DiagnosisInfo(
         "face-not-analysed", "mapping", ("checks.instruments.face_recovery",),

@@ -33,11 +33,13 @@ ZOO = {
     "wrong-face-x-swapped": ({("wrong-face", "+X"), ("wrong-face", "-X")}, {MAPPING, "arrows"}, {FILTER}, GRADED),
     "combo-swapped-and-flipped": ({("wrong-face", "+Y"), ("wrong-face", "-Y"), ("v-flipped", "+X")},
                                   {MAPPING, "arrows"}, {FILTER}, GRADED),
-    # Dividing by the length (or by nothing) also breaks tiny/huge directions.
-    "not-normalized-length": ({("not-divided-by-m", None), ("nan-output", None)}, {MAPPING, "stability"}, {FILTER}, GRADED),
+    # Dividing by the length (or by nothing) also breaks tiny/huge directions; the same direction
+    # asked at lengths a power of two apart shows it in two calls (length-dependent, issue 29).
+    "not-normalized-length": ({("not-divided-by-m", None), ("nan-output", None), ("length-dependent", None)},
+                              {MAPPING, "stability"}, {FILTER}, GRADED),
     # Its NaN came from its readTexture given u = 5e307 (floor of inf): fetchColor asks a finite (u, v) and
     # returns what it is given (issue 29: judged as if readTexture were the handout's); the cause stays named.
-    "not-normalized-unit": ({("not-divided-by-m", None)}, {MAPPING}, {FILTER}, GRADED),
+    "not-normalized-unit": ({("not-divided-by-m", None), ("length-dependent", None)}, {MAPPING}, {FILTER}, GRADED),
     # readTexture mistakes: fetchColor is judged on its own and keeps its points.
     "nearest-neighbor": ({("nearest-neighbor", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
     "half-texel-offset": ({("half-texel-offset", None)}, {FILTER, "renders"}, {MAPPING, "arrows", "stability"}, GRADED),
@@ -51,7 +53,8 @@ ZOO = {
     # Every direction toward -Z crashes: that face is listed as not analysed, never dropped.
     "crash-null": ({("crash", None), ("face-not-analysed", "-Z")}, {MAPPING}, {FILTER}, GRADED),
     "timeout-loop": ({("timeout", None)}, {"stability"}, {FILTER, "renders"}, TIMEOUT),
-    "nan-huge": ({("nan-output", None), ("length-overflow", None)}, {"stability"}, {FILTER, MAPPING, "renders", "arrows"}, GRADED),
+    "nan-huge": ({("nan-output", None), ("length-overflow", None), ("length-dependent", None)}, {"stability"},
+                 {FILTER, MAPPING, "renders", "arrows"}, GRADED),
     "slow": ({("slow", None)}, {"speed"}, {FILTER, MAPPING, "renders", "arrows", "stability"}, GRADED),
     "syntax-error": ({("build-error", None)}, {FILTER, MAPPING}, set(), BUILD_ERROR),
 }

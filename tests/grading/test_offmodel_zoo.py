@@ -44,7 +44,16 @@ def test_every_offmodel_submission_has_its_truth():
         assert set(truth(name)) >= {"causes", "per_face", "symptoms", "loses", "keeps"}, name
 
 
-@pytest.mark.parametrize("name", NAMES)
+# False ids the per-face analysis (instruments/face_recovery.py, being retired
+# for the record; issue 29) still names, each checked false in the file's header.
+KNOWN_FALSE = {
+    "epsilon-guard-black_lambdas": "float-precision: no float in the file (a 1e-9 guard returns black)",
+    "int-abs-axis_c-style": "uv-mismatch ('reads the right face') on the faces its directions leave",
+}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(reason=KNOWN_FALSE[n], strict=True))
+                                  if n in KNOWN_FALSE else n for n in NAMES])
 def test_offmodel_submission_is_diagnosed_exactly(name, tmp_path):
     result = grade_once(ZOO / f"{name}.cpp", tmp_path, GradeOptions(quick=True))
     assert result.status == GRADED
