@@ -113,6 +113,7 @@ class BuildResult:
     cached: bool = False
     source_name: str = SOURCE_NAME  # the source's path inside the submission, as messages show it
     timed_out: bool = False
+    stopped_by: str = ""          # a build that timed out: "cpu" (the compiler's CPU time) or "wall" (the outer bound)
     # Why the build failed, an id of grader/grading/catalogue.py: "build-error" (the
     # compiler's), or a refusal: no-source, empty-submission, unknown-format,
     # unreadable-archive, refused-include, calls-reference, forbidden-object.
@@ -227,7 +228,8 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         return done
 
     def failed(done: CompilerStep) -> dict:
-        return {"ok": False, "timed_out": done.timed_out, "output": neutral("".join(outputs))}
+        return {"ok": False, "timed_out": done.timed_out, "stopped_by": done.stopped_by,
+                "output": neutral("".join(outputs))}
 
     # 1. Preprocess, listing the files the preprocessor actually read (-MD):
     # each must be an API header or a system header, whatever the outcome.
@@ -388,6 +390,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
         result.source = final / SOURCE_NAME
     result.ok = bool(record["ok"])
     result.timed_out = bool(record["timed_out"])
+    result.stopped_by = record.get("stopped_by", "")
     result.library = final / LIBRARY_NAME if result.ok else None
     refusal = record.get("refusal")
     if refusal:

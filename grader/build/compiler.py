@@ -88,6 +88,7 @@ class CompilerStep:
     returncode: int
     output: str
     timed_out: bool = False
+    stopped_by: str = ""     # a step that timed out: "cpu" (its CPU time used up) or "wall" (the outer bound)
 
 
 # The compiler sees no secrets of ours (no GRADER_SECRET in
@@ -150,7 +151,7 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
     ours it may see)."""
     from ..worker import memory
     if deadline.cpu_s <= 0 or deadline.wall_left() <= 0:
-        return CompilerStep(-1, "", timed_out=True)
+        return CompilerStep(-1, "", timed_out=True, stopped_by="cpu" if deadline.cpu_s <= 0 else "wall")
     cpu = max(1, int(deadline.cpu_s) + 1)     # each process's own backstop
     env = dict(_COMPILER_ENVIRONMENT)
     drop: dict = {}
@@ -177,35 +178,39 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
         proc.wait()
         proc.stdout.close()
         text = out.decode("utf-8", "replace")
-        if ended == "timeout":
-            return CompilerStep(-1, text, timed_out=True)
+        if ended in ("cpu", "wall"):
+            return CompilerStep(-1, text, timed_out=True, stopped_by=ended)
         return CompilerStep(-1, f"{text}\n{OUTPUT_STOPPED}\n")
-    # cc1plus stopped by the CPU-time limit: "Killed signal terminated program cc1plus".
+    # cc1plus stopped by its own CPU-time limit (ulimit -t): "Killed signal terminated program cc1plus".
     text = out.decode("utf-8", "replace")
     if proc.returncode != 0 and "signal terminated program" in text:
-        return CompilerStep(proc.returncode, text, timed_out=True)
+        return CompilerStep(proc.returncode, text, timed_out=True, stopped_by="cpu")
     return CompilerStep(proc.returncode, text)
 
 
 def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str, float]:
     """proc's output (at most MAX_COMPILER_OUTPUT_BYTES), how reading ended
-    ("exited", "timeout" or "overflow": it printed more; the caller kills
-    it) and the CPU seconds its processes used. communicate() would hold all
-    of it in our memory."""
+    ("exited"; "cpu" or "wall": the deadline's CPU time or its outer bound
+    reached; "overflow": it printed more; the caller kills it) and the CPU
+    seconds its processes used. communicate() would hold all of it in our
+    memory."""
     from ..worker.process import tree_cpu_ns
     fd = proc.stdout.fileno()
     chunks, size, used_ns = [], 0, 0
 
-    def out_of_time() -> bool:
+    def out_of_time() -> str | None:
         nonlocal used_ns
         used_ns = max(used_ns, tree_cpu_ns(proc.pid))
-        return used_ns > deadline.cpu_s * 1e9 or deadline.wall_left() <= 0
+        if used_ns > deadline.cpu_s * 1e9:
+            return "cpu"
+        return "wall" if deadline.wall_left() <= 0 else None
 
     while True:
         ready, _, _ = select.select([fd], [], [], max(0.0, min(0.1, deadline.wall_left())))
         if not ready:
-            if out_of_time():
-                return b"".join(chunks), "timeout", used_ns / 1e9
+            why = out_of_time()
+            if why:
+                return b"".join(chunks), why, used_ns / 1e9
             continue
         chunk = os.read(fd, 1 << 16)
         if not chunk:
@@ -216,8 +221,9 @@ def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str
             return b"".join(chunks)[:MAX_COMPILER_OUTPUT_BYTES], "overflow", used_ns / 1e9
     proc.stdout.close()
     while proc.poll() is None:
-        if out_of_time():
-            return b"".join(chunks), "timeout", used_ns / 1e9
+        why = out_of_time()
+        if why:
+            return b"".join(chunks), why, used_ns / 1e9
         time.sleep(0.01)
     return b"".join(chunks), "exited", used_ns / 1e9
 
