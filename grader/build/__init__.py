@@ -34,7 +34,7 @@ but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop"),
 once grader/build/compiler.py has made sure that uid can read none of
 the grader's, the course's or the uploads' files; otherwise as ourselves
 ("none"). Always with stdin /dev/null, a scrubbed environment, CPU/memory/
-descriptor limits, oom_score_adj 1000 in the grading's memory cgroup
+descriptor limits, oom_score_adj 1000 in the grading's memory and cpu cgroups
 (grader/worker/memory.py), and a deadline in CPU time of the compiler's
 processes with the wall clock only as an outer bound (compiler.Deadline).
 

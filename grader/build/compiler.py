@@ -2,7 +2,7 @@
 under bubblewrap where it works, else as the unprivileged BUILD_UID
 ("privilege-drop"), else as ourselves ("none"); always with stdin /dev/null,
 a scrubbed environment, CPU, memory, descriptor and output limits,
-oom_score_adj 1000 in the grading's memory cgroup (grader/worker/memory.py),
+oom_score_adj 1000 in the grading's memory and cpu cgroups (grader/worker/memory.py),
 and a deadline in CPU time of the compiler's processes with the wall clock
 only as an outer bound (Deadline). The flags every build uses are here too.
 
@@ -155,7 +155,6 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
     cpu = max(1, int(deadline.cpu_s) + 1)     # each process's own backstop
     env = dict(_COMPILER_ENVIRONMENT)
     drop: dict = {}
-    group = memory.current()
     if isolation == "bubblewrap":
         from ..worker.sandbox import compiler_command
         cmd = compiler_command(cmd, [], cwd)
@@ -164,11 +163,10 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
         # folder only it (and root) can enter; its temporary files go there too.
         drop = {"user": BUILD_UID, "group": BUILD_GID, "extra_groups": []}
         env = {"PATH": "/usr/bin:/bin", "LC_ALL": "C", "TMPDIR": str(cwd / "tmp"), "HOME": str(cwd)}
-        if group is not None:
-            group.allow_uid(BUILD_UID)     # its shell joins the grading's cgroup itself
+        memory.allow_uid(BUILD_UID)     # its shell joins the grading's cgroups itself
     elif isolation == "none":
         env["TMPDIR"] = str(cwd / "tmp")
-    proc = subprocess.Popen(memory.charged(limited(cmd, cpu), group), cwd=cwd, stdin=subprocess.DEVNULL,
+    proc = subprocess.Popen(memory.charged(limited(cmd, cpu)), cwd=cwd, stdin=subprocess.DEVNULL,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True, env=env, **drop)
     out, ended, used_s = _read_capped(proc, deadline)
