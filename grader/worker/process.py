@@ -223,6 +223,9 @@ class Worker:
     # only while the grader is asking it something (issue 32). Tests that
     # watch for a stop sent by another worker turn it off.
     stop_between_calls = True
+    # Every thread but the main one at SCHED_IDLE (_demote_threads). Tests of
+    # the stop itself turn it off: a thread that really runs is the hard case.
+    demote_threads = True
 
     def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
                  preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
@@ -608,7 +611,7 @@ class Worker:
         cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c). Threads started
         in a call (a static initialiser's, in loading) are demoted while it
         runs, at each look at its progress, or once it ends."""
-        if self._worker_pid is None:
+        if self._worker_pid is None or not self.demote_threads:
             return
         try:
             tids = [int(t) for t in os.listdir(f"/proc/{self._worker_pid}/task")]
