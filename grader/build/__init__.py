@@ -34,7 +34,7 @@ but we are root, as the unprivileged uid/gid BUILD_UID ("privilege-drop"),
 once grader/build/compiler.py has made sure that uid can read none of
 the grader's, the course's or the uploads' files; otherwise as ourselves
 ("none"). Always with stdin /dev/null, a scrubbed environment, CPU/memory/
-descriptor limits, oom_score_adj 1000 in the grading's memory cgroup
+descriptor limits, oom_score_adj 1000 in the grading's memory and cpu cgroups
 (grader/worker/memory.py), and a deadline in CPU time of the compiler's
 processes with the wall clock only as an outer bound (compiler.Deadline).
 
@@ -113,6 +113,7 @@ class BuildResult:
     cached: bool = False
     source_name: str = SOURCE_NAME  # the source's path inside the submission, as messages show it
     timed_out: bool = False
+    stopped_by: str = ""          # a build that timed out: "cpu" (the compiler's CPU time) or "wall" (the outer bound)
     # Why the build failed, an id of grader/grading/catalogue.py: "build-error" (the
     # compiler's), or a refusal: no-source, empty-submission, unknown-format,
     # unreadable-archive, refused-include, calls-reference, forbidden-object.
@@ -227,7 +228,8 @@ def _build_in(scratch: Path, common_dir: Path, out_dir: Path, cxxflags: list[str
         return done
 
     def failed(done: CompilerStep) -> dict:
-        return {"ok": False, "timed_out": done.timed_out, "output": neutral("".join(outputs))}
+        return {"ok": False, "timed_out": done.timed_out, "stopped_by": done.stopped_by,
+                "output": neutral("".join(outputs))}
 
     # 1. Preprocess, listing the files the preprocessor actually read (-MD):
     # each must be an API header or a system header, whatever the outcome.
@@ -388,6 +390,7 @@ def build_submission(path, *, cache_dir=None, sanitize=False, timeout_s=60,
         result.source = final / SOURCE_NAME
     result.ok = bool(record["ok"])
     result.timed_out = bool(record["timed_out"])
+    result.stopped_by = record.get("stopped_by", "")
     result.library = final / LIBRARY_NAME if result.ok else None
     refusal = record.get("refusal")
     if refusal:

@@ -2,7 +2,7 @@
 under bubblewrap where it works, else as the unprivileged BUILD_UID
 ("privilege-drop"), else as ourselves ("none"); always with stdin /dev/null,
 a scrubbed environment, CPU, memory, descriptor and output limits,
-oom_score_adj 1000 in the grading's memory cgroup (grader/worker/memory.py),
+oom_score_adj 1000 in the grading's memory and cpu cgroups (grader/worker/memory.py),
 and a deadline in CPU time of the compiler's processes with the wall clock
 only as an outer bound (Deadline). The flags every build uses are here too.
 
@@ -88,6 +88,7 @@ class CompilerStep:
     returncode: int
     output: str
     timed_out: bool = False
+    stopped_by: str = ""     # a step that timed out: "cpu" (its CPU time used up) or "wall" (the outer bound)
 
 
 # The compiler sees no secrets of ours (no GRADER_SECRET in
@@ -150,11 +151,10 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
     ours it may see)."""
     from ..worker import memory
     if deadline.cpu_s <= 0 or deadline.wall_left() <= 0:
-        return CompilerStep(-1, "", timed_out=True)
+        return CompilerStep(-1, "", timed_out=True, stopped_by="cpu" if deadline.cpu_s <= 0 else "wall")
     cpu = max(1, int(deadline.cpu_s) + 1)     # each process's own backstop
     env = dict(_COMPILER_ENVIRONMENT)
     drop: dict = {}
-    group = memory.current()
     if isolation == "bubblewrap":
         from ..worker.sandbox import compiler_command
         cmd = compiler_command(cmd, [], cwd)
@@ -163,11 +163,10 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
         # folder only it (and root) can enter; its temporary files go there too.
         drop = {"user": BUILD_UID, "group": BUILD_GID, "extra_groups": []}
         env = {"PATH": "/usr/bin:/bin", "LC_ALL": "C", "TMPDIR": str(cwd / "tmp"), "HOME": str(cwd)}
-        if group is not None:
-            group.allow_uid(BUILD_UID)     # its shell joins the grading's cgroup itself
+        memory.allow_uid(BUILD_UID)     # its shell joins the grading's cgroups itself
     elif isolation == "none":
         env["TMPDIR"] = str(cwd / "tmp")
-    proc = subprocess.Popen(memory.charged(limited(cmd, cpu), group), cwd=cwd, stdin=subprocess.DEVNULL,
+    proc = subprocess.Popen(memory.charged(limited(cmd, cpu)), cwd=cwd, stdin=subprocess.DEVNULL,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             start_new_session=True, env=env, **drop)
     out, ended, used_s = _read_capped(proc, deadline)
@@ -177,35 +176,39 @@ def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str =
         proc.wait()
         proc.stdout.close()
         text = out.decode("utf-8", "replace")
-        if ended == "timeout":
-            return CompilerStep(-1, text, timed_out=True)
+        if ended in ("cpu", "wall"):
+            return CompilerStep(-1, text, timed_out=True, stopped_by=ended)
         return CompilerStep(-1, f"{text}\n{OUTPUT_STOPPED}\n")
-    # cc1plus stopped by the CPU-time limit: "Killed signal terminated program cc1plus".
+    # cc1plus stopped by its own CPU-time limit (ulimit -t): "Killed signal terminated program cc1plus".
     text = out.decode("utf-8", "replace")
     if proc.returncode != 0 and "signal terminated program" in text:
-        return CompilerStep(proc.returncode, text, timed_out=True)
+        return CompilerStep(proc.returncode, text, timed_out=True, stopped_by="cpu")
     return CompilerStep(proc.returncode, text)
 
 
 def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str, float]:
     """proc's output (at most MAX_COMPILER_OUTPUT_BYTES), how reading ended
-    ("exited", "timeout" or "overflow": it printed more; the caller kills
-    it) and the CPU seconds its processes used. communicate() would hold all
-    of it in our memory."""
+    ("exited"; "cpu" or "wall": the deadline's CPU time or its outer bound
+    reached; "overflow": it printed more; the caller kills it) and the CPU
+    seconds its processes used. communicate() would hold all of it in our
+    memory."""
     from ..worker.process import tree_cpu_ns
     fd = proc.stdout.fileno()
     chunks, size, used_ns = [], 0, 0
 
-    def out_of_time() -> bool:
+    def out_of_time() -> str | None:
         nonlocal used_ns
         used_ns = max(used_ns, tree_cpu_ns(proc.pid))
-        return used_ns > deadline.cpu_s * 1e9 or deadline.wall_left() <= 0
+        if used_ns > deadline.cpu_s * 1e9:
+            return "cpu"
+        return "wall" if deadline.wall_left() <= 0 else None
 
     while True:
         ready, _, _ = select.select([fd], [], [], max(0.0, min(0.1, deadline.wall_left())))
         if not ready:
-            if out_of_time():
-                return b"".join(chunks), "timeout", used_ns / 1e9
+            why = out_of_time()
+            if why:
+                return b"".join(chunks), why, used_ns / 1e9
             continue
         chunk = os.read(fd, 1 << 16)
         if not chunk:
@@ -216,8 +219,9 @@ def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str
             return b"".join(chunks)[:MAX_COMPILER_OUTPUT_BYTES], "overflow", used_ns / 1e9
     proc.stdout.close()
     while proc.poll() is None:
-        if out_of_time():
-            return b"".join(chunks), "timeout", used_ns / 1e9
+        why = out_of_time()
+        if why:
+            return b"".join(chunks), why, used_ns / 1e9
         time.sleep(0.01)
     return b"".join(chunks), "exited", used_ns / 1e9
 

@@ -118,6 +118,22 @@ def _trim(lines: list[str]) -> str:
     return text
 
 
+def _stopped(stopped_by: str, timeout_s: float) -> str:
+    """Which of the build's two bounds stopped it, with the number that
+    applied (compiler.Deadline): its CPU time is the source's doing; the
+    wall-clock bound is reached only when the machine was too busy."""
+    if stopped_by == "wall":
+        from ..worker.process import wall_bound
+        return _("The build was stopped after waiting %(wall)s s for the machine, which was too busy: the compiler "
+                 "had used less than its %(seconds)s s of processor time, so this is not your code's doing. "
+                 "Submit again later; if it happens again, tell your instructor.") % {
+                     "wall": f"{wall_bound(timeout_s):g}", "seconds": f"{timeout_s:g}"}
+    return _("The compiler used more than %(seconds)s s of processor time on this file and was stopped. "
+             "Something in it makes compiling take that long (for example deep template or constexpr "
+             "recursion, or a large table computed at compile time): make it simpler.") % {
+                 "seconds": f"{timeout_s:g}"}
+
+
 def describe(result, output: str, timeout_s: float) -> None:
     """Fill log, errors and warnings from the cached compiler output. The
     log's first line is the headline: a friendly sentence when one applies,
@@ -133,7 +149,7 @@ def describe(result, output: str, timeout_s: float) -> None:
             (result.warnings if match.group("kind") == "warning" else result.errors).append(entry)
     sentences = [s.replace(SOURCE_NAME, name, 1) for s in _friendly(output)]
     if result.timed_out:
-        sentences.insert(0, _("The build took longer than %(seconds)s s and was stopped.") % {"seconds": f"{timeout_s:g}"})
+        sentences.insert(0, _stopped(result.stopped_by, timeout_s))
     if not result.ok:
         if not sentences and not result.errors:
             sentences = [_("The build failed; the compiler's messages follow.")]

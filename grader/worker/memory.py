@@ -1,5 +1,6 @@
-"""What a submission's memory is charged to, so that running out of it ends
-the submission and never the grader (issue 32).
+"""What a submission's memory and CPU are charged to, so that running out of
+memory ends the submission and never the grader, and its threads take no
+more of the machine than one process of a classmate's does (issue 32).
 
 Pipe buffers, memfds and other kernel memory are outside a worker's
 RLIMIT_AS and its RSS, but a container's memory cgroup counts them: a
@@ -16,6 +17,12 @@ the grader. Three defences, each where the machine allows it:
   before they run anything, so their kernel memory is charged there and an
   OOM kills inside it only; `oom_kills()` tells a death by OOM apart.
 
+Its CPU: one cpu cgroup per grading beside it (cgroup v1's cpu controller, or
+the same v2 folder where `cpu` is delegated too) of the default weight
+(cpu.shares 1024, cpu.weight 100: what one ordinary process gets). The
+scheduler shares the machine between cgroups first, so a worker's 63 spinning
+threads together weigh what a classmate's single-threaded worker weighs.
+
 The descriptors themselves are bounded where they are made: RLIMIT_NOFILE in
 worker.c (Limits.open_files) and in the compiler's shell (grader/build.py).
 """
@@ -24,6 +31,7 @@ from __future__ import annotations
 import contextlib
 import itertools
 import os
+import shlex
 import time
 from pathlib import Path
 
@@ -40,10 +48,11 @@ _counter = itertools.count()
 
 
 class GradingCgroup:
-    """A memory cgroup of its own (v1 or v2), made by `grading_cgroup`."""
+    """A cgroup of its own (v1 or v2) for one controller ("memory" or "cpu";
+    in v2 the two share one folder), made by `grading_cgroup`."""
 
-    def __init__(self, path: Path, version: int):
-        self.path, self.version = path, version
+    def __init__(self, path: Path, version: int, controller: str = "memory"):
+        self.path, self.version, self.controller = path, version, controller
 
     @property
     def procs(self) -> Path:
@@ -98,20 +107,22 @@ def oom_kills_on_machine() -> int:
     return _field(Path("/proc/vmstat"), "oom_kill")
 
 
-def _own_cgroup() -> tuple[Path | None, int, str]:
-    """Where a child cgroup with a memory controller can be made: (folder,
-    version, why not)."""
+def _own_cgroup(controller: str = "memory") -> tuple[Path | None, int, str]:
+    """Where a child cgroup with `controller` ("memory", "cpu") can be made:
+    (folder, version, why not)."""
     try:
         lines = Path("/proc/self/cgroup").read_text().splitlines()
     except OSError as exc:
         return None, 0, f"cannot read /proc/self/cgroup ({exc})"
     for line in lines:
         _, controllers, path = line.split(":", 2)
-        if "memory" in controllers.split(","):
-            folder = _CGROUP_ROOT / "memory" / path.lstrip("/")
+        if controller in controllers.split(","):
+            # A v1 hierarchy is mounted under its controllers' names ("cpu,cpuacct").
+            mount = _CGROUP_ROOT / controllers
+            folder = (mount if mount.is_dir() else _CGROUP_ROOT / controller) / path.lstrip("/")
             if folder.is_dir() and os.access(folder, os.W_OK):
                 return folder, 1, ""
-            return None, 1, f"the memory cgroup {folder} is not writable here"
+            return None, 1, f"the {controller} cgroup {folder} is not writable here"
     for line in lines:
         if line.startswith("0::"):
             unified = _CGROUP_ROOT if (_CGROUP_ROOT / "cgroup.controllers").exists() else _CGROUP_ROOT / "unified"
@@ -120,16 +131,16 @@ def _own_cgroup() -> tuple[Path | None, int, str]:
                 enabled = (folder / "cgroup.subtree_control").read_text().split()
             except OSError:
                 enabled = []
-            if "memory" in enabled and os.access(folder, os.W_OK):
+            if controller in enabled and os.access(folder, os.W_OK):
                 return folder, 2, ""
-            return None, 2, (f"cgroup v2 at {folder} does not delegate the memory controller to its children "
-                             "(cgroup.subtree_control lacks memory, or the folder is not writable)")
-    return None, 0, "no memory controller is mounted"
+            return None, 2, (f"cgroup v2 at {folder} does not delegate the {controller} controller to its children "
+                             f"(cgroup.subtree_control lacks {controller}, or the folder is not writable)")
+    return None, 0, f"no {controller} controller is mounted"
 
 
-def cgroup_problem() -> str | None:
-    """Why no grading cgroup can be made here (None: one can)."""
-    folder, _, why = _own_cgroup()
+def cgroup_problem(controller: str = "memory") -> str | None:
+    """Why no grading cgroup for `controller` can be made here (None: one can)."""
+    folder, _, why = _own_cgroup(controller)
     return why if folder is None else None
 
 
@@ -173,41 +184,76 @@ def _make(limit_mb: int) -> GradingCgroup | None:
     return group
 
 
+def _make_cpu(beside: GradingCgroup | None) -> GradingCgroup | None:
+    """A cpu cgroup of the default weight, or the folder of `beside` where
+    that is the same v2 parent (a process belongs to one v2 cgroup)."""
+    parent, version, _ = _own_cgroup("cpu")
+    if parent is None:
+        return None
+    if beside is not None and version == beside.version == 2 and beside.path.parent == parent:
+        return GradingCgroup(beside.path, 2, "cpu")
+    path = parent / f"envmap-grading-{os.getpid()}-{next(_counter)}"
+    try:
+        path.mkdir()
+    except OSError:
+        return None
+    return GradingCgroup(path, version, "cpu")
+
+
 _current: GradingCgroup | None = None
+_current_cpu: GradingCgroup | None = None
 
 
 def current() -> GradingCgroup | None:
-    """The cgroup of the grading in progress (None: none, or not available)."""
+    """The memory cgroup of the grading in progress (None: none, or not available)."""
     return _current
+
+
+def current_cpu() -> GradingCgroup | None:
+    """The cpu cgroup of the grading in progress (None: none, or not available)."""
+    return _current_cpu
+
+
+def _groups() -> list[GradingCgroup]:
+    return [g for g in (_current, _current_cpu) if g is not None]
 
 
 @contextlib.contextmanager
 def grading_cgroup(limit_mb: int | None = None):
     """Everything started for student code inside the block (workers,
-    compilers) is charged to one new memory cgroup of `limit_mb` MiB, where
-    the machine offers one; yields it, or None (cgroup_problem() says why)."""
-    global _current
-    outer = _current
+    compilers) is charged to one new memory cgroup of `limit_mb` MiB and one
+    new cpu cgroup, where the machine offers them; yields the memory one, or
+    None (cgroup_problem() says why)."""
+    global _current, _current_cpu
+    outer = _current, _current_cpu
     group = _make(limit_mb or GRADING_MEMORY_MB)
-    _current = group or outer
+    cpu = _make_cpu(group)
+    _current, _current_cpu = group or outer[0], cpu or outer[1]
     try:
         yield group
     finally:
-        _current = outer
-        if group is not None:
-            group.remove()
+        _current, _current_cpu = outer
+        for made in (cpu, group):
+            if made is not None:
+                made.remove()
 
 
-def charged(cmd: list[str], group: GradingCgroup | None = None) -> list[str]:
+def allow_uid(uid: int) -> None:
+    """Let processes of `uid` join the current grading's cgroups themselves
+    (GradingCgroup.allow_uid: cgroup v1 only)."""
+    for group in _groups():
+        group.allow_uid(uid)
+
+
+def charged(cmd: list[str]) -> list[str]:
     """`cmd` started by a shell that first gives itself oom_score_adj 1000
-    and joins `group` (default: the current grading's); exec keeps both for
-    everything it starts. Failing to join is not fatal: the cgroup is a
-    defence where available, never a reason not to grade."""
-    group = group if group is not None else _current
-    procs = str(group.procs) if group is not None else ""
-    script = (f'echo {STUDENT_OOM_SCORE_ADJ} >/proc/self/oom_score_adj 2>/dev/null; '
-              'if [ -n "$0" ]; then echo $$ >"$0" 2>/dev/null; fi; exec "$@"')
-    return ["/bin/sh", "-c", script, procs, *cmd]
+    and joins the current grading's cgroups; exec keeps both for everything
+    it starts. Failing to join is not fatal: the cgroups are a defence where
+    available, never a reason not to grade."""
+    procs = " ".join(dict.fromkeys(shlex.quote(str(g.procs)) for g in _groups()))
+    join = f'for g in {procs}; do echo $$ >"$g" 2>/dev/null; done; ' if procs else ""
+    return ["/bin/sh", "-c", f'echo {STUDENT_OOM_SCORE_ADJ} >/proc/self/oom_score_adj 2>/dev/null; {join}exec "$@"',
+            "sh", *cmd]
 
 
 def protect_grader() -> str | None:

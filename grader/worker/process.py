@@ -223,6 +223,9 @@ class Worker:
     # only while the grader is asking it something (issue 32). Tests that
     # watch for a stop sent by another worker turn it off.
     stop_between_calls = True
+    # Every thread but the main one at SCHED_IDLE (_demote_threads). Tests of
+    # the stop itself turn it off: a thread that really runs is the hard case.
+    demote_threads = True
 
     def __init__(self, library: str | os.PathLike, *, sandbox: str = "auto", limits: Limits = Limits(),
                  preload: tuple[str, ...] = (), output_head: int = 8192, output_tail: int = 8192,
@@ -253,6 +256,7 @@ class Worker:
         self._watch: tuple[int | None, float, int | None] | None = None
         self.stuck: tuple[int, float, float] | None = None
         self._frozen = False     # stopped by freeze(), not by itself
+        self._demoted: set[int] = set()   # its threads put at SCHED_IDLE (_demote_threads)
         self._killed = False     # ended by us (a failure, close()): no call may follow
         self.start_time_s = 0.0
         # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
@@ -346,10 +350,10 @@ class Worker:
                    *(["--pid-namespace"] if self.try_pid_namespace else []), *args, f"/{LIBRARY_NAME}"]
         else:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
-        # oom_score_adj 1000 and the grading's memory cgroup, before anything runs.
+        # oom_score_adj 1000 and the grading's memory and cpu cgroups, before anything runs.
         self._cgroup = memory.current()
         self._oom_before = self._oom_kills()
-        cmd = memory.charged(cmd, self._cgroup)
+        cmd = memory.charged(cmd)
         try:
             self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
                                           pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
@@ -587,13 +591,39 @@ class Worker:
 
     def _idle(self) -> None:
         """Between calls: stopped, so threads it left running cost no one
-        CPU (the per-call limit only watches calls)."""
-        if self.stop_between_calls and self._worker_pid is not None and self.alive:
+        CPU (the per-call limit only watches calls); and every thread it
+        started at the lowest priority for the calls to come."""
+        if self._worker_pid is None or not self.alive:
+            return
+        if self.stop_between_calls:
             try:
                 os.kill(self._worker_pid, signal.SIGSTOP)
             except ProcessLookupError:
                 return
             self._frozen = True
+        self._demote_threads()
+
+    def _demote_threads(self) -> None:
+        """Every thread of the worker but its main one, which serves the calls,
+        at SCHED_IDLE: a thread the submission left spinning runs in a call
+        only on CPU nothing else wants, so it neither slows the call down
+        (the main thread preempts it) nor a classmate's grading. A thread
+        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c). Threads started
+        in a call (a static initialiser's, in loading) are demoted while it
+        runs, at each look at its progress, or once it ends."""
+        if self._worker_pid is None or not self.demote_threads:
+            return
+        try:
+            tids = [int(t) for t in os.listdir(f"/proc/{self._worker_pid}/task")]
+        except OSError:
+            return
+        for tid in tids:
+            if tid != self._worker_pid and tid not in self._demoted:
+                try:
+                    os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
+                except OSError:      # it has just ended
+                    continue
+                self._demoted.add(tid)
 
     def _resume(self) -> None:
         if self._frozen and self._worker_pid is not None and self.alive:
@@ -750,6 +780,7 @@ class Worker:
                 if why:
                     self._timeout(what, why)
                 self._observe()
+                self._demote_threads()
                 continue
             chunk = os.read(self._response_fd, min(size - got, 1 << 20))
             if not chunk:

@@ -1,10 +1,19 @@
 """Run a command on a machine loaded with N busy processes (make test-load).
 
-    python tests/helpers/loaded.py N -- command ...
+    python tests/helpers/loaded.py N [--cpus C] -- command ...
 
-Each busy process spins on one core, at normal priority, for at most an
-hour (a safety net should this script be killed); all of them are ended
-when the command ends, however it ends. The exit status is the command's.
+Each busy process spins at normal priority for at most an hour (a safety
+net should this script be killed); all of them are ended when the command
+ends, however it ends. The exit status is the command's.
+
+With --cpus C, where a cpu cgroup can be made (grader/worker/memory.py says
+where), the busy processes and the command run in one cgroup of their own,
+of the weight of N + 1 ordinary processes and capped at C cores: inside it
+every process of the command competes with the N busy ones for at most C
+cores, as on a C-core machine at load N (C=1: harder than load N on 2
+cores, and harder still where the machine is busy too), while the machine's
+other users lose at most C cores. Without a cgroup it says so and loads the
+whole machine.
 """
 from __future__ import annotations
 
@@ -12,19 +21,58 @@ import os
 import signal
 import subprocess
 import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from grader.worker import memory  # noqa: E402
 
 BUSY = "import time\nend = time.monotonic() + 3600\nwhile time.monotonic() < end: pass"
+PERIOD_US = 100_000
+
+
+def capped_cgroup(cpus: float, processes: int) -> Path | None:
+    """A new cpu cgroup under ours, of the weight of `processes` ordinary
+    ones, capped at `cpus` cores; None where none can be made."""
+    parent, version, why = memory._own_cgroup("cpu")
+    if parent is None:
+        print(f"loaded.py: no cpu cgroup ({why}): the whole machine is loaded", flush=True)
+        return None
+    path = parent / f"envmap-loaded-{os.getpid()}"
+    path.mkdir()
+    quota = str(int(cpus * PERIOD_US))
+    if version == 2:
+        (path / "cpu.weight").write_text(str(min(10_000, 100 * processes)))
+        (path / "cpu.max").write_text(f"{quota} {PERIOD_US}")
+    else:
+        (path / "cpu.shares").write_text(str(1024 * processes))
+        (path / "cpu.cfs_period_us").write_text(str(PERIOD_US))
+        (path / "cpu.cfs_quota_us").write_text(quota)
+    return path
+
+
+def joined(cmd: list[str], group: Path | None) -> list[str]:
+    if group is None:
+        return cmd
+    return ["/bin/sh", "-c", 'echo $$ >"$0" && exec "$@"', str(group / "cgroup.procs"), *cmd]
 
 
 def main(argv: list[str]) -> int:
+    cpus = None
+    if len(argv) > 2 and argv[1] == "--cpus":
+        cpus, argv = float(argv[2]), [argv[0], *argv[3:]]
     if len(argv) < 3 or argv[1] != "--" or not argv[0].isdigit():
         print(__doc__, file=sys.stderr)
         return 2
     count, command = int(argv[0]), argv[2:]
-    busy = [subprocess.Popen([sys.executable, "-c", BUSY], start_new_session=True) for _ in range(count)]
-    print(f"loaded.py: {count} busy processes; load average now {os.getloadavg()[0]:.1f}", flush=True)
+    group = capped_cgroup(cpus, count + 1) if cpus else None
+    busy = [subprocess.Popen(joined([sys.executable, "-c", BUSY], group), start_new_session=True)
+            for _ in range(count)]
+    where = f"in a cgroup capped at {cpus:g} cores ({group})" if group else "on the whole machine"
+    print(f"loaded.py: {count} busy processes {where}; load average now {os.getloadavg()[0]:.1f}", flush=True)
+    began = time.monotonic()
     try:
-        return subprocess.call(command)
+        return subprocess.call(joined(command, group))
     finally:
         for proc in busy:
             try:
@@ -32,7 +80,15 @@ def main(argv: list[str]) -> int:
             except ProcessLookupError:
                 pass
             proc.wait()
-        print(f"loaded.py: load average at the end {os.getloadavg()[0]:.1f}", flush=True)
+        print(f"loaded.py: {time.monotonic() - began:.0f} s; load average at the end {os.getloadavg()[0]:.1f}",
+              flush=True)
+        if group is not None:
+            for _ in range(100):
+                try:
+                    group.rmdir()
+                    break
+                except OSError:
+                    time.sleep(0.05)
 
 
 if __name__ == "__main__":

@@ -2,10 +2,13 @@
 // a correct lookup whose static initialiser starts 63 threads that spin
 // whenever no call is in flight and sleep while one is (the per-call CPU limit
 // only watches calls, and sees nothing), to slow every classmate graded
-// beside it. Verdict now: the grader stops the
-// worker between calls (SIGSTOP), so the threads spin only inside its own
-// calls, on its own CPU time; it earns full marks and its classmates keep
-// theirs, in about the control's time.
+// beside it; each thread also tries now and then to leave the lowest priority
+// (SCHED_OTHER) and says so once if it could. Verdict now: the grader stops
+// the worker between calls (SIGSTOP), runs every thread but the main one at
+// SCHED_IDLE (they cannot leave it: RLIMIT_NICE 0) and the whole worker in the
+// grading's cpu cgroup, so the threads spin only inside its own calls, on CPU
+// nothing else wants; it earns full marks and its classmates keep theirs, in
+// about the control's time.
 #include "EnvironmentMap.h"
 
 #include <algorithm>
@@ -13,11 +16,24 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <sched.h>
 #include <thread>
+#include <unistd.h>
 
 namespace {
 
 std::atomic<int> callsInFlight{0};
+std::atomic<bool> said{false};
+
+void tryToLeaveIdle()
+{
+    const sched_param normal{0};
+    if (sched_getscheduler(0) == SCHED_IDLE && sched_setscheduler(0, SCHED_OTHER, &normal) == 0
+        && !said.exchange(true)) {
+        static const char text[] = "left SCHED_IDLE\n";
+        (void)!write(2, text, sizeof text - 1);
+    }
+}
 
 const int spinners = [] {
     int started = 0;
@@ -26,9 +42,10 @@ const int spinners = [] {
             std::thread([] {
                 volatile unsigned long spins = 0;
                 for (;;) {
-                    if (callsInFlight.load(std::memory_order_relaxed) == 0)
-                        ++spins;
-                    else
+                    if (callsInFlight.load(std::memory_order_relaxed) == 0) {
+                        if (++spins % (1u << 20) == 0)
+                            tryToLeaveIdle();
+                    } else
                         std::this_thread::sleep_for(std::chrono::milliseconds(1));   // idle while asked
                 }
             }).detach();

@@ -4,8 +4,14 @@ spinning threads, stretched wall-clock builds past their limit)."""
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
+import pytest
+
+from grader import i18n
+from grader.build import BuildResult
 from grader.build.compiler import Deadline, run_compiler
+from grader.build.messages import describe
 
 
 def test_waiting_costs_no_cpu_time(tmp_path):
@@ -20,18 +26,40 @@ def test_cpu_time_of_every_process_below_counts(tmp_path):
     began = time.monotonic()
     step = run_compiler(["/bin/sh", "-c", "sh -c 'while :; do :; done'; echo never"], tmp_path,
                 Deadline(cpu_s=0.3, wall_end=time.monotonic() + 60))
-    assert step.timed_out and "never" not in step.output
+    assert step.timed_out and step.stopped_by == "cpu" and "never" not in step.output
     assert time.monotonic() - began < 30   # stopped by its CPU time, not at the wall bound
 
 
 def test_the_wall_clock_is_the_outer_bound(tmp_path):
     began = time.monotonic()
     step = run_compiler(["/bin/sh", "-c", "sleep 30"], tmp_path, Deadline(cpu_s=60, wall_end=time.monotonic() + 1))
-    assert step.timed_out and time.monotonic() - began < 10
+    assert step.timed_out and step.stopped_by == "wall" and time.monotonic() - began < 10
 
 
 def test_a_deadline_is_spent_step_by_step(tmp_path):
     deadline = Deadline(cpu_s=0.3, wall_end=time.monotonic() + 60)
     first = run_compiler(["/bin/sh", "-c", "while :; do :; done"], tmp_path, deadline)
     assert first.timed_out and deadline.cpu_s <= 0
-    assert run_compiler(["/bin/true"], tmp_path, deadline).timed_out     # nothing left for the next step
+    assert run_compiler(["/bin/true"], tmp_path, deadline).stopped_by == "cpu"     # nothing left for the next step
+
+
+@pytest.mark.parametrize("lang", ["en", "ja"])
+@pytest.mark.parametrize("stopped_by, number, not_yours", [("cpu", "60", False), ("wall", "241", True)])
+def test_the_student_reads_which_bound_stopped_the_build_and_its_number(stopped_by, number, not_yours, lang):
+    """The CPU time is the source's doing (simplify it); the wall-clock bound
+    (4 x 60 + 1 s) only a busy machine reaches (submit again)."""
+    before = i18n.language()
+    i18n.set_language(lang)
+    try:
+        result = BuildResult(ok=False, library=None, source=Path("EnvironmentMap.cpp"), timed_out=True,
+                             stopped_by=stopped_by)
+        describe(result, "", 60)
+    finally:
+        i18n.set_language(before)
+    headline = result.log.splitlines()[0]
+    assert f"{number} " in headline and result.errors[0]["message"] == headline
+    if lang == "en":
+        assert ("not your code's doing" in headline) == not_yours, headline
+        assert ("make it simpler" in headline) == (not not_yours), headline
+    else:
+        assert ("あなたのコードのせいではありません" in headline) == not_yours, headline
