@@ -16,6 +16,7 @@ colours are judged end to end against the reference on the same faces.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -190,15 +191,33 @@ def cases(tagged: Record, plain: Record) -> np.ndarray:
 
 @dataclass
 class Judgement(Mismatches):
-    """fetchColor judged on its record."""
+    """fetchColor judged on its record. The colours (`expected`, `actual`)
+    are computed when first asked for: most judgements need only `ok`."""
     ok: np.ndarray            # (n,) what it asked for (or, reading itself, returned) is right
-    expected: np.ndarray      # (n, 3) the reference's colour for the direction
-    actual: np.ndarray        # (n, 3) the handout's readTexture at the recorded request (or its own colour)
     error: np.ndarray         # (n,) distance to the nearest acceptable colour
     case: np.ndarray          # (n,) cases()
     unreadable: np.ndarray    # (n,) always False: the student's readTexture is never asked
     requested: tuple          # (faces (n,), uv (n, 2)) the recorded request (-1, NaN: none)
     table: tuple              # (faces (n,), uv (n, 2)) the reference's face and (u, v) (docs/assignment.md)
+    own: np.ndarray           # (n, 3) what fetchColor returned
+    own_rows: np.ndarray      # (n,) where that colour is the one credited (it read itself, or returned no answer it was given)
+    texels: np.ndarray        # the faces it was recorded on
+
+    @functools.cached_property
+    def expected(self) -> np.ndarray:
+        """(n, 3) the reference's colour for the direction."""
+        return handout_read(self.texels, *self.table)
+
+    @functools.cached_property
+    def actual(self) -> np.ndarray:
+        """(n, 3) the handout's readTexture at the recorded request (or its own colour)."""
+        return _actual(self.texels, self.requested, self.own_rows, self.own)
+
+
+def _actual(texels, requested, own_rows, own) -> np.ndarray:
+    out = handout_read(texels, *requested)
+    out[own_rows] = own[own_rows]
+    return out
 
 
 def handout_read(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
@@ -249,26 +268,32 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
     plain_faces, plain_uv = plain.request()
     req_faces, req_uv = req_faces.copy(), req_uv.copy()
     req_faces[otherwise], req_uv[otherwise] = plain_faces[otherwise], plain_uv[otherwise]
-    actual = handout_read(texels, req_faces, req_uv)
     itself = case == READS_ITSELF
-    actual[itself] = tagged.values[itself]
-    own = otherwise & (req_faces < 0)
-    actual[own] = plain.values[own]
+    own_rows = otherwise & (req_faces < 0)
+    own = np.where(own_rows[:, None], plain.values, tagged.values)
+    own_rows |= itself
     faces, uv = tied_face_uv(dirs)
     n, k = faces.shape
-    acceptable = handout_read(texels, faces.reshape(-1), uv.reshape(-1, 2)).reshape(n, k, 3)
-    cmp = compare(actual, acceptable, tol)
     size = np.array(texels.shape[2:0:-1], np.float64)            # (W, H)
     with np.errstate(invalid="ignore"):
-        off = np.abs(req_uv[:, None, :] - uv)                     # (n, k, 2)
-        texels_off = np.where(faces == req_faces[:, None], (off * size).max(axis=2), np.inf)
-        near = (faces == req_faces[:, None]) & (off <= UV_TOLERANCE).all(axis=2) & (faces >= 0)
+        same_face = (faces == req_faces[:, None]) & (faces >= 0)  # (n, k)
+        du, dv = np.abs(req_uv[:, None, 0] - uv[..., 0]), np.abs(req_uv[:, None, 1] - uv[..., 1])
+        near = same_face & (du <= UV_TOLERANCE) & (dv <= UV_TOLERANCE)
+        texels_off = np.where(same_face, np.maximum(du * size[0], dv * size[1]), np.inf)
     texels_off[np.isnan(texels_off)] = np.inf
     read = case == READ
-    ok = np.where(read, near.any(axis=1), itself & cmp.ok)
-    error = np.where(read, texels_off.min(axis=1), cmp.error)
-    return Judgement(ok=ok, expected=acceptable[:, 0], actual=actual, error=error, case=case,
-                     unreadable=np.zeros(n, bool), requested=(req_faces, req_uv), table=(faces[:, 0], uv[:, 0]))
+    ok, error = near.any(axis=1) & read, texels_off.min(axis=1)
+    # The colours against the handout's at every face the direction touches:
+    # judged where fetchColor read itself, and the error that orders the
+    # other cases' worst (few rows for most code: not computed for the rest).
+    rows = np.flatnonzero(~read)
+    if len(rows):
+        acceptable = handout_read(texels, faces[rows].reshape(-1), uv[rows].reshape(-1, 2)).reshape(len(rows), k, 3)
+        actual = _actual(texels, (req_faces[rows], req_uv[rows]), own_rows[rows], own[rows])
+        cmp = compare(actual, acceptable, np.broadcast_to(np.asarray(tol, np.float64), (n,))[rows])
+        ok[rows], error[rows] = itself[rows] & cmp.ok, cmp.error
+    return Judgement(ok=ok, error=error, case=case, unreadable=np.zeros(n, bool), requested=(req_faces, req_uv),
+                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels)
 
 
 # The plain recording (answered by the student's own readTexture) is made
