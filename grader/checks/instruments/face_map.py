@@ -428,7 +428,7 @@ def _detail(mistake: str, v: FaceVerdict) -> str:
 
 # ---- the analysis ----------------------------------------------------------
 
-def _places(rec: fetch_record.Record, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def places(rec: fetch_record.Record, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(face (n,), uv (n, 2), read itself (n,)): the face and (u, v) of the
     call whose answer fetchColor returned; where it made no call, the place
     its own colour comes from on the coordinate faces (p = (uW, vH) clamped
@@ -474,7 +474,7 @@ def analyse(lookups, quick: bool = False) -> FetchAnalysis:
         if not len(rows):
             continue
         rec = fetch_record.record(lookups, dirs[rows])
-        faces[rows], uv[rows], itself[rows] = _places(rec, size)
+        faces[rows], uv[rows], itself[rows] = places(rec, size)
         # Answered: a tag returned from a face, or a colour of its own.
         answered[rows] = (((rec.returned >= 0) & (faces[rows] >= 0)) | (rec.calls == 0)) \
             & np.isfinite(rec.values).all(axis=1)
@@ -561,7 +561,7 @@ def _lengths(lookups, dirs: np.ndarray, size, out: FetchAnalysis) -> None:
     n = len(dirs)
     # One recording for every length: fewer round trips to the worker.
     rec = fetch_record.record(lookups, np.concatenate([dirs * s for s in scales]))
-    faces, uv, _itself = _places(rec, size)
+    faces, uv, _itself = places(rec, size)
     with np.errstate(invalid="ignore"):
         places = (uv * np.asarray(size, np.float64)).reshape(len(scales), n, 2)
     faces = faces.reshape(len(scales), n)
@@ -620,7 +620,7 @@ def _ties(lookups, size, out: FetchAnalysis) -> None:
         # The runner gives a batch up after a few failures: a crash at one tie must not leave the rest unanswered.
         rec = fetch_record.concatenate([fetch_record.record(lookups, dirs[lo:lo + TIE_BATCH])
                                         for lo in range(0, len(dirs), TIE_BATCH)])
-    faces, _uv, _itself = _places(rec, size)
+    faces, _uv, _itself = places(rec, size)
     a = np.abs(dirs)
     m = a.max(axis=1)
     touched = np.zeros((len(dirs), 6), bool)
