@@ -563,13 +563,13 @@ def _lengths(lookups, dirs: np.ndarray, size, out: FetchAnalysis) -> None:
     rec = fetch_record.record(lookups, np.concatenate([dirs * s for s in scales]))
     faces, uv, _itself = places(rec, size)
     with np.errstate(invalid="ignore"):
-        places = (uv * np.asarray(size, np.float64)).reshape(len(scales), n, 2)
+        p = (uv * np.asarray(size, np.float64)).reshape(len(scales), n, 2)
     faces = faces.reshape(len(scales), n)
-    judged = (faces[0] >= 0) & np.isfinite(places[0]).all(axis=1)
+    judged = (faces[0] >= 0) & np.isfinite(p[0]).all(axis=1)
     broken = {}
     for k, scale in enumerate(scales[1:], 1):
         with np.errstate(invalid="ignore"):
-            ok = (faces[k] == faces[0]) & (np.abs(places[k] - places[0]) <= 0.5).all(axis=1)
+            ok = (faces[k] == faces[0]) & (np.abs(p[k] - p[0]) <= 0.5).all(axis=1)
         broken[scale] = float(np.mean(~ok[judged])) if judged.any() else 0.0
     if broken[10.0] > 0.1:
         out.length_dependent = True
