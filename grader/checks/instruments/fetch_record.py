@@ -275,7 +275,7 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
     faces, uv = tied_face_uv(dirs)
     n, k = faces.shape
     size = np.array(texels.shape[2:0:-1], np.float64)            # (W, H)
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", over="ignore"):     # a u of 1e308 is inf texels off
         same_face = (faces == req_faces[:, None]) & (faces >= 0)  # (n, k)
         du, dv = np.abs(req_uv[:, None, 0] - uv[..., 0]), np.abs(req_uv[:, None, 1] - uv[..., 1])
         near = same_face & (du <= UV_TOLERANCE) & (dv <= UV_TOLERANCE)
