@@ -143,7 +143,7 @@ def test_without_a_fresh_worker_the_memoised_answers_would_have_been_judged_othe
 def test_the_handout_read_agrees_with_the_c_reference_bilinear():
     from grader.checks.instruments.textures import random_faces
     faces = random_faces(13, 7, 3)
-    cube = reference.CubeMap(faces)
+    cube = library.CubeMap(faces)
     rng = np.random.default_rng(1)
     uv = np.concatenate([rng.random((4000, 2)), np.stack(np.meshgrid(np.arange(14) / 13, np.arange(8) / 7), -1).reshape(-1, 2),
                          [[0, 0], [1, 1], [0, 1], [1, 0], [1 - 1e-12, 0.5]]])
