@@ -38,7 +38,7 @@ if os.environ.get("BENCH_EMPTY"):
 start = time.monotonic()
 import numpy, cffi, OpenImageIO, flip_evaluator, markdown_it, rich.console, rich.table, rich.panel
 import grader.grading.grade, grader.checks, grader.reports, grader.reports.terminal
-from grader.checks.instruments import image_metrics, readback
+from grader.checks.instruments import image_metrics, face_map
 print("imports %.2f s" % (time.monotonic() - start))
 '''
 

@@ -1,9 +1,8 @@
-"""The numpy instruments the student kit needs, timed against the library
-code they replace (the grader's development environment still has scipy and
-scikit-image): readback's nearest-colour search against scipy's cKDTree, and
-image_metrics.ssim against scikit-image's structural_similarity. Both give
-the same answers (tests/unit/checks/instruments/test_readback.py, tests/unit/checks/instruments/test_image_metrics.py); this
-says what that costs.
+"""The numpy instrument the student kit needs, timed against the library
+code it replaces (the grader's development environment still has
+scikit-image): image_metrics.ssim against scikit-image's
+structural_similarity. Both give the same answers
+(tests/unit/checks/instruments/test_image_metrics.py); this says what that costs.
 
     .venv/bin/python bench/bench_kit_instruments.py [--repeats 9]
 
@@ -23,10 +22,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(ROOT), str(ROOT / "tests")]
 
 from grader.grading import fixtures  # noqa: E402
-from grader.checks.instruments import readback  # noqa: E402
-from grader.checks.instruments.directions import fibonacci_sphere  # noqa: E402
 from grader.checks.instruments.image_metrics import display, ssim  # noqa: E402
-from grader.checks.instruments.textures import coordinate_faces  # noqa: E402
 
 
 def median_time(fn, repeats: int) -> float:
@@ -38,38 +34,11 @@ def median_time(fn, repeats: int) -> float:
     return float(np.median(times))
 
 
-def readback_case():
-    """A calibration of a correct readTexture on the diagnosis's 32 x 32 faces,
-    and the answers of a fetchColor with an inset, per face (as face_recovery.analyse reads them back)."""
-    from fake_lookups import FakeLookups
-    lookups = FakeLookups(fetch="inset")
-    faces = coordinate_faces(32, 32)
-    lookups.set_faces(faces)
-    cal = readback.calibrate(lookups, faces)
-    answers = np.array_split(np.asarray(lookups.fetch(fibonacci_sphere(20_000)).values, np.float64), 6)
-    return cal, answers
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--repeats", type=int, default=9)
     args = parser.parse_args()
-    from scipy.spatial import cKDTree
     from skimage.metrics import structural_similarity
-
-    cal, answers = readback_case()
-
-    def numpy_search():
-        fresh = readback.Calibration(cal.uv, cal.colour, cal.size)
-        for a in answers:
-            fresh.read_back(a)
-
-    def tree_search():                 # the code readback used before (tests/unit/checks/instruments/test_readback.py keeps it)
-        tree = cKDTree(cal.colour)
-        for a in answers:
-            dist, idx = tree.query(a[:, :2], k=64)
-            near = dist <= dist[:, :1] + 1e-6
-            (cal.uv[idx] * near[..., None]).sum(axis=1) / near.sum(axis=1)[:, None]
 
     renders = [display(np.load(p)) for p in sorted((fixtures.FIXTURES / "renders").glob("*.npy"))]
     pairs = [(r, np.clip(r + 0.001, 0, 1).astype(np.float32)) for r in renders]
@@ -84,7 +53,6 @@ def main() -> int:
                                   use_sample_covariance=False, K1=0.01, K2=0.03)
 
     for name, ours, theirs, library in (
-            ("readback, one calibration and 20,000 answers", numpy_search, tree_search, "cKDTree"),
             (f"SSIM, the {len(pairs)} fixture renders", numpy_ssim, scikit_ssim, "scikit-image")):
         t_ours, t_theirs = median_time(ours, args.repeats), median_time(theirs, args.repeats)
         print(f"{name}: numpy {t_ours * 1e3:.0f} ms, {library} {t_theirs * 1e3:.0f} ms, "

@@ -27,24 +27,6 @@ class ReadTextureFinding:
     mistake: str | None = None  # the first diagnosis id the footprint proves, if any
     fraction: float = 1.0       # the check's share (see Probes.scored)
     by_size: tuple[float, ...] = ()   # that share per face size (SIZES)
-    by_face: tuple[float, ...] = ()   # per face (0-5), the share of answers at generic (u, v) that differed, best size
-
-    @property
-    def mismatch(self) -> float:
-        """The smallest share that differed from the handout's over the face
-        sizes tried: what the judges may expect on faces of their own (a
-        readTexture honest on some sizes and not on others is told by its
-        best size; instruments.own_read)."""
-        return 1.0 - max(self.by_size or (self.fraction,))
-
-    @property
-    def face_mismatch(self) -> tuple[float, ...]:
-        """(6,) per face, the share of the check's answers on random texels at
-        generic (u, v) (neither on a texel boundary nor a centre nor in a
-        border texel, as most of the judges' are; crashes left out, as the
-        judges leave them out) that differed from the handout's, on the face
-        size where that share is smallest (instruments.own_read)."""
-        return self.by_face or (1.0 - self.fraction,) * 6
 
 
 # Face sizes, in the order measured. The worker keeps one process per
@@ -112,15 +94,6 @@ def _answers(ctx: CheckContext, failures: list) -> Answers:
     return Answers(uv, right, case)
 
 
-def generic(uv: np.ndarray, width: int, height: int) -> np.ndarray:
-    """(n,) neither u nor v is 0, 1, a texel boundary or a centre, and no
-    lattice point is outside the face: (u, v) like most of the judges'."""
-    steps = uv * (2 * width, 2 * height)
-    p = uv * (width, height)
-    inside = ((p >= 1) & (p < np.array([width, height]) - 1)).all(axis=1)
-    return inside & (np.abs(steps - np.rint(steps)) > 1e-9).all(axis=1)
-
-
 @dataclass
 class Measured:
     """One face size: both footprints and what the random texture showed."""
@@ -128,8 +101,6 @@ class Measured:
     handout: fp.Footprint
     right: np.ndarray       # (n,) every answer on the random texture was the handout's
     unlinear_case: tuple | None     # (face, placement, i, predicted, actual): an answer no blend of the footprint
-    face_total: np.ndarray  # (6,) generic (u, v) answered, per face
-    face_wrong: np.ndarray  # (6,) of those, how many differed from the handout's
 
     @property
     def matched(self) -> np.ndarray:
@@ -170,8 +141,6 @@ def _measure(ctx: CheckContext, size: tuple[int, int], failures: list) -> Measur
     ctx.lookups.set_faces(texels)
     right = np.ones(len(uv), bool)
     unlinear_case = None
-    like_judges = generic(uv, w, h)
-    face_total, face_wrong = np.zeros(6, np.int64), np.zeros(6, np.int64)
     for face in FACES:
         expected = oracle.current().read_texture(texels, face, uv, "bilinear")
         predicted = fp.predict(student, texels[face])
@@ -189,10 +158,7 @@ def _measure(ctx: CheckContext, size: tuple[int, int], failures: list) -> Measur
                 i = int(np.flatnonzero(odd)[0])
                 unlinear_case = (face, placement, i, predicted[i], values[i])
             right &= same
-            here = like_judges & finite
-            face_total[face] += int(here.sum())
-            face_wrong[face] += int((here & ~same).sum())
-    return Measured(student, ref, right, unlinear_case, face_total, face_wrong)
+    return Measured(student, ref, right, unlinear_case)
 
 
 # ---- readTexture described from its footprint -------------------------------
@@ -617,15 +583,13 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
     result.metrics["cases"] = counted
     result.metrics["matched"] = matched
     by_size = tuple(c[0] / c[1] if c[1] else 1.0 for c in counts[:len(SIZES)])
-    face_share = [m.face_wrong / np.maximum(m.face_total, 1) for m in measured if m.face_total.sum()]
-    by_face = tuple(float(x) for x in np.min(face_share, axis=0)) if face_share else ()
     if exact:
         result.output = _("At all %(total)d (u, v) probed on %(sizes)d face sizes, readTexture reads the texels the "
                           "handout reads with its weights (u, v at 0, 1, just below 1, texel edges, centres, quarters "
                           "and one more point inside each texel), and blends random texels as those weights say; at all %(big)d (u, v) on a "
                           "%(w)d x %(h)d face of random texels it answers as the handout does.") % {
             "total": probes, "sizes": len(set(SIZES)), "big": len(big.uv), "w": BIG[0], "h": BIG[1]}
-        return ReadTextureFinding(ok=True, fraction=result.fraction, by_size=by_size, by_face=by_face)
+        return ReadTextureFinding(ok=True, fraction=result.fraction, by_size=by_size)
     found, lines = describe(measured, failures)
     if big.case is not None and all(m.matched.all() for m in measured):
         face, i, expected, actual = big.case
@@ -663,4 +627,4 @@ def read_texture(ctx: CheckContext, result: CheckResult) -> ReadTextureFinding:
           [_("No single mistake explains every measurement; one of them, in numbers:")]),
         *lines])
     mistake = found[0].id if found else None
-    return ReadTextureFinding(ok=False, mistake=mistake, fraction=result.fraction, by_size=by_size, by_face=by_face)
+    return ReadTextureFinding(ok=False, mistake=mistake, fraction=result.fraction, by_size=by_size)

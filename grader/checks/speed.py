@@ -41,11 +41,6 @@ TIMED_SLACK = 0.02      # at most this much less often judged right on the timin
 SLACK_FLOOR = 0.003     # ... and at least this, with twice the sweep's own wrong share in between
 PASS_SLACK = 0.04       # the fastest pass alone (2,500 judged answers: chance spreads it more than the pool)
 TIMED_DIFFER = 0.001    # timed answers may differ from the untimed ones on this share (none, for deterministic code)
-# On the timing faces the judge reads the handout's readTexture where the
-# read_texture check found the student's right (a readTexture that tells
-# the timing faces by their size could vouch for black there), and elsewhere
-# believes the live one only where it differs from the handout on few calls.
-DIFFERS_HERE = 0.05
 PASSES = 2              # timed passes a round on every side, back to back (the first warms the caches)
 JUDGED = 5_000          # directions a round judged (and compared timed against untimed), drawn after its passes
 # Each side's time is its fastest pass: on a shared machine noise only ever
@@ -79,17 +74,18 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     from ..worker.lookups import open_lookups
     from ..worker.native import null_library
     from .instruments.compare import tolerance
-    from .instruments import own_read
+    from .instruments import fetch_record
     from .instruments.textures import random_faces
     result.output = ""
     # Random faces from the course secret: black or stale colours do not
     # match, and no formula gives the texels without reading them (smooth
     # public faces had a closed form a slow lookup computed instead). The
     # untimed answers to JUDGED directions of each pass, chosen after it,
-    # are judged as the sweep judges, through the student's own readTexture
-    # (instruments.own_read): a lookup that takes a cheaper path on these
-    # faces (it can tell them by their size) no longer matches. The timed
-    # answers there are compared with those untimed ones.
+    # are judged as the sweep judges, on the record of what fetchColor asks
+    # readTexture (instruments.fetch_record; the student's readTexture plays
+    # no part, `texture` only orders the checks): a lookup that takes a
+    # cheaper path on these faces (it can tell them by their size) no longer
+    # matches. The timed answers there are compared with those untimed ones.
     faces_seed = int(np.random.SeedSequence([ctx.seed, 0x7FACE]).generate_state(1)[0])
     cube_faces = random_faces(TIMED_FACE, TIMED_FACE, faces_seed)
     tol = float(tolerance(TIMED_FACE, TIMED_FACE, 1.0))
@@ -100,7 +96,6 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
     sub_ns, ref_ns, null_ns = [], [], []
     right = agree = total = redrawn = 0
     each_pass = []      # (ns per lookup, share judged right, share agreeing) of every student pass
-    reads = own_read.HandoutReads(cube_faces) if texture is not None and texture.ok else ctx.lookups
     with open_lookups(baseline_library(), **mode) as base, open_lookups(null_library(), **mode) as null:
         base.set_faces(cube_faces)
         null.set_faces(cube_faces)
@@ -138,9 +133,7 @@ def speed(ctx: CheckContext, result: CheckResult, sweep: SweepFinding,
             judged = np.concatenate([dirs[p] for dirs, p in zip(passes, picked)])
             untimed = np.asarray(ctx.lookups.fetch(judged).values, np.float64)
             timed_values = np.concatenate([np.asarray(v, np.float64)[p] for v, p in zip(timed.values, picked)])
-            ok = own_read.judge(reads, judged, untimed, tol, (TIMED_FACE, TIMED_FACE), texels=cube_faces,
-                                texture_mismatch=texture.face_mismatch if texture is not None else 0.0,
-                                differs_here=DIFFERS_HERE).ok
+            ok = fetch_record.observe(ctx.lookups, judged, cube_faces, tol)[1].ok
             right += int(ok.sum())
             with np.errstate(invalid="ignore"):
                 same = (np.abs(timed_values - untimed) <= tol).all(axis=1) | (np.isnan(timed_values).all(axis=1) & np.isnan(untimed).all(axis=1))

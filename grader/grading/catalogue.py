@@ -242,7 +242,7 @@ _ENTRIES = [
     # Patterns first: one cause over several faces reads before the per-face
     # symptoms it explains (reports list mistakes in this order).
     DiagnosisInfo(
-        "signed-major", "mapping", ("checks.instruments.face_recovery",),
+        "signed-major", "mapping", ("checks.instruments.face_map",),
         N_("You divide by the signed major component"),
         N_("On -X, -Y and -Z, and only there, u and v both run the wrong way: "
         "those are the faces where the major component is negative, so "
@@ -252,7 +252,7 @@ _ENTRIES = [
         "for it."),
     ),
     DiagnosisInfo(
-        "opengl-table", "mapping", ("checks.instruments.face_recovery",),
+        "opengl-table", "mapping", ("checks.instruments.face_map",),
         N_("You use OpenGL's cube-map table, not this assignment's"),
         N_("+X, -X and -Z are turned 180 degrees (u and v both run the wrong "
         "way) while +Y, -Y and +Z are right: that is exactly OpenGL's table "
@@ -261,7 +261,7 @@ _ENTRIES = [
         N_("Take u and v for every face from the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
-        "face-order", "mapping", ("checks.instruments.face_recovery",),
+        "face-order", "mapping", ("checks.instruments.face_map",),
         N_("Your face numbers are in another order than the buffer's"),
         N_("Several faces read another face, one for one: your code "
         "numbers the faces in another order (for example +X, +Y, +Z, -X, -Y, -Z) "
@@ -271,7 +271,7 @@ _ENTRIES = [
         "convert yours in one place. Keep your (u, v) formulas."),
     ),
     DiagnosisInfo(
-        "uv-rotated", "mapping", ("checks.instruments.face_recovery",),
+        "uv-rotated", "mapping", ("checks.instruments.face_map",),
         N_("On several faces, (u, v) are turned 90, 180 or 270 degrees"),
         N_("On the faces named, the picture is turned about the face's centre: u "
         "and v are swapped and one of them runs the wrong way (90 or 270 "
@@ -282,7 +282,7 @@ _ENTRIES = [
         "the component and its sign. The details say what your u and v are."),
     ),
     DiagnosisInfo(
-        "wrong-face", "mapping", ("checks.instruments.face_recovery",),
+        "wrong-face", "mapping", ("checks.instruments.face_map",),
         N_("fetchColor read from the wrong face"),
         N_("For directions that exit through one face, your code read the colour "
         "from another face (the details say which). The face is the one along "
@@ -296,7 +296,7 @@ _ENTRIES = [
         "the red, green and blue arrows must point along +x, +y and +z."),
     ),
     DiagnosisInfo(
-        "u-flipped", "mapping", ("checks.instruments.face_recovery",),
+        "u-flipped", "mapping", ("checks.instruments.face_map",),
         N_("On this face, u runs the wrong way"),
         N_("The face's picture is mirrored left to right: where the correct u is "
         "0.2 your code uses 0.8. On the face named, u should be the value in "
@@ -307,7 +307,7 @@ _ENTRIES = [
         "faces of the cross meet without a jump."),
     ),
     DiagnosisInfo(
-        "v-flipped", "mapping", ("checks.instruments.face_recovery",),
+        "v-flipped", "mapping", ("checks.instruments.face_map",),
         N_("On this face, v runs the wrong way"),
         N_("The face's picture is upside down: where the correct v is 0.2 your "
         "code uses 0.8. v = 0 is the bottom row of the face (y = 0 in the "
@@ -317,7 +317,7 @@ _ENTRIES = [
         N_("Check the sign in front of the component that gives v on this face."),
     ),
     DiagnosisInfo(
-        "uv-inset", "mapping", ("checks.instruments.face_recovery",),
+        "uv-inset", "mapping", ("checks.instruments.face_map",),
         N_("fetchColor moves (u, v) inward from the face's border"),
         N_("Read back from your answers, (u, v) run from a little above 0 to a "
         "little below 1 on the faces: the face's outer texels are never "
@@ -328,7 +328,7 @@ _ENTRIES = [
         "without scaling or insetting them."),
     ),
     DiagnosisInfo(
-        "uv-offset", "mapping", ("checks.instruments.face_recovery",),
+        "uv-offset", "mapping", ("checks.instruments.face_map",),
         N_("fetchColor shifts (u, v) by a constant"),
         N_("Read back from your answers, fetchColor reads a fixed distance away "
         "from the (u, v) the table gives, on every face."),
@@ -337,7 +337,7 @@ _ENTRIES = [
         "says where the texels are."),
     ),
     DiagnosisInfo(
-        "uv-swapped", "mapping", ("checks.instruments.face_recovery",),
+        "uv-swapped", "mapping", ("checks.instruments.face_map",),
         N_("On this face, u and v are swapped"),
         N_("Your fetchColor used the component that should give v for u and the "
         "other way round on this face, so the face appears turned on its "
@@ -347,7 +347,7 @@ _ENTRIES = [
         "for this face."),
     ),
     DiagnosisInfo(
-        "not-divided-by-m", "mapping", ("checks.instruments.face_recovery",),
+        "not-divided-by-m", "mapping", ("checks.instruments.face_map",),
         N_("fetchColor does not divide by m, the largest |component|"),
         N_("The point where the ray meets the face is found by dividing the "
         "direction by m, the absolute value of its largest component (the "
@@ -362,7 +362,7 @@ _ENTRIES = [
         "components, which overflows for huge directions: `length-overflow`)."),
     ),
     DiagnosisInfo(
-        "not-implemented", "mapping", ("checks.instruments.face_recovery",),
+        "not-implemented", "mapping", ("checks.instruments.face_map",),
         N_("fetchColor still returns black"),
         N_("Every direction gave black (or a colour that is not in the texture), "
         "as the starting code does: fetchColor does not look anything up yet."),
@@ -371,7 +371,7 @@ _ENTRIES = [
         "`readTexture(faceAddress(face), u, v)`."),
     ),
     DiagnosisInfo(
-        "uv-mismatch", "mapping", ("checks.instruments.face_recovery",),
+        "uv-mismatch", "mapping", ("checks.instruments.face_map",),
         N_("On this face, (u, v) follow no pattern the grader recognises"),
         N_("Your code reads the right face, but at places that are neither the "
         "correct (u, v) nor a flip or swap of them. The per-face table in the "
@@ -381,7 +381,7 @@ _ENTRIES = [
         "must give 0 or 1) and compare them with the (u, v) table in README.md."),
     ),
     DiagnosisInfo(
-        "uv-range", "mapping", ("checks.instruments.face_recovery",),
+        "uv-range", "mapping", ("checks.instruments.face_map",),
         N_("(u, v) are not mapped to [0, 1]"),
         N_("Your code reads the right face and the right direction of u and v, "
         "but does not turn the face-plane coordinate s = component / m (which "
@@ -391,7 +391,7 @@ _ENTRIES = [
         "table in README.md; the face's centre must give (0.5, 0.5)."),
     ),
     DiagnosisInfo(
-        "tie-untouched-face", "mapping", ("checks.instruments.face_recovery",),
+        "tie-untouched-face", "mapping", ("checks.instruments.face_map",),
         N_("A direction on an edge or corner samples a face it does not touch"),
         N_("When two or three components tie as the largest in magnitude, the "
         "direction lies on an edge or corner of the cube and every face it "
@@ -416,7 +416,7 @@ _ENTRIES = [
         "a short direction has a face like any other."),
     ),
     DiagnosisInfo(
-        "float-precision", "mapping", ("checks.instruments.face_recovery",),
+        "float-precision", "mapping", ("checks.instruments.face_map",),
         N_("Tiny or huge directions lose their precision in float"),
         N_("The components go through float somewhere (`float x = direction.x`, "
         "or a helper with float parameters). float cannot hold magnitudes "
@@ -428,7 +428,7 @@ _ENTRIES = [
         "safe in float."),
     ),
     DiagnosisInfo(
-        "length-overflow", "mapping", ("checks.instruments.face_recovery",),
+        "length-overflow", "mapping", ("checks.instruments.face_map",),
         N_("Huge or tiny directions overflow when squared"),
         N_("Your code squares the components (to normalise the direction, or to "
         "compare lengths): x*x + y*y + z*z overflows to infinity above "
@@ -458,7 +458,7 @@ _ENTRIES = [
         "having no face."),
     ),
     DiagnosisInfo(
-        "face-not-analysed", "mapping", ("checks.instruments.face_recovery",),
+        "face-not-analysed", "mapping", ("checks.instruments.face_map",),
         N_("The analysis of one face stopped at a crash"),
         N_("The grader could not find out what fetchColor does toward this face, "
         "because your code crashed on the directions it needed. The face is "
@@ -466,17 +466,6 @@ _ENTRIES = [
         "name the input that crashed."),
         N_("Fix the crash first (see the crash diagnosis); the next submission's "
         "report will then say what happens on this face."),
-    ),
-    DiagnosisInfo(
-        "fetch-not-analysed", "mapping", ("checks.instruments.face_recovery",),
-        N_("fetchColor could not be analysed through your readTexture"),
-        N_("The grader finds out where fetchColor samples by reading back what "
-        "your readTexture returns from textures that encode their positions. "
-        "Your readTexture returns the same colour everywhere, or follows no "
-        "pattern the grader can model, so its answers do not say which face "
-        "and (u, v) fetchColor asked for. Nothing is concluded about fetchColor."),
-        N_("Fix readTexture first (see its check); fetchColor is analysed again "
-        "on the next submission."),
     ),
     DiagnosisInfo(
         "discontinuous-seam", "mapping", ("checks.stability",),

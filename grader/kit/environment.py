@@ -12,7 +12,7 @@ comes along with the next lock.
 
 Left out on purpose (the kit's environment is at most 100 MB): scipy,
 scikit-image, matplotlib, Babel and Pillow, which the grader uses elsewhere;
-the checks the kit runs use numpy instead (readback, image_metrics) and
+the checks the kit runs use numpy instead (image_metrics) and
 OpenImageIO for the arrows picture, and the Japanese catalogue goes into the
 kit compiled (grader.i18n.compile_catalogues). Pillow only turns PNGs into
 Gradescope's HTML (reports.gradescope_json.png_data_url), which the kit never

@@ -32,7 +32,7 @@ NO_ZOO_FILE = ("not followed yet: no zoo sidecar names it as a cause (a zoo test
     "address-not-face-start", "texture-context-dependent", "timed-output-wrong", "timing-faces-wrong"})
 NOT_A_CHANGE = ("the hint says how to find the cause (a debugger, a picture, the diagnosis beside it), "
                 "not what to change", {
-    "crash", "face-not-analysed", "fetch-not-analysed", "arrow-wrong", "arrow-missing", "render-mismatch"})
+    "crash", "face-not-analysed", "arrow-wrong", "arrow-missing", "render-mismatch"})
 NOT_CODE = ("about what is handed in or how it is built, not the lookup's code", {
     "build-error", "no-source", "empty-submission", "unknown-format", "unreadable-archive", "refused-include",
     "calls-reference", "forbidden-object", "load-error", "refused-source"})

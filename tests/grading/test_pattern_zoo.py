@@ -26,8 +26,7 @@ import pytest
 
 import fake_lookups
 from fake_lookups import FakeLookups
-from grader.checks.instruments import face_recovery
-from grader.checks.instruments.texture_model import HANDOUT, Fit
+from grader.checks.instruments import face_map
 from zoo_truth import Zoo
 from grader.grading.results import GRADED, PASSED
 from project_paths import SUBMISSIONS
@@ -61,7 +60,7 @@ def turns(monkeypatch):
 
 
 def found(fetch) -> set[tuple[str, str | None]]:
-    analysis = face_recovery.analyse(FakeLookups(fetch=fetch), Fit(HANDOUT, HANDOUT, 1.0, 0), quick=True)
+    analysis = face_map.analyse(FakeLookups(fetch=fetch), quick=True)
     return {(d.id, d.face) for d in analysis.diagnoses()}
 
 
@@ -121,7 +120,7 @@ class MirroredOnNegX(FakeLookups):
 
 def test_a_face_order_beside_a_flip_keeps_the_flip_on_its_face():
     fake = MirroredOnNegX(fetch=reorder(["-X", "+X", "-Y", "+Y", "-Z", "+Z"]))
-    analysis = face_recovery.analyse(fake, Fit(HANDOUT, HANDOUT, 1.0, 0), quick=True)
+    analysis = face_map.analyse(fake, quick=True)
     got = {d.id: d for d in analysis.diagnoses()}
     assert set(got) == {"face-order", "u-flipped"} and got["u-flipped"].face == "-X"
     assert "-X, +X, -Y, +Y, -Z, +Z" in got["face-order"].detail
@@ -129,8 +128,7 @@ def test_a_face_order_beside_a_flip_keeps_the_flip_on_its_face():
 
 
 def test_the_turn_is_told_in_the_tables_terms():
-    analysis = face_recovery.analyse(FakeLookups(fetch={"+Y": "turned-90", "-Y": "turned-90"}),
-                                     Fit(HANDOUT, HANDOUT, 1.0, 0), quick=True)
+    analysis = face_map.analyse(FakeLookups(fetch={"+Y": "turned-90", "-Y": "turned-90"}), quick=True)
     [d] = analysis.diagnoses()
     assert d.id == "uv-rotated" and "+Y and -Y" in d.detail and "90 degrees" in d.detail
     assert "your u is 1 - v and your v is u" in d.detail

@@ -56,7 +56,7 @@ def wraps_at_one(dirs, size):
 # name: (truth, checks that lose points, checks that keep them, ids that would be false)
 READ_IDS = {"nearest-neighbor", "half-texel-offset", "weights-swapped", "out-of-bounds-read", "unclamped-edge"}
 MAPPING_IDS = {"u-flipped", "v-flipped", "uv-swapped", "wrong-face", "uv-mismatch", "face-order", "uv-rotated",
-               "float-precision", "not-divided-by-m", "fetch-not-returned", "asks-otherwise", "fetch-not-analysed"}
+               "float-precision", "not-divided-by-m", "fetch-not-returned", "asks-otherwise"}
 ZOO = {
     # Every check that asks fetchColor on faces of a second size in one process sees it: the
     # sweep's second size, and stability, arrows and renders after a first call on larger faces

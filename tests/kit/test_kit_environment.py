@@ -113,7 +113,7 @@ out = Path({out!r})
 checks = [c for c in all_checks().values() if c.name != "speed"]
 statuses = {{}}
 result = GradeResult(submission="kit closure")
-# Every check on a fetchColor mistake; the diagnosis again on an inset, which it reads back (readback.py).
+# Every check on a fetchColor mistake; the diagnosis again on an inset, which it maps (face_map.py).
 for name, lookups, selected in (("u-flipped", FakeLookups(fetch={{"+X": "u-flipped"}}), None),
                                 ("inset", FakeLookups(fetch="inset"), ["diagnosis"])):
     ctx = CheckContext(lookups=lookups, seed=1, artifacts=out / name / "images", quick=True)
@@ -137,8 +137,8 @@ print(json.dumps({{"statuses": statuses, "heavy": heavy, "diagnoses": [d.id for 
 def test_the_kit_side_grader_runs_without_scipy_scikit_image_matplotlib_babel_or_pillow(tmp_path, reference_library):
     """In a Python that sees only the kit's packages (no site-packages but
     links to those requirements-kit.txt names): import the grade, checks
-    and reports, run every check but speed on a fake submission (readback's
-    search and SSIM included) and write every report."""
+    and reports, run every check but speed on a fake submission (the per-face
+    map and SSIM included) and write every report."""
     site = kit_site_packages(tmp_path / "site")
     script = CLOSURE_SCRIPT.format(tests=str(PROJECT_ROOT / "tests" / "helpers"), root=str(PROJECT_ROOT), out=str(tmp_path),
                                    heavy=HEAVY)
@@ -163,7 +163,7 @@ def test_the_kit_side_grader_runs_without_scipy_scikit_image_matplotlib_babel_or
 def test_the_same_python_without_the_kit_links_cannot_import_the_grader(tmp_path):
     """The closure test above can fail: with no site-packages at all, numpy is missing."""
     done = subprocess.run([sys.executable, "-S", "-c", f"import sys; sys.path.insert(0, {str(PROJECT_ROOT)!r}); "
-                           "import grader.checks.instruments.readback"], capture_output=True, text=True, timeout=60,
+                           "import grader.checks.instruments.face_map"], capture_output=True, text=True, timeout=60,
                           env={k: v for k, v in os.environ.items() if k != "PYTHONPATH"}, cwd=tmp_path)
     assert done.returncode != 0 and "numpy" in done.stderr
 

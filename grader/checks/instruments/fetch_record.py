@@ -16,6 +16,7 @@ colours are judged end to end against the reference on the same faces.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -190,27 +191,63 @@ def cases(tagged: Record, plain: Record) -> np.ndarray:
 
 @dataclass
 class Judgement(Mismatches):
-    """fetchColor judged on its record."""
+    """fetchColor judged on its record. The colours (`expected`, `actual`)
+    are computed when first asked for: most judgements need only `ok`."""
     ok: np.ndarray            # (n,) what it asked for (or, reading itself, returned) is right
-    expected: np.ndarray      # (n, 3) the reference's colour for the direction
-    actual: np.ndarray        # (n, 3) the handout's readTexture at the recorded request (or its own colour)
     error: np.ndarray         # (n,) distance to the nearest acceptable colour
     case: np.ndarray          # (n,) cases()
     unreadable: np.ndarray    # (n,) always False: the student's readTexture is never asked
     requested: tuple          # (faces (n,), uv (n, 2)) the recorded request (-1, NaN: none)
     table: tuple              # (faces (n,), uv (n, 2)) the reference's face and (u, v) (docs/assignment.md)
+    own: np.ndarray           # (n, 3) what fetchColor returned
+    own_rows: np.ndarray      # (n,) where that colour is the one credited (it read itself, or returned no answer it was given)
+    texels: np.ndarray        # the faces it was recorded on
+
+    @functools.cached_property
+    def expected(self) -> np.ndarray:
+        """(n, 3) the reference's colour for the direction."""
+        return handout_read(self.texels, *self.table)
+
+    @functools.cached_property
+    def actual(self) -> np.ndarray:
+        """(n, 3) the handout's readTexture at the recorded request (or its own colour)."""
+        return _actual(self.texels, self.requested, self.own_rows, self.own)
+
+
+def _actual(texels, requested, own_rows, own) -> np.ndarray:
+    out = handout_read(texels, *requested)
+    out[own_rows] = own[own_rows]
+    return out
 
 
 def handout_read(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.ndarray:
-    """The handout's readTexture at faces[i], uv[i]; NaN where no face or
-    (u, v). The handout member of texture_model (held to the C reference by
-    its tests), not the oracle: the (u, v) are the student's, which the
-    kit's recorded answers cannot hold, and the kit holds this member."""
-    from .texture_model import HANDOUT, evaluate_in_buffer
+    """The handout's readTexture (equations (1)-(3), lattice points clamped
+    to the face, (u, v) to [0, 1]) on texels (6, H, W, 3) at faces[i],
+    uv[i]; NaN where no face or (u, v). Written here, not asked of the
+    oracle: the (u, v) are the student's, which the kit's recorded answers
+    cannot hold. Held to the C reference's bilinear by
+    tests/unit/checks/instruments/test_fetch_record.py."""
+    texels = np.asarray(texels)
+    h, w = texels.shape[1:3]
     out = np.full((len(uv), 3), np.nan)
-    rows = (faces >= 0) & np.isfinite(uv).all(axis=1)
-    if rows.any():
-        out[rows] = evaluate_in_buffer(HANDOUT, texels, faces[rows], uv[rows])[0]
+    rows = np.flatnonzero((faces >= 0) & np.isfinite(uv).all(axis=1))
+    if not len(rows):
+        return out
+    f = faces[rows].astype(np.int64)
+    # (u, v) clamped to [0, 1] as the reference's em_read_texture takes them;
+    # p = (uW, vH); the lattice point below-left of it and its neighbour,
+    # clamped to the face.
+    px, py = np.clip(uv[rows, 0], 0.0, 1.0) * w, np.clip(uv[rows, 1], 0.0, 1.0) * h
+    left, bottom = np.floor(px), np.floor(py)
+    alpha, beta = (px - left)[:, None], (py - bottom)[:, None]
+    x0, x1 = np.clip(left, 0, w - 1).astype(np.int64), np.clip(left + 1, 0, w - 1).astype(np.int64)
+    y0, y1 = np.clip(bottom, 0, h - 1).astype(np.int64), np.clip(bottom + 1, 0, h - 1).astype(np.int64)
+    def c(y, x):
+        return texels[f, y, x].astype(np.float64)
+
+    c0 = (1.0 - alpha) * c(y0, x0) + alpha * c(y0, x1)
+    c1 = (1.0 - alpha) * c(y1, x0) + alpha * c(y1, x1)
+    out[rows] = (1.0 - beta) * c0 + beta * c1
     return out
 
 
@@ -231,35 +268,89 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
     plain_faces, plain_uv = plain.request()
     req_faces, req_uv = req_faces.copy(), req_uv.copy()
     req_faces[otherwise], req_uv[otherwise] = plain_faces[otherwise], plain_uv[otherwise]
-    actual = handout_read(texels, req_faces, req_uv)
     itself = case == READS_ITSELF
-    actual[itself] = tagged.values[itself]
-    own = otherwise & (req_faces < 0)
-    actual[own] = plain.values[own]
+    own_rows = otherwise & (req_faces < 0)
+    own = np.where(own_rows[:, None], plain.values, tagged.values)
+    own_rows |= itself
     faces, uv = tied_face_uv(dirs)
     n, k = faces.shape
-    acceptable = handout_read(texels, faces.reshape(-1), uv.reshape(-1, 2)).reshape(n, k, 3)
-    cmp = compare(actual, acceptable, tol)
     size = np.array(texels.shape[2:0:-1], np.float64)            # (W, H)
-    with np.errstate(invalid="ignore"):
-        off = np.abs(req_uv[:, None, :] - uv)                     # (n, k, 2)
-        texels_off = np.where(faces == req_faces[:, None], (off * size).max(axis=2), np.inf)
-        near = (faces == req_faces[:, None]) & (off <= UV_TOLERANCE).all(axis=2) & (faces >= 0)
+    with np.errstate(invalid="ignore", over="ignore"):     # a u of 1e308 is inf texels off
+        same_face = (faces == req_faces[:, None]) & (faces >= 0)  # (n, k)
+        du, dv = np.abs(req_uv[:, None, 0] - uv[..., 0]), np.abs(req_uv[:, None, 1] - uv[..., 1])
+        near = same_face & (du <= UV_TOLERANCE) & (dv <= UV_TOLERANCE)
+        texels_off = np.where(same_face, np.maximum(du * size[0], dv * size[1]), np.inf)
     texels_off[np.isnan(texels_off)] = np.inf
     read = case == READ
-    ok = np.where(read, near.any(axis=1), itself & cmp.ok)
-    error = np.where(read, texels_off.min(axis=1), cmp.error)
-    return Judgement(ok=ok, expected=acceptable[:, 0], actual=actual, error=error, case=case,
-                     unreadable=np.zeros(n, bool), requested=(req_faces, req_uv), table=(faces[:, 0], uv[:, 0]))
+    ok, error = near.any(axis=1) & read, texels_off.min(axis=1)
+    # The colours against the handout's at every face the direction touches:
+    # judged where fetchColor read itself, and the error that orders the
+    # other cases' worst (few rows for most code: not computed for the rest).
+    rows = np.flatnonzero(~read)
+    if len(rows):
+        acceptable = handout_read(texels, faces[rows].reshape(-1), uv[rows].reshape(-1, 2)).reshape(len(rows), k, 3)
+        actual = _actual(texels, (req_faces[rows], req_uv[rows]), own_rows[rows], own[rows])
+        cmp = compare(actual, acceptable, np.broadcast_to(np.asarray(tol, np.float64), (n,))[rows])
+        ok[rows], error[rows] = itself[rows] & cmp.ok, cmp.error
+    return Judgement(ok=ok, error=error, case=case, unreadable=np.zeros(n, bool), requested=(req_faces, req_uv),
+                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels)
+
+
+# The plain recording (answered by the student's own readTexture) is made
+# for a sample of PLAIN_SAMPLE directions of a larger set, drawn after the
+# tagged recording from a hash of the directions (deterministic, and unknown
+# to fetchColor while it is recorded tagged: it cannot be honest on the
+# sample only). Honest code asks alike on every direction, so the sample
+# finds nothing and the rest is never recorded plainly (issue 29: the
+# second recording was most of the record's cost). A fetchColor that asks
+# otherwise on a share q of the directions escapes the sample with
+# probability (1 - q) ** PLAIN_SAMPLE: 3e-5 at q = 1%, 4e-3 at q = 0.5%,
+# and below q = 1% it could gain at most 1% of a check. Once the sample
+# finds one direction that asks otherwise or returns no answer, every
+# direction is recorded plainly and judged as if no sample had been drawn
+# (tests/unit/checks/instruments/test_fetch_record.py,
+# tests/security/test_recording_attacks.py).
+PLAIN_SAMPLE = 1024
 
 
 def observe(lookups, dirs: np.ndarray, texels: np.ndarray, tol) -> tuple[Record, Judgement]:
-    """fetchColor recorded twice on `texels` (the faces currently set: tagged,
-    then answered by the student's own readTexture) and judged: (the tagged
-    record, whose outcome has fetchColor's own failures; the judgement)."""
+    """fetchColor recorded on `texels` (the faces currently set: tagged, then
+    answered by the student's own readTexture, on a sample) and judged: (the
+    tagged record, whose outcome has fetchColor's own failures; the judgement)."""
+    dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     tagged = record(lookups, dirs)
-    plain = record(lookups, dirs, tagged=False)
-    return tagged, judge(tagged, plain, dirs, texels, tol)
+    return tagged, judge(tagged, plain_record(lookups, dirs, tagged), dirs, texels, tol)
+
+
+def plain_record(lookups, dirs: np.ndarray, tagged: Record) -> Record:
+    """The plain recording of `dirs` (PLAIN_SAMPLE): all of them, or a
+    sample, the rest marked not run (calls -1: cases() goes by the tagged
+    record alone there)."""
+    n = len(dirs)
+    if n <= PLAIN_SAMPLE:
+        return record(lookups, dirs, tagged=False)
+    import hashlib
+    digest = hashlib.blake2b(np.ascontiguousarray(dirs).tobytes(), digest_size=16).digest()
+    sample = np.sort(np.random.default_rng(np.frombuffer(digest, np.uint32)).choice(n, PLAIN_SAMPLE, replace=False))
+    seen = record(lookups, dirs[sample], tagged=False)
+    alone = _rows(tagged, sample)
+    if (cases(alone, seen) != cases(alone, _not_run(PLAIN_SAMPLE))).any():
+        return record(lookups, dirs, tagged=False)
+    plain = _not_run(n)
+    for name in ("values", "calls", "returned", "faces", "offsets", "uv"):
+        getattr(plain, name)[sample] = getattr(seen, name)
+    return plain
+
+
+def _rows(rec: Record, rows: np.ndarray) -> Record:
+    return Record(**{name: getattr(rec, name)[rows] for name in ("values", "calls", "returned", "faces", "offsets", "uv")},
+                  outcome=None)
+
+
+def _not_run(n: int) -> Record:
+    return Record(values=np.full((n, 3), np.nan), calls=np.full(n, -1, np.int64), returned=np.full(n, -1, np.int64),
+                  faces=np.full((n, RECORDED_CALLS), -1, np.int64), offsets=np.full((n, RECORDED_CALLS), np.nan),
+                  uv=np.full((n, RECORDED_CALLS, 2), np.nan), outcome=None)
 
 
 def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit | None, TexelHit | None]:
@@ -355,37 +446,3 @@ def judged_in_context(read_texture_check):
         return dataclasses.replace(finding, ok=False, fraction=min(finding.fraction, share))
 
     return run
-
-
-class AsIfHandoutRead:
-    """The submission as the fetchColor checks see it: its fetchColor's
-    recorded requests answered by the handout's readTexture (the reference's
-    bilinear on the faces set), its own colours where it reads the texels
-    itself, NaN where it crashed or returned no answer. What face_recovery
-    reads fetchColor back through, so a readTexture mistake (or lie) never
-    shapes what fetchColor is said to do."""
-
-    def __init__(self, lookups):
-        self.lookups = lookups
-        self.texels: np.ndarray | None = None
-
-    def set_faces(self, faces: np.ndarray, same_process: bool = False) -> None:
-        self.texels = np.ascontiguousarray(faces, np.float32)
-        self.lookups.set_faces(faces, same_process=same_process)
-
-    def fetch(self, dirs: np.ndarray, placement: str = "end"):
-        from ...worker.runner import Outcome
-        rec = record(self.lookups, dirs)
-        faces, uv = rec.request()
-        values = handout_read(self.texels, faces, uv)
-        itself = rec.calls == 0
-        values[itself] = rec.values[itself]
-        got = rec.outcome
-        return Outcome(values=values, evaluated=np.isfinite(values).all(axis=1), failures=list(got.failures),
-                       gave_up=got.gave_up, warnings=got.warnings, recovered_rows=list(got.recovered_rows))
-
-    def read_texture(self, face: int, uv: np.ndarray, placement: str = "end"):
-        from ...worker.runner import Outcome
-        uv = np.asarray(uv, np.float64).reshape(-1, 2)
-        values = handout_read(self.texels, np.full(len(uv), face), uv)
-        return Outcome(values=values, evaluated=np.ones(len(uv), bool))

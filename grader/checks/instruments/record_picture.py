@@ -10,6 +10,7 @@ import numpy as np
 from ...envmap.geometry import FACE_NAMES, cross_cells, face_uv_to_direction
 from ...i18n import _
 from . import fetch_record
+from .textures import coordinate_faces
 
 SIZE = 24                      # texels per face side
 HUES = np.array([[0.93, 0.45, 0.40], [0.55, 0.20, 0.18], [0.45, 0.80, 0.40],
@@ -33,18 +34,19 @@ def lettered_faces(size: int = SIZE) -> np.ndarray:
 def asked_faces(lookups, size: int = SIZE) -> np.ndarray:
     """(6, size, size, 3): each texel of each face coloured by what the
     student's fetchColor asks for in the direction through its lattice point,
-    read from the lettered faces by the handout's readTexture."""
-    texels = lettered_faces(size)
-    lookups.set_faces(texels)
+    read from the lettered faces by the handout's readTexture. Recorded on
+    the diagnosis's coordinate faces (their size: no new worker), which only
+    code that reads the texels itself sees (face_map.places)."""
+    from .face_map import FACE_SIZE, places
+    lookups.set_faces(coordinate_faces(FACE_SIZE, FACE_SIZE))
     # At each texel's lattice point p = (x, y) (just inside, off the edges):
     # the handout's readTexture reads that texel alone there.
     c = (np.arange(size) + 0.01) / size
     u, v = np.meshgrid(c, c)
     face = np.repeat(np.arange(6), size * size)
     dirs = face_uv_to_direction(face, np.tile(u.ravel(), 6), np.tile(v.ravel(), 6))
-    rec = fetch_record.record(lookups, dirs)
-    asked, uv = rec.request()
-    colours = fetch_record.handout_read(texels, asked, uv)
+    asked, uv, _itself = places(fetch_record.record(lookups, dirs), (FACE_SIZE, FACE_SIZE))
+    colours = fetch_record.handout_read(lettered_faces(size), asked, uv)
     colours[~np.isfinite(colours).all(axis=1)] = UNSEEN
     return colours.reshape(6, size, size, 3).astype(np.float32)
 

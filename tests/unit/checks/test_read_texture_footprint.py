@@ -57,7 +57,6 @@ def run_check(lookups) -> tuple[CheckResult, rt.ReadTextureFinding]:
 def test_the_handouts_read_passes_with_every_probe():
     result, finding = run_check(FakeLookups())
     assert (result.status, result.fraction, result.diagnoses) == (PASSED, 1.0, []) and finding.ok
-    assert finding.face_mismatch == (0.0,) * 6
 
 
 def test_the_starting_codes_nearest_texel_scores_nothing():

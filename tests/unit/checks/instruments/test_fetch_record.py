@@ -136,3 +136,72 @@ def test_without_a_fresh_worker_the_memoised_answers_would_have_been_judged_othe
     lookups.restart = lambda: None
     _, verdict = judged(lookups)
     assert not verdict.ok.all()
+
+
+# ---- the handout's bilinear, and the plain recording on a sample -------------------
+
+def test_the_handout_read_agrees_with_the_c_reference_bilinear():
+    from grader.checks.instruments.textures import random_faces
+    faces = random_faces(13, 7, 3)
+    cube = library.CubeMap(faces)
+    rng = np.random.default_rng(1)
+    uv = np.concatenate([rng.random((4000, 2)), np.stack(np.meshgrid(np.arange(14) / 13, np.arange(8) / 7), -1).reshape(-1, 2),
+                         [[0, 0], [1, 1], [0, 1], [1, 0], [1 - 1e-12, 0.5]]])
+    for face in (0, 3, 5):
+        got = fetch_record.handout_read(faces, np.full(len(uv), face), uv)
+        np.testing.assert_allclose(got, cube.read_texture(face, uv, "bilinear"), rtol=0, atol=1e-12)
+    # Outside [0, 1] (a student's u): clamped to [0, 1] as the reference's readTexture takes it.
+    outside = np.array([[-0.3, 0.5], [1.4, -0.2], [-0.01, 1.01]])
+    np.testing.assert_allclose(fetch_record.handout_read(faces, np.full(3, 2), outside),
+                               cube.read_texture(2, outside, "bilinear"), rtol=0, atol=1e-12)
+    assert np.isnan(fetch_record.handout_read(faces, np.array([-1, 2]), np.array([[0.5, 0.5], [np.nan, 0.5]]))).all()
+
+
+MANY = np.random.default_rng(5).normal(size=(3 * fetch_record.PLAIN_SAMPLE, 3))
+
+
+class Counting(FakeLookups):
+    """The fake, counting the directions recorded plainly; `other` (n,) of
+    MANY's rows ask for another v when answered by the student's readTexture."""
+
+    def __init__(self, other=None):
+        super().__init__()
+        self.plain, self.other = 0, other
+
+    def record_fetch(self, dirs, tags):
+        out = super().record_fetch(dirs, tags)
+        if tags is None:
+            self.plain += len(dirs)
+            if self.other is not None:
+                rows = np.flatnonzero((np.asarray(dirs)[:, None, :] == MANY[self.other][None]).all(axis=2).any(axis=1))
+                out.values[rows, 8] = 1 - out.values[rows, 8]
+        return out
+
+
+def observe_many(lookups):
+    faces = coordinate_faces(W, H)
+    lookups.set_faces(faces)
+    return fetch_record.observe(lookups, MANY, faces, tolerance(W, H, W + 1.0))[1]
+
+
+def test_honest_code_is_recorded_plainly_on_a_sample_only():
+    lookups = Counting()
+    verdict = observe_many(lookups)
+    assert lookups.plain == fetch_record.PLAIN_SAMPLE and verdict.ok.all()
+
+
+def test_asking_otherwise_on_one_direction_in_a_hundred_is_caught_and_then_judged_everywhere():
+    # 1% of the directions: the sample misses all of them with probability 0.99 ** 1024 = 3e-5.
+    other = np.random.default_rng(6).choice(len(MANY), len(MANY) // 100, replace=False)
+    lookups = Counting(other)
+    verdict = observe_many(lookups)
+    assert lookups.plain == fetch_record.PLAIN_SAMPLE + len(MANY)
+    assert set(np.flatnonzero(verdict.case == fetch_record.ASKS_OTHERWISE)) == set(other)
+    assert verdict.ok.sum() == len(MANY) - len(other)
+
+
+def test_the_sample_is_the_same_for_the_same_directions():
+    # Determinism: the same submission graded twice draws the same sample (and so the same report).
+    a, b = Counting(np.array([0])), Counting(np.array([0]))
+    observe_many(a), observe_many(b)
+    assert a.plain == b.plain

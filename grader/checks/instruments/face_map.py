@@ -1,17 +1,17 @@
-"""fetchColor through a calibrated instrument: where it samples, recovered
-through the submission's OWN readTexture.
+"""What fetchColor asks readTexture for, face by face, read off the record.
 
-The faces handed over encode position (R = x + 1, G = y + 1, B = face + 1).
-What comes back from fetchColor is readTexture's answer at the face and
-(u, v) fetchColor chose. Instead of assuming readTexture is the handout's,
-the fitted model of the student's readTexture (grader.checks.instruments.texture_model)
-predicts, for every candidate fetchColor behaviour (the handout's face and
-(u, v), flipped, swapped, remapped, divided by the length), what the
-submission would return; the candidate that reproduces the answers names the
-fetchColor mistake. So a wrong readTexture never becomes a fetchColor
-diagnosis, and fetchColor's mistakes are found whatever readTexture does.
+fetchColor's readTexture calls are recorded (instruments.fetch_record): the
+face and (u, v) of the call whose answer it returns. Per face the recorded
+(u, v) are set against the table's (docs/assignment.md): a candidate (u and v
+flipped, exchanged, not mapped to [0, 1], divided by |d|) that gives the
+recorded (u, v) for nearly every direction names the mistake; otherwise an
+affine map fitted to them names an inset or an offset; otherwise the face
+is shown as one worked case in numbers. Nothing is inferred from colours,
+and the student's readTexture plays no part. Where fetchColor reads the
+texels itself (no readTexture call), the faces handed over encode their
+positions (textures.coordinate_faces) and its colour gives the place read,
+as the handout's bilinear would give it.
 
-Everything here is independent of how results are scored or reported:
 `analyse` returns a FetchAnalysis with one FaceVerdict per face (analysed,
 or why not) and the whole-lookup findings (ties, precision, overflow).
 """
@@ -25,21 +25,19 @@ import numpy as np
 from ...envmap import oracle, library as reference
 from ...i18n import N_, _, and_list
 from ...grading.results import Diagnosis
-from ...envmap.geometry import uv_on_face
+from . import fetch_record
+from .directions import fibonacci_sphere, tied_axes
+from .textures import coordinate_faces, decode_sample_coordinates
 
-# Every id a candidate can give (tests/unit/grading/test_diagnosis_catalogue.py).
+# Every id the analysis can give from the (u, v) it sees (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("uv-swapped", "u-flipped", "v-flipped", "uv-range", "signed-major", "opengl-table",
                  "face-order", "uv-rotated", "uv-inset", "uv-offset", "uv-mismatch")
-from .compare import tolerance
-from .directions import fibonacci_sphere, tied_axes
-from .texture_model import Fit, TextureModel, evaluate_in_buffer
-from .textures import coordinate_faces, decode_sample_coordinates
-from .readback import AffineMap, calibrate, fit_affine
-from . import readback
 
 FACE_SIZE = 32
-SHARE = 0.9          # a candidate must explain 90% of a face's directions
+SHARE = 0.9          # a candidate (or map) must explain 90% of a face's directions
 MIN_DIRECTIONS = 20  # fewer answers toward a face than this: not analysed
+PLACE_TOLERANCE = 1e-3   # texels: a recorded (u, v) this close to a candidate's is it (float rounding is ~1e-5)
+SCALE_TOLERANCE = 0.02   # |scale - 1| below this is no scale mistake
 
 
 def face_name(k: int) -> str:
@@ -195,6 +193,78 @@ def find_patterns(faces: list) -> list[Pattern]:
     return out
 
 
+# ---- a face's (u, v) as an affine map of the table's -------------------------
+
+@dataclass(frozen=True)
+class AffineMap:
+    """asked = F(scale * source + offset) per coordinate, F the flip (1 - x)
+    where flipped; source the table's (u, v), exchanged when `swap`."""
+    swap: bool
+    flip_u: bool
+    flip_v: bool
+    scale: tuple[float, float]
+    offset: tuple[float, float]
+    explained: float          # share of the face's directions within a texel of the map
+    size: tuple[int, int]
+
+    @property
+    def orientation_ids(self) -> list[str]:
+        return [i for i, on in (("uv-swapped", self.swap), ("u-flipped", self.flip_u), ("v-flipped", self.flip_v)) if on]
+
+    @property
+    def kind(self) -> str | None:
+        """What is wrong beyond orientation: None, "uv-inset", "uv-offset",
+        "uv-range" (not mapped to [0, 1] as the handout says) or "uv-mismatch"."""
+        s, o = np.array(self.scale), np.array(self.offset)
+        quarter = 0.25 / np.array(self.size, np.float64)
+        if (np.abs(s - 1) < SCALE_TOLERANCE).all() and (np.abs(o) < quarter).all():
+            return None
+        for rs, ro in ((2.0, -1.0), (2.0, 0.0), (1.0, -0.5)):        # REMAPS' mistakes
+            if (np.abs(s - rs) < SCALE_TOLERANCE * rs).all() and (np.abs(o - ro) < quarter).all():
+                return "uv-range"
+        centre_kept = (np.abs(s * 0.5 + o - 0.5) < quarter).all()
+        if (s < 1 - SCALE_TOLERANCE).all() and centre_kept:
+            return "uv-inset"
+        if (np.abs(s - 1) < SCALE_TOLERANCE).all():
+            return "uv-offset"
+        return "uv-mismatch"
+
+    def words(self) -> str:
+        """The map in numbers a student can compare with their formula."""
+        names = ("v", "u") if self.swap else ("u", "v")
+        parts = []
+        for which, (target, source) in enumerate(zip(("u", "v"), names)):
+            s, o = self.scale[which], self.offset[which]
+            expr = f"{s:.3g} {source} {'+' if o >= 0 else '-'} {abs(o):.3g}"
+            flipped = self.flip_u if which == 0 else self.flip_v
+            parts.append(f"{target} = {'1 - (' + expr + ')' if flipped else expr}")
+        return ", ".join(parts)
+
+
+def fit_affine(ref_uv: np.ndarray, asked_uv: np.ndarray, size: tuple[int, int]) -> AffineMap | None:
+    """The affine map from the table's (u, v) to the asked ones, fitted
+    where neither is within two texels of the border (code that reads the
+    texels itself clamps there); None with too few points."""
+    w, h = size
+    margin = np.array([2.0 / w, 2.0 / h])
+    ok = (np.isfinite(asked_uv).all(axis=1) & (ref_uv > margin).all(axis=1) & (ref_uv < 1 - margin).all(axis=1)
+          & (asked_uv > margin / 2).all(axis=1) & (asked_uv < 1 - margin / 2).all(axis=1))
+    if ok.sum() < 20:
+        return None
+    x = np.column_stack([ref_uv[ok], np.ones(int(ok.sum()))])
+    coef, *_ = np.linalg.lstsq(x, asked_uv[ok], rcond=None)          # (3, 2): asked = x @ coef
+    a, b, c, d = coef[0, 0], coef[1, 0], coef[0, 1], coef[1, 1]       # du/du, du/dv, dv/du, dv/dv
+    swap = abs(b) + abs(c) > abs(a) + abs(d)
+    slope_u, slope_v = (b, c) if swap else (a, d)
+    flip_u, flip_v = slope_u < 0, slope_v < 0
+    icpt = coef[2]
+    offset = (1 - icpt[0] if flip_u else icpt[0], 1 - icpt[1] if flip_v else icpt[1])
+    residual = np.abs(x @ coef - asked_uv[ok]) * (w, h)
+    explained = float(np.mean((residual <= 0.75).all(axis=1)))
+    return AffineMap(bool(swap), bool(flip_u), bool(flip_v), (float(abs(slope_u)), float(abs(slope_v))),
+                     (float(offset[0]), float(offset[1])), explained, size)
+
+
 # ---- results ---------------------------------------------------------------
 
 @dataclass
@@ -206,8 +276,9 @@ class FaceVerdict:
     candidate: Candidate | None = None
     share: float = 0.0              # directions the best candidate explains
     crash: str | None = None        # the input that crashed, when it kept the face from being analysed
-    example: str = ""               # for a face no candidate explains: one direction, its (u, v) and the recovered one
-    affine: "AffineMap | None" = None   # the (u, v) read back without a model, when it explains the face
+    example: str = ""               # for a face nothing explains: one direction, the table's and the asked (face, u, v)
+    affine: AffineMap | None = None   # the affine map of the table's (u, v), when it explains the face
+    elsewhere: int = 0              # directions asked of another face than the one it mostly asks
 
     @property
     def analysed(self) -> bool:
@@ -221,9 +292,9 @@ class FaceVerdict:
                 and not self.candidate.ids and not self.candidate.by_length)
 
     def orientation(self) -> tuple[bool, bool, bool] | None:
-        """(swap, flip u, flip v) of the (u, v) read on the sampled face
-        against the table's, when the face's map is known (read back, or a
-        candidate explains it), whatever else is wrong there."""
+        """(swap, flip u, flip v) of the (u, v) asked on the sampled face
+        against the table's, when the face's map is known (a candidate or
+        the affine map explains it), whatever else is wrong there."""
         if not self.analysed or self.sampled is None:
             return None
         if self.affine is not None:
@@ -236,8 +307,6 @@ class FaceVerdict:
 
 @dataclass
 class FetchAnalysis:
-    instrument: str                           # "fitted", "closest" or "none"
-    reason: str = ""                          # why fetchColor could not be analysed (instrument "none")
     faces: list[FaceVerdict] = field(default_factory=list)
     not_implemented: bool = False
     ties_untouched: str | None = None         # an example tie sent to a face it does not touch
@@ -247,8 +316,6 @@ class FetchAnalysis:
 
     def diagnoses(self) -> list[Diagnosis]:
         out: list[Diagnosis] = []
-        if self.instrument == "none":
-            return [Diagnosis("fetch-not-analysed", self.reason)]
         if self.not_implemented:
             return [Diagnosis("not-implemented", _("fetchColor returns black (or a colour that is not in the texture) "
                                                    "for every direction: it still looks like the starting code."))]
@@ -260,7 +327,7 @@ class FetchAnalysis:
         patterns = find_patterns(self.faces)
         out += [Diagnosis(p.id, p.detail) for p in patterns]
         hidden = {(f, i) for p in patterns for f in p.faces for i in p.hides}   # told once, by the pattern
-        # One (u, v) mistake shared by every face read back (an inset, an offset): told once.
+        # One (u, v) mistake shared by every face mapped (an inset, an offset): told once.
         read_back = [v for v in self.faces if v.analysed and v.affine is not None]
         kinds = {v.affine.kind for v in read_back}
         shared = next(iter(kinds)) if (len(kinds) == 1 and len(read_back) >= 2 and None not in kinds
@@ -297,8 +364,8 @@ class FetchAnalysis:
                         out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
                 kind = v.affine.kind
                 if kind is not None and kind != shared:
-                    out.append(Diagnosis(kind, _("On the %(face)s face, fetchColor reads at %(words)s "
-                                                 "(read back from your answers) instead of the handout's (u, v).")
+                    out.append(Diagnosis(kind, _("On the %(face)s face, fetchColor asks readTexture for %(words)s "
+                                                 "instead of the handout's (u, v).")
                                          % {"face": name, "words": v.affine.words()}, face=name))
                 continue
             if v.share >= SHARE and v.candidate is not None:
@@ -330,10 +397,13 @@ class FetchAnalysis:
                 rows.append(f"| {face_name(v.face)} | " + _("too few answers (%(count)d)") % {"count": v.answered} + " | | |")
             else:
                 sampled = face_name(v.sampled) if v.sampled is not None else _("none")
+                if v.elsewhere:
+                    sampled += " (" + _("%(count)d of %(total)d directions asked of other faces") % {
+                        "count": v.elsewhere, "total": v.answered} + ")"
                 if v.affine is not None:
                     ids = ", ".join(v.affine.orientation_ids + ([v.affine.kind] if v.affine.kind else [])) or _("none")
                     rows.append(f"| {face_name(v.face)} | {sampled} | {ids} ("
-                                + _("read back: %(words)s") % {"words": v.affine.words()}
+                                + _("asked: %(words)s") % {"words": v.affine.words()}
                                 + f") | {v.affine.explained:.0%} |")
                     continue
                 if v.candidate is not None and v.share >= SHARE:
@@ -358,90 +428,64 @@ def _detail(mistake: str, v: FaceVerdict) -> str:
 
 # ---- the analysis ----------------------------------------------------------
 
-class Instrument:
-    """The student's readTexture as fitted, over the coordinate cube: what
-    fetchColor's answer would be for a face and (u, v)."""
-
-    def __init__(self, model: TextureModel, faces: np.ndarray):
-        self.model, self.faces = model, faces
-        w, h = faces.shape[2], faces.shape[1]
-        self.tol = float(tolerance(w, h, float(max(w, h) + 1)))
-
-    def predict(self, face: np.ndarray, uv: np.ndarray) -> np.ndarray:
-        return evaluate_in_buffer(self.model, self.faces, face, uv)[0]
-
-    def explains(self, face: np.ndarray, uv: np.ndarray, answers: np.ndarray) -> np.ndarray:
-        pred = self.predict(face, uv)
-        with np.errstate(invalid="ignore"):
-            return (np.abs(pred - answers) <= self.tol).all(axis=1)
+def places(rec: fetch_record.Record, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(face (n,), uv (n, 2), read itself (n,)): the face and (u, v) of the
+    call whose answer fetchColor returned; where it made no call, the place
+    its own colour comes from on the coordinate faces (p = (uW, vH) clamped
+    to the face, as the handout's bilinear reads it). -1 / NaN: neither."""
+    faces, uv = rec.request()
+    itself = rec.calls == 0
+    own_face, px, py = decode_sample_coordinates(rec.values[itself])
+    faces[itself] = own_face
+    with np.errstate(invalid="ignore"):
+        uv[itself] = np.where((own_face >= 0)[:, None], np.stack([px / size[0], py / size[1]], axis=1), np.nan)
+    return faces, uv, itself
 
 
-def _instrument(fit: Fit) -> tuple[str, TextureModel | None, str]:
-    if fit.constant:
-        return "none", None, _("fetchColor could not be analysed: readTexture returns the same colour wherever it "
-                               "reads, so its answers do not tell which face or (u, v) fetchColor asked for. Fix "
-                               "readTexture first.")
-    if fit.fits:
-        return "fitted", fit.model, ""
-    if fit.share >= 0.9:
-        return "closest", fit.closest, ""
-    return "none", None, _("fetchColor could not be analysed: readTexture follows no pattern the grader knows "
-                           "(the closest explains %(share)s of its answers), so its answers cannot be read "
-                           "back as a face and (u, v). Fix readTexture first.") % {"share": f"{fit.share:.0%}"}
+def _close(want_uv: np.ndarray, got_uv: np.ndarray, itself: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """The asked (u, v) is `want_uv` within PLACE_TOLERANCE texels; where
+    fetchColor read itself, after the clamp its colour went through."""
+    s = np.asarray(size, np.float64)
+    want = want_uv * s
+    want = np.where(itself[:, None], np.clip(want, 0.0, s - 1.0), want)
+    with np.errstate(invalid="ignore"):
+        return (np.abs(want - got_uv * s) <= PLACE_TOLERANCE).all(axis=1)
 
 
-NOT_READ_BACK = N_("fetchColor could not be analysed: readTexture returns the same colour wherever it reads, or "
-                 "crashes on most of a face, so its answers do not tell which face or (u, v) fetchColor asked "
-                 "for. Fix readTexture first.")
-
-
-def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
-    """Face by face, what fetchColor does: through the fitted readTexture
-    when one fits, and otherwise (or where no candidate explains a face) read
-    back without a model (instruments.readback)."""
-    kind, model, _reason = _instrument(fit)
-    faces = coordinate_faces(FACE_SIZE, FACE_SIZE)
-    lookups.set_faces(faces)
-    calibration: list = []          # computed once, when first needed
-
-    def calibrated():
-        if not calibration:
-            calibration.append(calibrate(lookups, faces))
-        return calibration[0]
-
-    if model is None:
-        if fit.constant or calibrated() is None:
-            return FetchAnalysis("none", _(NOT_READ_BACK))
-        kind = "read back"
-    inst = Instrument(model, faces) if model is not None else None
-    out = FetchAnalysis(kind)
-
+def analyse(lookups, quick: bool = False) -> FetchAnalysis:
+    """Face by face, what fetchColor asks readTexture for (or, reading the
+    texels itself, where its colour comes from), against the table."""
+    size = (FACE_SIZE, FACE_SIZE)
+    lookups.set_faces(coordinate_faces(*size))
+    out = FetchAnalysis()
     dirs = fibonacci_sphere(6000 if quick else 20_000)
     ref_faces, ref_uv = oracle.current().direction_to_face(dirs)
-    # One batch per face, its centre first: crashes near one face's edges
-    # (the runner stops a batch after a few) cannot starve another face, nor
-    # that face's own centre.
+    # One recording per face, its centre first: crashes near one face's
+    # edges (the runner stops a batch after a few) cannot starve another
+    # face, nor that face's own centre.
     order = np.lexsort((np.abs(ref_uv - 0.5).max(axis=1), ref_faces))
-    values = np.full((len(dirs), 3), np.nan)
-    evaluated = np.zeros(len(dirs), bool)
+    faces = np.full(len(dirs), -1, np.int64)
+    uv = np.full((len(dirs), 2), np.nan)
+    itself = np.zeros(len(dirs), bool)
+    answered = np.zeros(len(dirs), bool)
     crashes: dict[int, str] = {}
     for f in range(6):
         rows = order[ref_faces[order] == f]
         if not len(rows):
             continue
-        got = lookups.fetch(dirs[rows])
-        values[rows] = np.asarray(got.values, np.float64)
-        evaluated[rows] = np.asarray(got.evaluated, bool)
-        for failure in got.failures:
+        rec = fetch_record.record(lookups, dirs[rows])
+        faces[rows], uv[rows], itself[rows] = places(rec, size)
+        # Answered: a tag returned from a face, or a colour of its own.
+        answered[rows] = (((rec.returned >= 0) & (faces[rows] >= 0)) | (rec.calls == 0)) \
+            & np.isfinite(rec.values).all(axis=1)
+        for failure in rec.outcome.failures:
             if failure.index is not None:
                 crashes.setdefault(f, failure.input)
                 break
-    sub_faces, _px, _py = decode_sample_coordinates(values)
-    answered = evaluated & np.isfinite(values).all(axis=1)
     clear = tied_axes(dirs).sum(axis=1) == 1
     m_over_len = np.abs(dirs).max(axis=1) / np.linalg.norm(dirs, axis=1)
 
-    if (clear & answered).any() and np.all(sub_faces[clear & answered] < 0):
+    if (clear & answered).any() and np.all(faces[clear & answered] < 0):
         out.not_implemented = True
         return out
 
@@ -454,17 +498,17 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
             if f in crashes:
                 verdict.crash = crashes[f]
             continue
-        known = rows & (sub_faces >= 0)
+        known = rows & (faces >= 0)
         if known.sum() < SHARE * rows.sum():
-            verdict.sampled = None
             continue
-        sampled = np.bincount(sub_faces[known], minlength=6)
-        g = int(np.argmax(sampled))
+        g = int(np.argmax(np.bincount(faces[known], minlength=6)))
         verdict.sampled = g
         idx = np.flatnonzero(rows)
+        on_g = faces[idx] == g
+        verdict.elsewhere = int((faces[idx] >= 0).sum() - on_g.sum())
         best, best_share = None, -1.0
-        for cand in (CANDIDATES if inst is not None else ()):
-            ok = inst.explains(np.full(len(idx), g), cand.uv(ref_uv[idx], m_over_len[idx]), values[idx])
+        for cand in CANDIDATES:
+            ok = on_g & _close(cand.uv(ref_uv[idx], m_over_len[idx]), uv[idx], itself[idx], size)
             share = float(ok.mean())
             if share > best_share + 1e-12:
                 best, best_share = cand, share
@@ -473,97 +517,34 @@ def analyse(lookups, fit: Fit, quick: bool = False) -> FetchAnalysis:
         verdict.candidate, verdict.share = best, max(best_share, 0.0)
         if best_share >= SHARE:
             continue
-        # No candidate explains it (or no model): read (u, v) back and fit a map.
-        cal = calibrated()
-        if cal is not None:
-            read_face, read_uv = cal.read_back(values[idx])
-            on_g = read_face == g
-            affine = fit_affine(ref_uv[idx][on_g], read_uv[on_g], cal.size) if on_g.sum() >= SHARE * len(idx) else None
-            if affine is not None and affine.explained >= readback.EXPLAINED and affine.kind != "uv-mismatch":
-                # The read-back map, not the model's best (failed) candidate, describes the face.
-                verdict.affine, verdict.share, verdict.candidate = affine, affine.explained, None
-                continue
-            if affine is not None:
-                verdict.share = max(verdict.share, affine.explained)
-                verdict.example = _read_back_example(dirs, idx, g, ref_uv, read_uv, on_g)
-        if inst is not None and not verdict.example:
-            verdict.example = _example(inst, dirs, idx, g, ref_uv, values, best, m_over_len)
+        affine = fit_affine(ref_uv[idx][on_g], uv[idx][on_g], size) if on_g.sum() >= SHARE * len(idx) else None
+        if affine is not None and affine.explained >= SHARE and affine.kind != "uv-mismatch":
+            verdict.affine, verdict.share, verdict.candidate = affine, affine.explained, None
+            continue
+        if affine is not None:
+            verdict.share = max(verdict.share, affine.explained)
+        verdict.example = _example(dirs, idx, f, ref_uv, faces, uv, best, m_over_len, size, itself)
 
-    tol = inst.tol if inst is not None else float(tolerance(FACE_SIZE, FACE_SIZE, float(FACE_SIZE + 1)))
-    _lengths(lookups, dirs[clear][:: max(1, int(clear.sum()) // 1500)], tol, out)
-    _ties(lookups, inst, out)
+    _lengths(lookups, dirs[clear][:: max(1, int(clear.sum()) // 1500)], size, out)
+    _ties(lookups, size, out)
     return out
 
 
-def _read_back_example(dirs, idx, g: int, ref_uv, read_uv, on_g) -> str:
-    """One direction in words: the (u, v) the handout gives, and where it was read."""
-    rows = np.flatnonzero(on_g & np.isfinite(read_uv).all(axis=1))
-    if not len(rows):
-        return ""
-    j = rows[len(rows) // 2]
-    i = int(idx[j])
-    d = ", ".join(f"{x:.4g}" for x in dirs[i])
-    return _("For example fetchColor(Vector3(%(d)s)) should read (u, v) = %(want)s on %(face)s; it read about %(got)s.") % {
-        "d": d, "want": f"({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f})", "face": face_name(g),
-        "got": f"({read_uv[j, 0]:.3f}, {read_uv[j, 1]:.3f})"}
-
-
-def recover_uv(inst: Instrument, face: int, answer: np.ndarray, steps: int = 2048):
-    """The (u, v) ranges at which the fitted readTexture gives `answer` on a
-    coordinate-encoding face: each lattice axis inverted on its own channel
-    (R tells x, G tells y) by searching [-0.5, 1.5] for where the model's
-    channel equals the answer or crosses it. Exact for any member of the
-    family, however it rounds, blends or flips. None when no (u, v) gives it."""
-    from .texture_model import axis_taps, replace_edge
-    model = inst.model
-    h, w = inst.faces.shape[1:3]
-    c = np.linspace(-0.5, 1.5, 2 * steps + 1)
-    found = [None, None]
-    for which, axis in enumerate((model.x, model.y)):
-        axis = replace_edge(axis)            # reads past the edge say nothing about c
-        n = (w, h)[which]
-        size = ((w, h) if axis.size == "own" else (h, w))[which]
-        i0, i1, w1, _ = axis_taps(axis, c, size, n)
-        pred = (1.0 - w1) * (i0 + 1) + w1 * (i1 + 1)
-        diff = pred - answer[which]
-        hit = np.abs(diff) <= inst.tol
-        cross = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
-        values = list(c[hit]) + list(c[cross] - diff[cross] * (c[cross + 1] - c[cross]) / (diff[cross + 1] - diff[cross]))
-        if not values:
-            return None
-        # The coordinate this axis reads: u for x unless readTexture swaps them.
-        coordinate = which if axis.source == "own" else 1 - which
-        found[coordinate] = (min(values), max(values))
-    if found[0] is None or found[1] is None:
-        return None
-    return np.array([found[0][0], found[1][0]]), np.array([found[0][1], found[1][1]])
-
-
-def _example(inst: Instrument, dirs, idx, g: int, ref_uv, values, best: Candidate | None, m_over_len) -> str:
-    """One direction the best candidate does not explain, in words: the
-    (u, v) the handout gives and the (u, v) the student's answer comes from."""
+def _example(dirs, idx, f: int, ref_uv, faces, uv, best: Candidate | None, m_over_len, size, itself) -> str:
+    """One direction the best candidate does not explain, in numbers: the
+    table's face and (u, v), and the recorded ones."""
     cand = best or Candidate()
-    ok = inst.explains(np.full(len(idx), g), cand.uv(ref_uv[idx], m_over_len[idx]), values[idx])
+    ok = (faces[idx] == f) & _close(cand.uv(ref_uv[idx], m_over_len[idx]), uv[idx], itself[idx], size)
     misses = idx[~ok]
     if not len(misses):
         return ""
     i = int(misses[len(misses) // 2])
-    box = recover_uv(inst, g, values[i])
-    d = ", ".join(f"{x:.4g}" for x in dirs[i])
-    want = f"({ref_uv[i, 0]:.3f}, {ref_uv[i, 1]:.3f})"
-    if box is None:
-        return _("For example fetchColor(Vector3(%(d)s)) should read (u, v) = %(want)s; its answer comes from no (u, v) "
-                 "on %(face)s.") % {"d": d, "want": want, "face": face_name(g)}
-    lo, hi = box
-    got = ", ".join(f"{a:.3f}" if abs(a - b) < 2e-3 else f"{a:.3f}..{b:.3f}" for a, b in zip(lo, hi))
-    return _("For example fetchColor(Vector3(%(d)s)) should read (u, v) = %(want)s on %(face)s; "
-             "your answer is what your readTexture returns at (u, v) = (%(got)s).") % {
-        "d": d, "want": want, "face": face_name(int(g)), "got": got}
-
-
-def _consistent(a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
-    with np.errstate(invalid="ignore"):
-        return np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1) & (np.abs(a - b) <= tol).all(axis=1)
+    return _("For example fetchColor(Vector3(%(d)s)): the table gives %(face)s at (u, v) = %(want)s; fetchColor "
+             "asked for %(asked)s at (u, v) = %(got)s.") % {
+        "d": ", ".join(f"{x:.4g}" for x in dirs[i]), "face": face_name(f),
+        "want": f"({ref_uv[i, 0]:.4f}, {ref_uv[i, 1]:.4f})",
+        "asked": face_name(int(faces[i])) if faces[i] >= 0 else _("none"),
+        "got": f"({uv[i, 0]:.4f}, {uv[i, 1]:.4f})"}
 
 
 # Lengths that break a lookup computing in float (|component| below float's
@@ -573,13 +554,22 @@ FLOAT_TINY, FLOAT_HUGE = 1e-41, 1e39
 SQUARE_HUGE, SQUARE_TINY = 1e155, 1e-170
 
 
-def _lengths(lookups, dirs: np.ndarray, tol: float, out: FetchAnalysis) -> None:
-    base = np.asarray(lookups.fetch(dirs).values, np.float64)
+def _lengths(lookups, dirs: np.ndarray, size, out: FetchAnalysis) -> None:
+    """The same directions at other lengths ask for the same face and (u, v)
+    (within half a texel)."""
+    scales = (1.0, 10.0, FLOAT_TINY, FLOAT_HUGE, SQUARE_HUGE, SQUARE_TINY)
+    n = len(dirs)
+    # One recording for every length: fewer round trips to the worker.
+    rec = fetch_record.record(lookups, np.concatenate([dirs * s for s in scales]))
+    faces, uv, _itself = places(rec, size)
+    with np.errstate(invalid="ignore"):
+        p = (uv * np.asarray(size, np.float64)).reshape(len(scales), n, 2)
+    faces = faces.reshape(len(scales), n)
+    judged = (faces[0] >= 0) & np.isfinite(p[0]).all(axis=1)
     broken = {}
-    for scale in (10.0, FLOAT_TINY, FLOAT_HUGE, SQUARE_HUGE, SQUARE_TINY):
-        got = np.asarray(lookups.fetch(dirs * scale).values, np.float64)
-        ok = _consistent(got, base, tol)
-        judged = np.isfinite(base).all(axis=1)
+    for k, scale in enumerate(scales[1:], 1):
+        with np.errstate(invalid="ignore"):
+            ok = (faces[k] == faces[0]) & (np.abs(p[k] - p[0]) <= 0.5).all(axis=1)
         broken[scale] = float(np.mean(~ok[judged])) if judged.any() else 0.0
     if broken[10.0] > 0.1:
         out.length_dependent = True
@@ -617,76 +607,32 @@ def tie_directions() -> np.ndarray:
     return np.concatenate(out)
 
 
-def _edge_read(faces: np.ndarray, px: np.ndarray, py: np.ndarray, touched: np.ndarray,
-               column: np.ndarray) -> np.ndarray:
-    """Answers explained by readTexture's own edge behaviour: a read past a
-    touched face's last row lands in the next face's first row of the buffer
-    (faces one above the other, docs/assignment.md), one before its first row in
-    the previous face's last row, in the column that face's u gives
-    (`column` (n, 6): u W per touched face). Not a tie sent astray."""
-    h = FACE_SIZE
-    rows = np.arange(len(faces))
-    out = np.zeros(len(faces), bool)
-    for step, row_ok in ((1, py <= 1.0), (-1, py >= h - 2.0)):
-        k = faces - step                                   # the touched face it would have read past
-        valid = (faces >= 0) & (k >= 0) & (k <= 5) & row_ok
-        kk = np.clip(k, 0, 5)
-        with np.errstate(invalid="ignore"):
-            same_column = np.abs(column[rows, kk] - px) <= 1.5
-        out |= valid & touched[rows, kk] & same_column
-    return out
+TIE_BATCH = 4   # tie directions per recording after a failure: a crash at one cannot starve the rest
 
 
-TIE_BATCH = 4   # tie directions per fetch: a crash at one (a read past the face) cannot starve the rest
-
-
-def _ties(lookups, inst: Instrument | None, out: FetchAnalysis) -> None:
-    """Ties sent to a face the direction does not touch. An answer counts as
-    right when it comes from a touched face (or the face fetchColor samples
-    for that face elsewhere), when the fitted readTexture gives it on a
-    touched face at the handout's (u, v), or when readTexture's own edge
-    behaviour explains it (an unclamped read at u = 1 or v = 1 reading into
-    the next face): those are readTexture's mistakes, not a wrong face."""
+def _ties(lookups, size, out: FetchAnalysis) -> None:
+    """Ties asked of a face the direction does not touch. The face
+    fetchColor asks for a face's directions elsewhere counts as touched
+    there too: a wrong face is not also a tie sent astray."""
     dirs = tie_directions()
-    verdicts = {v.face: v for v in out.faces if v.analysed}
-    values = np.full((len(dirs), 3), np.nan)
-    evaluated = np.zeros(len(dirs), bool)
-    for lo in range(0, len(dirs), TIE_BATCH):
-        got = lookups.fetch(dirs[lo:lo + TIE_BATCH])
-        values[lo:lo + TIE_BATCH] = np.asarray(got.values, np.float64)
-        evaluated[lo:lo + TIE_BATCH] = np.asarray(got.evaluated, bool)
-    faces, px, py = decode_sample_coordinates(values)
+    rec = fetch_record.record(lookups, dirs)
+    if rec.outcome.failures:
+        # The runner gives a batch up after a few failures: a crash at one tie must not leave the rest unanswered.
+        rec = fetch_record.concatenate([fetch_record.record(lookups, dirs[lo:lo + TIE_BATCH])
+                                        for lo in range(0, len(dirs), TIE_BATCH)])
+    faces, _uv, _itself = places(rec, size)
     a = np.abs(dirs)
     m = a.max(axis=1)
     touched = np.zeros((len(dirs), 6), bool)
-    column = np.full((len(dirs), 6), np.nan)
-    explained = np.zeros(len(dirs), bool)
     for axis in range(3):
         at_max = a[:, axis] == m
         touched[at_max & (dirs[:, axis] > 0), 2 * axis] = True
         touched[at_max & (dirs[:, axis] < 0), 2 * axis + 1] = True
-        rows = np.flatnonzero(at_max)
-        if len(rows):
-            d = dirs[rows]
-            k = 2 * axis + (d[:, axis] < 0)
-            uv = uv_on_face(d, k)
-            column[rows, k] = np.clip(uv[:, 0] * FACE_SIZE, 0, FACE_SIZE - 1)
-            m_over_len = np.abs(d).max(axis=1) / np.linalg.norm(d, axis=1)
-            # As fetchColor treats that face elsewhere: its (u, v) mistake and
-            # the face it samples instead, so a wrong face or a flip is not
-            # also reported as a tie sent astray.
-            for f in np.unique(k):
-                sel = k == f
-                v = verdicts.get(int(f))
-                g = np.full(int(sel.sum()), v.sampled if v is not None and v.sampled is not None else f)
-                cand = v.candidate if v is not None and v.candidate is not None and v.share >= SHARE else Candidate()
-                if inst is not None:
-                    explained[rows[sel]] |= inst.explains(g, cand.uv(uv[sel], m_over_len[sel]), values[rows[sel]])
-                if v is not None and v.sampled is not None:
-                    touched[rows[sel], v.sampled] = True
-    explained |= _edge_read(faces, px, py, touched, column)
-    answered = evaluated & (faces >= 0)
-    wrong = answered & ~explained & ~touched[np.arange(len(dirs)), np.maximum(faces, 0)]
+    for v in out.faces:
+        if v.analysed and v.sampled is not None:
+            touched[touched[:, v.face], v.sampled] = True
+    answered = (rec.calls >= 0) & (faces >= 0)
+    wrong = answered & ~touched[np.arange(len(dirs)), np.maximum(faces, 0)]
     if wrong.sum() >= max(1, 0.1 * answered.sum()):
         i = int(np.flatnonzero(wrong)[0])
         text = ", ".join(f"{x:g}" for x in dirs[i])
