@@ -212,7 +212,7 @@ def _black_words(black: np.ndarray, ok: np.ndarray, faces: np.ndarray, uv: np.nd
     words = _("For %(count)d of %(total)d directions fetchColor made no readTexture call and returned black, e.g. "
               "%(call)s, where the table asks face %(face)s at (u, v) = (%(u)s, %(v)s).") % {
         "count": len(rows), "total": len(black), "call": describe_direction(dirs[i]),
-        "face": reference.FACE_NAMES[int(faces[i])] if faces[i] >= 0 else "-",
+        "face": library.FACE_NAMES[int(faces[i])] if faces[i] >= 0 else "-",
         "u": f"{uv[i, 0]:.6g}", "v": f"{uv[i, 1]:.6g}"}
     edge = (uv[rows] == 0) | (uv[rows] == 1)
     if edge.any(axis=1).all():

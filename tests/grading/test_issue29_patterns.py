@@ -224,8 +224,6 @@ def test_pattern_10_a_guard_at_u_or_v_one_is_shown_on_the_border(graded):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-@pytest.mark.xfail(strict=True, reason="face_recovery._lengths names float-precision from any change at 1e-41 "
-                                      "(fetch_faces.py and face_recovery.py are being rewritten; issue 29)")
 def test_pattern_8_is_not_called_float_precision(graded):
     result, md = graded("epsilon-guard-black_lambdas")
     assert "float-precision" not in {d.id for d in result.diagnoses} and "through float" not in md

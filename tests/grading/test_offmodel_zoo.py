@@ -47,7 +47,6 @@ def test_every_offmodel_submission_has_its_truth():
 # False ids the per-face analysis (instruments/face_recovery.py, being retired
 # for the record; issue 29) still names, each checked false in the file's header.
 KNOWN_FALSE = {
-    "epsilon-guard-black_lambdas": "float-precision: no float in the file (a 1e-9 guard returns black)",
     "int-abs-axis_c-style": "uv-mismatch ('reads the right face') on the faces its directions leave",
 }
 

@@ -566,10 +566,16 @@ def _lengths(lookups, dirs: np.ndarray, size, out: FetchAnalysis) -> None:
         p = (uv * np.asarray(size, np.float64)).reshape(len(scales), n, 2)
     faces = faces.reshape(len(scales), n)
     judged = (faces[0] >= 0) & np.isfinite(p[0]).all(axis=1)
+    # Black with no readTexture call says nothing of the components' type:
+    # a guard returned before any arithmetic (fetch_sweep names it
+    # black-without-lookup, stability length-dependent); such rows are not
+    # counted against float or the squares.
+    with np.errstate(invalid="ignore"):
+        skipped = ((rec.calls == 0) & (rec.values == 0).all(axis=1)).reshape(len(scales), n)
     broken = {}
     for k, scale in enumerate(scales[1:], 1):
         with np.errstate(invalid="ignore"):
-            ok = (faces[k] == faces[0]) & (np.abs(p[k] - p[0]) <= 0.5).all(axis=1)
+            ok = ((faces[k] == faces[0]) & (np.abs(p[k] - p[0]) <= 0.5).all(axis=1)) | skipped[k]
         broken[scale] = float(np.mean(~ok[judged])) if judged.any() else 0.0
     if broken[10.0] > 0.1:
         out.length_dependent = True
