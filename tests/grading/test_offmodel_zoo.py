@@ -44,11 +44,10 @@ def test_every_offmodel_submission_has_its_truth():
         assert set(truth(name)) >= {"causes", "per_face", "symptoms", "loses", "keeps"}, name
 
 
-# False ids the per-face analysis (instruments/face_recovery.py, being retired
-# for the record; issue 29) still names, each checked false in the file's header.
-KNOWN_FALSE = {
-    "int-abs-axis_c-style": "uv-mismatch ('reads the right face') on the faces its directions leave",
-}
+# False ids the per-face analysis (instruments/face_map.py) still names, each
+# checked false in the file's header. (int-abs-axis_c-style was one: uv-mismatch,
+# "reads the right face", on the faces its directions leave.)
+KNOWN_FALSE: dict[str, str] = {}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(reason=KNOWN_FALSE[n], strict=True))

@@ -372,7 +372,9 @@ class FetchAnalysis:
                 for mistake in v.candidate.ids:
                     if (v.face, mistake) not in hidden:
                         out.append(Diagnosis(mistake, _detail(mistake, v), face=name))
-            else:
+            elif v.sampled == v.face:
+                # (On another face the table's (u, v) for this one are no
+                # measure: wrong-face above says where it reads.)
                 out.append(Diagnosis("uv-mismatch", _("On the %(face)s face, (u, v) follow no pattern we recognise "
                                                       "(%(share)s of directions explained by the best guess).")
                                      % {"face": name, "share": f"{v.share:.0%}"}
