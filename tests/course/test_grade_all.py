@@ -165,7 +165,7 @@ def test_gradebook_columns_and_statuses(resumed):
 def test_class_summary_written(resumed):
     out = resumed["out"]
     summary = (out / "summary.md").read_text()
-    assert f"{len(CLASS)} submissions: 1 build-error, {len(CLASS) - 1} graded." in summary
+    assert f"{len(CLASS)} submissions: 1 compile error, {len(CLASS) - 1} graded." in summary
     for diagnosis in ("v-flipped", "crash", "build-error"):
         assert f"`{diagnosis}`" in summary
     for image in ("summary_histogram.png", "summary_speed_accuracy.png"):

@@ -97,7 +97,7 @@ def concatenate(records: list[Record]) -> Record:
                   outcome=[r.outcome for r in records])
 
 
-def record(lookups, dirs: np.ndarray, tagged: bool = True) -> Record:
+def record(lookups, dirs: np.ndarray, tagged: bool = True, fresh: bool = True) -> Record:
     """fetchColor for each direction (n, 3) on the faces currently set, its
     readTexture calls answered with TAGS (tagged) or by the student's own
     readTexture.
@@ -106,12 +106,15 @@ def record(lookups, dirs: np.ndarray, tagged: bool = True) -> Record:
     fresh worker: a fetchColor that memoises its answers makes no call for a
     direction it has seen (in an earlier recording, answered with tags or on
     other faces), and what it remembers is not what it does. Code that reads
-    the texels itself makes no call there either, and is judged on that."""
+    the texels itself makes no call there either, and is judged on that.
+    fresh=False: no second recording; what it answered from memory is judged
+    as its own colour (the speed check: its directions are new to it, and
+    what a lookup remembers from the timed pass is what the pass answered)."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
     rec = _record_once(lookups, dirs, tagged)
     again = np.flatnonzero(rec.calls == 0)
     restart = getattr(lookups, "restart", None)      # stateless stand-ins (tests, the kit's recorder) have none
-    if len(again) and restart is not None:
+    if fresh and len(again) and restart is not None:
         restart()
         rec = _with_rows(rec, again, _record_once(lookups, dirs[again], tagged))
     return rec
@@ -234,7 +237,7 @@ def handout_read(texels: np.ndarray, faces: np.ndarray, uv: np.ndarray) -> np.nd
     if not len(rows):
         return out
     f = faces[rows].astype(np.int64)
-    # (u, v) clamped to [0, 1] as the reference's em_read_texture takes them;
+    # (u, v) clamped to [0, 1] as the reference's readTexture takes them;
     # p = (uW, vH); the lattice point below-left of it and its neighbour,
     # clamped to the face.
     px, py = np.clip(uv[rows, 0], 0.0, 1.0) * w, np.clip(uv[rows, 1], 0.0, 1.0) * h
@@ -313,29 +316,29 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
 PLAIN_SAMPLE = 1024
 
 
-def observe(lookups, dirs: np.ndarray, texels: np.ndarray, tol) -> tuple[Record, Judgement]:
+def observe(lookups, dirs: np.ndarray, texels: np.ndarray, tol, fresh: bool = True) -> tuple[Record, Judgement]:
     """fetchColor recorded on `texels` (the faces currently set: tagged, then
     answered by the student's own readTexture, on a sample) and judged: (the
     tagged record, whose outcome has fetchColor's own failures; the judgement)."""
     dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
-    tagged = record(lookups, dirs)
-    return tagged, judge(tagged, plain_record(lookups, dirs, tagged), dirs, texels, tol)
+    tagged = record(lookups, dirs, fresh=fresh)
+    return tagged, judge(tagged, plain_record(lookups, dirs, tagged, fresh), dirs, texels, tol)
 
 
-def plain_record(lookups, dirs: np.ndarray, tagged: Record) -> Record:
+def plain_record(lookups, dirs: np.ndarray, tagged: Record, fresh: bool = True) -> Record:
     """The plain recording of `dirs` (PLAIN_SAMPLE): all of them, or a
     sample, the rest marked not run (calls -1: cases() goes by the tagged
     record alone there)."""
     n = len(dirs)
     if n <= PLAIN_SAMPLE:
-        return record(lookups, dirs, tagged=False)
+        return record(lookups, dirs, tagged=False, fresh=fresh)
     import hashlib
     digest = hashlib.blake2b(np.ascontiguousarray(dirs).tobytes(), digest_size=16).digest()
     sample = np.sort(np.random.default_rng(np.frombuffer(digest, np.uint32)).choice(n, PLAIN_SAMPLE, replace=False))
-    seen = record(lookups, dirs[sample], tagged=False)
+    seen = record(lookups, dirs[sample], tagged=False, fresh=fresh)
     alone = _rows(tagged, sample)
     if (cases(alone, seen) != cases(alone, _not_run(PLAIN_SAMPLE))).any():
-        return record(lookups, dirs, tagged=False)
+        return record(lookups, dirs, tagged=False, fresh=fresh)
     plain = _not_run(n)
     for name in ("values", "calls", "returned", "faces", "offsets", "uv"):
         getattr(plain, name)[sample] = getattr(seen, name)
