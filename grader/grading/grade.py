@@ -142,9 +142,11 @@ def write_harness_log(result: GradeResult, out_dir: Path) -> Path | None:
 
 
 def drop_consequences(result: GradeResult) -> None:
-    """Leave out symptoms (a render that differs, a seam) when their cause was found."""
+    """Leave out symptoms (a render that differs, a seam) when their cause was
+    found. What the speed check finds (time, the timing faces) causes no
+    picture, and the kit does not run it: it decides nothing here."""
     from .catalogue import CONSEQUENCES
-    if any(d.id not in CONSEQUENCES for d in result.diagnoses):
+    if any(d.id not in CONSEQUENCES for c in result.checks if c.name != "speed" for d in c.diagnoses):
         for check in result.checks:
             check.diagnoses = [d for d in check.diagnoses if d.id not in CONSEQUENCES]
 
