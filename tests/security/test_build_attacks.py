@@ -430,16 +430,56 @@ def test_refusals_are_plain_text_naming_the_upload(cache, tmp_path):
     assert result.diagnosis_id == "unknown-format" and name in result.log
 
 
+def _emitted_build_ids(tree) -> set[str]:
+    """The diagnosis ids a build module's code gives, read from its syntax
+    tree: the first argument of SubmissionError(...) and _refusal(...), a
+    diagnosis_id= keyword, an assignment to .diagnosis_id, and the first item
+    of a returned (id, message) pair."""
+    import ast
+
+    def text(node):
+        return node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else None
+
+    found = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            name = getattr(node.func, "id", getattr(node.func, "attr", ""))
+            if name in ("SubmissionError", "_refusal") and node.args and text(node.args[0]):
+                found.add(text(node.args[0]))
+            found |= {text(k.value) for k in node.keywords if k.arg == "diagnosis_id" and text(k.value)}
+        elif isinstance(node, ast.Assign) and text(node.value):
+            if any(isinstance(t, ast.Attribute) and t.attr == "diagnosis_id" for t in node.targets):
+                found.add(text(node.value))
+        elif isinstance(node, ast.Return) and isinstance(node.value, ast.Tuple) and len(node.value.elts) == 2 \
+                and text(node.value.elts[0]) and "-" in text(node.value.elts[0]):
+            found.add(text(node.value.elts[0]))
+    return found
+
+
 def test_every_build_diagnosis_is_declared_and_catalogued():
-    import re
+    import ast
     from grader.grading.catalogue import CATALOGUE
     used = set()
     for path in [*sorted((PROJECT_ROOT / "grader" / "build").glob("*.py")), PROJECT_ROOT / "grader" / "intake.py"]:
-        text = path.read_text()
-        used |= set(re.findall(r'(?:SubmissionError|_refusal)\(\s*"([a-z-]+)"', text))
-        used |= set(re.findall(r'return "([a-z-]+)", ', text))
-    assert used and used <= set(build.DIAGNOSIS_IDS)
+        used |= _emitted_build_ids(ast.parse(path.read_text()))
+    assert used <= set(build.DIAGNOSIS_IDS), used - set(build.DIAGNOSIS_IDS)
+    # Each declared id is given somewhere; "build-error" as BuildResult's default (a failed compilation).
+    assert set(build.DIAGNOSIS_IDS) - used == {"build-error"} and build.BuildResult.diagnosis_id == "build-error"
     assert all(i in CATALOGUE and CATALOGUE[i].kind == "build" for i in build.DIAGNOSIS_IDS)
+
+
+def test_the_id_reader_finds_each_shape_of_emission():
+    import ast
+    source = """
+def a(): raise SubmissionError("no-source", "m")
+def b(): return _refusal("refused-source", "m", 3)
+def c(r): r.diagnosis_id = "refused-include"
+def d(): return "forbidden-object", "message"
+def e(): return BuildResult(diagnosis_id="unknown-format")
+def f(): return "ok", "not an id"
+"""
+    assert _emitted_build_ids(ast.parse(source)) == {"no-source", "refused-source", "refused-include",
+                                                      "forbidden-object", "unknown-format"}
 
 
 def test_a_folder_deeper_than_any_project_is_not_walked_to_the_bottom(tmp_path):
