@@ -15,14 +15,44 @@ from __future__ import annotations
 from html import escape
 from pathlib import Path
 
-from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
+from jinja2 import Environment, FileSystemBytecodeCache, FileSystemLoader, StrictUndefined, select_autoescape
 from markupsafe import Markup
 
+from .. import PROJECT_ROOT
 from ..i18n import _, language, ngettext
 from .text import clean
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 STYLESHEET = TEMPLATES / "report.css"
+# Compiled templates, kept between processes (each grading of grade-all is
+# one): compiling report.html took a tenth of a correct grading's own time.
+# Keyed by the template's source, so an edit compiles again.
+TEMPLATE_CACHE = PROJECT_ROOT / "build" / "templates"
+
+
+class _BytecodeCache(FileSystemBytecodeCache):
+    """jinja2's cache in TEMPLATE_CACHE, where it can be written; a tree
+    that cannot be written (an installed kit, a read-only image) compiles
+    each time, as without a cache."""
+
+    def __init__(self, folder: Path):
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError:
+            pass
+        super().__init__(str(folder))
+
+    def load_bytecode(self, bucket) -> None:
+        try:
+            super().load_bytecode(bucket)
+        except OSError:
+            pass
+
+    def dump_bytecode(self, bucket) -> None:
+        try:
+            super().dump_bytecode(bucket)
+        except OSError:
+            pass
 
 
 def _finalize(value: object) -> Markup:
@@ -37,6 +67,7 @@ ENVIRONMENT = Environment(
     finalize=_finalize,
     undefined=StrictUndefined,     # a misspelt name fails the page, never prints nothing
     trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True,
+    bytecode_cache=_BytecodeCache(TEMPLATE_CACHE),
 )
 ENVIRONMENT.globals.update(_=_, ngettext=ngettext, language=language)
 
