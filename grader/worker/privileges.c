@@ -1,7 +1,8 @@
 /*
- * privileges.c - privilege-drop mode (a root-started worker without
- * bubblewrap): a folder of its own as root, uid/gid nobody for good, and a
- * pid namespace of its own where the container allows one.
+ * privileges.c - what the worker may hold (its resource limits), and
+ * privilege-drop mode (a root-started worker without bubblewrap): a folder
+ * of its own as root, uid/gid nobody for good, and a pid namespace of its
+ * own where the container allows one.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -14,6 +15,28 @@
 
 #include "privileges.h"
 #include "protocol.h"
+
+void set_limit(int resource, rlim_t soft, rlim_t hard)
+{
+    struct rlimit r = { soft, hard };
+    setrlimit(resource, &r);
+}
+
+void set_limits(long as_mb, long cpu_s, long nproc, long nofile, long sigpending)
+{
+    set_limit(RLIMIT_CORE, 0, 0);
+    if (as_mb > 0) set_limit(RLIMIT_AS, (rlim_t)as_mb << 20, (rlim_t)as_mb << 20);
+    if (cpu_s > 0) set_limit(RLIMIT_CPU, (rlim_t)cpu_s, (rlim_t)cpu_s + 1);
+    if (nproc >= 0) set_limit(RLIMIT_NPROC, (rlim_t)nproc, (rlim_t)nproc);
+    /* Each descriptor can pin kernel memory outside RLIMIT_AS (a full pipe
+     * holds 64 KiB; F_SETPIPE_SZ is refused by the filter). */
+    if (nofile >= 0) set_limit(RLIMIT_NOFILE, (rlim_t)nofile, (rlim_t)nofile);
+    /* Each POSIX timer holds a queued signal: this bounds timer_create too. */
+    if (sigpending >= 0) set_limit(RLIMIT_SIGPENDING, (rlim_t)sigpending, (rlim_t)sigpending);
+    /* No thread may raise its priority: one the grader put at SCHED_IDLE
+     * stays there (leaving it needs RLIMIT_NICE to allow nice 0). */
+    set_limit(RLIMIT_NICE, 0, 0);
+}
 
 /* Privilege-drop mode: a root-started worker locks itself into `dir` (a
  * fresh folder holding only the submission) and becomes uid/gid nobody,

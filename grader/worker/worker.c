@@ -90,12 +90,6 @@ void reply_text(uint32_t status, const char *text)
 
 /* ---- set-up -------------------------------------------------------------- */
 
-static void set_limit(int resource, rlim_t soft, rlim_t hard)
-{
-    struct rlimit r = { soft, hard };
-    setrlimit(resource, &r);
-}
-
 static int read_exact(int fd, void *out, size_t size)
 {
     char *p = out;
@@ -556,18 +550,7 @@ int main(int argc, char **argv)
     stack_limit = stack.rlim_cur == RLIM_INFINITY ? (size_t)8 << 20 : stack.rlim_cur;
     page_size = (size_t)sysconf(_SC_PAGESIZE);
 
-    set_limit(RLIMIT_CORE, 0, 0);
-    if (as_mb > 0) set_limit(RLIMIT_AS, (rlim_t)as_mb << 20, (rlim_t)as_mb << 20);
-    if (cpu_s > 0) set_limit(RLIMIT_CPU, (rlim_t)cpu_s, (rlim_t)cpu_s + 1);
-    if (nproc >= 0) set_limit(RLIMIT_NPROC, (rlim_t)nproc, (rlim_t)nproc);
-    /* Each descriptor can pin kernel memory outside RLIMIT_AS (a full pipe
-     * holds 64 KiB; F_SETPIPE_SZ is refused by the filter). */
-    if (nofile >= 0) set_limit(RLIMIT_NOFILE, (rlim_t)nofile, (rlim_t)nofile);
-    /* Each POSIX timer holds a queued signal: this bounds timer_create too. */
-    if (sigpending >= 0) set_limit(RLIMIT_SIGPENDING, (rlim_t)sigpending, (rlim_t)sigpending);
-    /* No thread may raise its priority: one the grader put at SCHED_IDLE
-     * stays there (leaving it needs RLIMIT_NICE to allow nice 0). */
-    set_limit(RLIMIT_NICE, 0, 0);
+    set_limits(as_mb, cpu_s, nproc, nofile, sigpending);
     /* Unbuffered, so output printed just before a crash is not lost. */
     setvbuf(stdout, NULL, _IONBF, 0);
     install_handlers();
@@ -582,7 +565,7 @@ int main(int argc, char **argv)
             return setup_failed("cannot map the progress page");
         progress = page;
     }
-    if (fsize >= 0) set_limit(RLIMIT_FSIZE, (rlim_t)fsize, (rlim_t)fsize);
+    if (fsize >= 0) set_limit(RLIMIT_FSIZE, (rlim_t)fsize, (rlim_t)fsize);   /* after the progress page's mapping */
     if (pipe2(scratch, O_CLOEXEC) != 0)
         scratch[0] = scratch[1] = -1;
     if (seccomp && collect_protected_ranges() != 0)
