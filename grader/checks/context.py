@@ -53,11 +53,14 @@ class CheckContext:
 FIRST_CALL = np.array([[0.7071067811865476, 0.5772156649015329, -0.3141592653589793]])
 
 
-def set_faces_after_another_size(lookups: SubmissionLookups, faces: np.ndarray) -> None:
+def set_faces_after_another_size(lookups: SubmissionLookups, faces: np.ndarray,
+                                 largest: tuple[int, int] | None = None) -> None:
     """Set `faces` (6, H, W, 3) in a worker whose first lookup was on faces
-    8 texels larger each way: a size kept from the first call (a static,
-    issue 29's pattern 12) shows in what follows, as in the sweep's second size."""
-    _, h, w, _ = faces.shape
+    8 texels larger each way than `largest` (default: `faces`' own size): a
+    size kept from the first call (a static, issue 29's pattern 12) shows in
+    what follows, as in the sweep's second size. Faces no larger than
+    `largest` can follow in the same worker (set_faces(..., same_process=True))."""
+    h, w = largest or faces.shape[1:3]
     lookups.set_faces(np.ones((6, h + 8, w + 8, 3), np.float32))
     lookups.fetch(FIRST_CALL)
     lookups.set_faces(faces, same_process=True)

@@ -30,7 +30,7 @@ PIXEL_FLIP_MAX = 0.02
 class RenderScore:
     ssim: float
     flip_mean: float
-    flip_map: np.ndarray    # magma-coloured, for the report
+    flip_map: np.ndarray | None    # magma-coloured, for the report (None: identical images, made when pictured)
     passed: bool            # the whole-image rule: full marks
     matched: float          # share of pixels with FLIP <= PIXEL_FLIP_MAX (1.0 when passed)
 
@@ -40,7 +40,15 @@ class RenderScore:
 
 
 def score_render(expected_display: np.ndarray, got_display: np.ndarray) -> RenderScore:
-    """The renders check's rule for one render, on display images."""
+    """The renders check's rule for one render, on display images.
+
+    Two identical images (a correct lookup's render, bit for bit, most of a
+    class) score SSIM 1 and FLIP 0 exactly, as computed: every term of both
+    is a difference of the two images or a ratio of equal products
+    (tests/unit/checks/test_renders.py holds the shortcut to the full
+    computation); their FLIP map is made only for the render pictured."""
+    if np.array_equal(expected_display, got_display):
+        return RenderScore(1.0, 0.0, None, True, 1.0)
     s = ssim(expected_display, got_display)
     f_mean, f_map = flip(expected_display, got_display)
     passed = s >= SSIM_MIN and f_mean <= FLIP_MAX
@@ -83,11 +91,19 @@ def _expected(render: tuple) -> np.ndarray:
     return expected
 
 
-def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture):
+def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, largest: tuple[int, int] | None = None,
+                           first: bool = True):
     """(image, outcome): the fixture's scene traced by the reference, the
-    environment looked up by the submission in its worker."""
+    environment looked up by the submission in its worker. The first render
+    of a check starts a worker whose first lookup was on faces larger than
+    `largest` (the largest map the check uses); the others follow in that
+    worker, as a student's program would look up one map after another."""
     escapes = _traced(_stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
-    set_faces_after_another_size(ctx.lookups, _faces(_stamp(fixture.map)))
+    faces = _faces(_stamp(fixture.map))
+    if first:
+        set_faces_after_another_size(ctx.lookups, faces, largest)
+    else:
+        ctx.lookups.set_faces(faces, same_process=True)
     outcome = ctx.lookups.fetch(escapes.dirs)
     rgb = np.nan_to_num(outcome.values, nan=0.0, posinf=0.0, neginf=0.0)
     return oracle.current().resolve(escapes, rgb), outcome
@@ -103,13 +119,15 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         items = items[:1]
     worst = None
     crashed_in = None
-    for fixture in items:
+    sizes = [_faces(_stamp(fixture.map)).shape[1:3] for fixture in items]
+    largest = (max(h for h, _ in sizes), max(w for _, w in sizes)) if sizes else None
+    for number, fixture in enumerate(items):
         if crashed_in is not None:
             # Each crash costs a search for its input; one crashed render says enough.
             rows.append(f"| {render_name(fixture)} | | | | "
                         + _("not run: crashed in %(render)s") % {"render": crashed_in} + " |")
             continue
-        image, outcome = render_with_submission(ctx, fixture)
+        image, outcome = render_with_submission(ctx, fixture, largest, first=number == 0)
         diagnoses += failure_diagnoses(outcome.failures)
         if outcome.failures:
             crashed_in = fixture.name
@@ -128,6 +146,8 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
     if worst is not None:
         # The pictures show the render that differs most: the one a student learns most from.
         s, f_mean, fixture, expected, got, f_map = worst
+        if f_map is None:
+            f_map = flip(expected, got)[1]
         result.metrics["ssim"], result.metrics["flip_mean"] = s, f_mean
         for name, picture in (("render_reference", expected), ("render_submission", got),
                               ("render_difference", difference_picture(expected, got)), ("render_flip", f_map)):
