@@ -33,8 +33,10 @@ def lettered_faces(size: int = SIZE) -> np.ndarray:
 
 def asked_faces(lookups, size: int = SIZE) -> np.ndarray:
     """(6, size, size, 3): each texel of each face coloured by what the
-    student's fetchColor asks for in the direction through its lattice point,
-    read from the lettered faces by the handout's readTexture. Recorded on
+    student's fetchColor asks for in the direction through its lattice point:
+    the lettered faces' texel that holds the asked (face, u, v), so a correct
+    fetchColor draws the reference's faces exactly and a flip or a turn
+    draws them flipped or turned, texel for texel. Recorded on
     the diagnosis's coordinate faces (their size: no new worker), which only
     code that reads the texels itself sees (face_map.places)."""
     from .face_map import FACE_SIZE, places
@@ -46,8 +48,10 @@ def asked_faces(lookups, size: int = SIZE) -> np.ndarray:
     face = np.repeat(np.arange(6), size * size)
     dirs = face_uv_to_direction(face, np.tile(u.ravel(), 6), np.tile(v.ravel(), 6))
     asked, uv, _itself = places(fetch_record.record(lookups, dirs), (FACE_SIZE, FACE_SIZE))
-    colours = fetch_record.handout_read(lettered_faces(size), asked, uv)
-    colours[~np.isfinite(colours).all(axis=1)] = UNSEEN
+    colours = np.tile(UNSEEN, (len(dirs), 1))
+    seen = (asked >= 0) & np.isfinite(uv).all(axis=1)
+    column, row = (np.clip(np.floor(uv[seen] * size), 0, size - 1).astype(np.int64).T)
+    colours[seen] = lettered_faces(size)[asked[seen], row, column]
     return colours.reshape(6, size, size, 3).astype(np.float32)
 
 
