@@ -13,7 +13,7 @@ from ..grading.results import FAILED, CheckResult
 from . import check
 from .context import CheckContext
 from .instruments import record_picture
-from .instruments.face_map import CANDIDATES, analyse
+from .instruments.face_map import CANDIDATES, FACE_SIZE, analyse
 from .instruments.face_map import DIAGNOSIS_IDS as _MAP_IDS
 from .read_texture import ReadTextureFinding, read_texture
 
@@ -29,7 +29,12 @@ def diagnosis(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     result.artifacts["record"] = record_picture.draw(ctx, ctx.lookups)
     if not result.diagnoses and len(analysis.faces) == 6 and all(v.correct for v in analysis.faces):
         result.fraction = 1.0
-        result.output = _("On every face, fetchColor samples the right face with u and v running the right way.")
+        # Scoped to what was observed: the sweep judges other face sizes and
+        # fetchColor answered by its own readTexture (pattern 13: no sentence
+        # another check's table contradicts).
+        result.output = _("On every face, fetchColor samples the right face with u and v running the right way "
+                          "(%(count)d directions of a Fibonacci sphere, on %(size)d x %(size)d faces, its readTexture "
+                          "calls answered by the grader).") % {"count": analysis.directions, "size": FACE_SIZE}
         return
     if not result.diagnoses:
         # Said only when every face was analysed and found right (issue 29, pattern 13).

@@ -707,9 +707,11 @@ _ENTRIES = [
         "rendered with the reference lookup, for its structure and for how "
         "different the two look to a person. The difference is larger than "
         "correct solutions ever show, even compiled with other settings."),
-        N_("Look at the difference pictures in the HTML report: bright "
-        "areas are where your render is wrong. The mapping and readTexture "
-        "diagnoses listed with this one usually name the cause."),
+        N_("No other check names a cause (this is said only then). Look at "
+        "the difference pictures in the HTML report, where bright areas are "
+        "where your render is wrong, and at each check's own numbers: "
+        "readTexture's worked case, the sweep's worst cases, the picture of "
+        "what fetchColor asks for."),
     ),
     # ---- speed ------------------------------------------------------------
     DiagnosisInfo(
@@ -810,6 +812,9 @@ CATALOGUE.update({old: CATALOGUE[new] for old, new in ALIASES.items()})
 # What other mistakes cause: reported only when no cause was found, so a
 # student reads "u runs the wrong way on +X", not that plus four symptoms.
 CONSEQUENCES = frozenset({"render-mismatch", "discontinuous-seam", "arrow-wrong", "arrow-missing"})
+# State kept between calls (grader.grading.grade.drop_consequences): explains
+# the reads outside the face that other checks meet after faces of another size.
+STATE_CAUSES = frozenset({"kept-between-calls", "address-not-face-start"})
 _ORDER = {e.id: i for i, e in enumerate(_ENTRIES)}
 _ORDER.update({old: _ORDER[new] for old, new in ALIASES.items()})
 

@@ -144,11 +144,20 @@ def write_harness_log(result: GradeResult, out_dir: Path) -> Path | None:
 def drop_consequences(result: GradeResult) -> None:
     """Leave out symptoms (a render that differs, a seam) when their cause was
     found. What the speed check finds (time, the timing faces) causes no
-    picture, and the kit does not run it: it decides nothing here."""
-    from .catalogue import CONSEQUENCES
+    picture, and the kit does not run it: it decides nothing here. A read
+    outside the face in other checks is left out where state kept between
+    calls was found (a face size or address kept from faces set earlier:
+    such code reads past the smaller faces set later, with clamps that are
+    right for the old size; "clamp both lattice points" would mislead)."""
+    from .catalogue import CONSEQUENCES, STATE_CAUSES
     if any(d.id not in CONSEQUENCES for c in result.checks if c.name != "speed" for d in c.diagnoses):
         for check in result.checks:
             check.diagnoses = [d for d in check.diagnoses if d.id not in CONSEQUENCES]
+    found = {d.id: c.name for c in result.checks for d in c.diagnoses if d.id in STATE_CAUSES}
+    if found:
+        for check in result.checks:
+            if check.name not in found.values():
+                check.diagnoses = [d for d in check.diagnoses if d.id != "out-of-bounds-read"]
 
 
 def _environment_warnings() -> list[str]:

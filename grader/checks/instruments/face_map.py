@@ -313,6 +313,7 @@ class FetchAnalysis:
     precision: str | None = None              # "tiny" / "huge": float conversion
     overflow: str | None = None               # "huge" / "tiny": squaring overflows / underflows
     length_dependent: bool = False            # answer changes with the direction's length
+    directions: int = 0                       # the Fibonacci sphere's directions recorded
 
     def diagnoses(self) -> list[Diagnosis]:
         out: list[Diagnosis] = []
@@ -459,8 +460,8 @@ def analyse(lookups, quick: bool = False) -> FetchAnalysis:
     texels itself, where its colour comes from), against the table."""
     size = (FACE_SIZE, FACE_SIZE)
     lookups.set_faces(coordinate_faces(*size))
-    out = FetchAnalysis()
     dirs = fibonacci_sphere(6000 if quick else 20_000)
+    out = FetchAnalysis(directions=len(dirs))
     ref_faces, ref_uv = oracle.current().direction_to_face(dirs)
     # One recording per face, its centre first: crashes near one face's
     # edges (the runner stops a batch after a few) cannot starve another
