@@ -13,7 +13,7 @@ from grader.course.grade_all import MISSING, Row
 from grader.course.lms_csv import Target, write_lms_files
 from grader.course.roster import Student, load_roster
 from grader.reports.class_summary import similarity_clusters, write_summary
-from grader.reports.html import CSS
+from grader.reports.templating import stylesheet
 
 ROWS = [
     Row("alice", "graded", 100.0, 100.0, {"read_texture": 25.0}, [], first_diagnosis=""),
@@ -71,7 +71,7 @@ def test_the_class_page_lists_each_student_with_score_status_and_first_diagnosis
     assert rows["erin"][1:3] == ["–", "– ungradable"] and "SIGKILL" in rows["erin"][3]
     assert '<td class="who"><a href="bob/report.html">bob</a></td>' in page
     # report.html's stylesheet, not a copy of it
-    assert page.count(CSS) == 1
+    assert page.count(stylesheet()) == 1
     assert "1 result says timed out or ungradable" in page and "grades it again: erin" in page
     md = (tmp_path / "summary.md").read_text()
     assert "| [bob](<bob/report.html>) | 63.93 / 100 | graded | readTexture still returns the nearest texel " \
