@@ -29,6 +29,8 @@ from urllib.parse import quote
 from markupsafe import Markup
 
 from ..course.class_files import MISSING
+from ..course.grade_all import skip_reason_text
+from ..course.roster import left_out_text
 from ..grading.results import BUILD_ERROR, GRADED, TIMEOUT, UNGRADABLE
 from ..i18n import N_, Translated, _, ngettext
 from .html import STATE_MARK, embedded_image, percent, score_class
@@ -211,7 +213,7 @@ def _skipped_section(skipped) -> list[str]:
     if not skipped:
         return []
     lines = ["", "## " + _("Entries that were not graded"), "", _(SKIPPED_INTRO), ""]
-    lines += [f"- {md_code(str(e.get('entry', '')))}: {md_escape(str(e.get('reason', '')))}" for e in skipped]
+    lines += [f"- {md_code(str(e.get('entry', '')))}: {md_escape(skip_reason_text(e))}" for e in skipped]
     return lines
 
 
@@ -223,7 +225,8 @@ def _roster_section(roster) -> list[str]:
         entries = roster.get(key) or []
         if entries:
             lines += ["", f"**{_(title)}:**", ""]
-            lines += [f"- {md_escape(entry_text(e), line_start=True)}" for e in entries]
+            text = left_out_text if key == "left_out" else entry_text
+            lines += [f"- {md_escape(text(e), line_start=True)}" for e in entries]
     return lines
 
 
@@ -251,8 +254,8 @@ def _similarity_section(similarity) -> list[str]:
     not_compared = similarity.get("not_compared") or []
     if not_compared:
         lines += ["", "**" + _("Not compared:") + "**", ""]
-        lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: {md_escape(str(e.get('reason', '')))}"
-                  for e in not_compared]
+        lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: "
+                  f"{md_escape(translated(e.get('reason')))}" for e in not_compared]
     return lines
 
 
@@ -440,7 +443,7 @@ def _attention(rows, data: dict) -> dict:
                 "; ".join(names.get(s, s) for s in own["students"]), translated(own.get("why")))
     roster = data.get("roster") or {}
     lists = [("passed" if key == "left_out" else "partial", _(title),
-              [entry_text(x) for x in roster[key]])
+              [left_out_text(x) if key == "left_out" else entry_text(x) for x in roster[key]])
              for key, title in ROSTER_LISTS if roster.get(key)]
     return {"ungradable": [(r.student, r.error) for r in rows if r.error], "grade_again": grade_again,
             "kept": kept, "roster": lists}
@@ -503,7 +506,7 @@ def _similarity_page(similarity) -> dict | None:
                           "passages": passages})
         clusters.append({"title": _cluster_title(n, cluster, str), "pairs": shown})
     return {"intro": _similarity_intro(similarity, str, str), "clusters": clusters,
-            "not_compared": [(str(x.get("student", "")), str(x.get("reason", "")))
+            "not_compared": [(str(x.get("student", "")), translated(x.get("reason")))
                              for x in similarity.get("not_compared") or []]}
 
 
@@ -519,7 +522,7 @@ def summary_html(rows, out: Path, linked: set[str] | None = None, data: dict | N
         charts={"histogram": embedded_image(out / HISTOGRAM), "speed": embedded_image(out / SPEED_CHART),
                 "speed_caption": _speed_caption(charted)},
         diagnoses=_diagnosis_counts(rows),
-        skipped=[(str(x.get("entry", "")), str(x.get("reason", ""))) for x in data.get("skipped") or []],
+        skipped=[(str(x.get("entry", "")), skip_reason_text(x)) for x in data.get("skipped") or []],
         roster={"file": str(roster.get("file", "")), "counts": _roster_counts(roster),
                 "lms_files": _(", ").join(roster.get("lms_files") or [])} if roster else None,
         similarity=_similarity_page(data.get("similarity")),
