@@ -39,9 +39,9 @@ from pathlib import Path
 
 from .. import PROJECT_ROOT
 from ..grading.results import TIMEOUT, UNGRADABLE
-from ..i18n import N_, Translated
+from ..i18n import N_
 from ..intake import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
-from .class_files import MISSING, cell, write_text_atomic
+from .class_files import MISSING, SKIP_REASONS, cell, write_text_atomic
 from .lms_csv import FILES as LMS_FILES
 
 # grade() imports this module for student_name: what only a class needs
@@ -67,19 +67,6 @@ DISTURBED = (TIMEOUT, UNGRADABLE)
 # In English in summary.json; the class page shows it translated.
 OWN_TIMEOUT_WHY = N_("the code used up its CPU-time limit on a call (or stopped itself), which no other process "
                      "can cause: kept as it is when grade-all runs again")
-# Why an entry of the class folder is not a submission, by key. summary.json
-# keeps the key ("why", with the file's "suffix") and the sentence in English
-# ("reason", which the command prints); the class page says it in its
-# language (skip_reason_text).
-SKIP_REASONS = Translated({
-    "results-folder": N_("the results folder (--out) sits among the submissions"),
-    "hidden": N_("a hidden file or folder (its name starts with a dot)"),
-    "link": N_("a symbolic link (not followed: hand in the folder or file itself)"),
-    "special": N_("neither a file nor a folder"),
-    "file": N_("a %(suffix)s file, not a submission (expected a folder, an archive or a .cpp per student)"),
-    "no-extension": N_("a file without an extension, not a submission (expected a folder, an archive or a .cpp "
-                       "per student)"),
-})
 # Metrics the class summary charts, copied from the checks into the record.
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
@@ -98,15 +85,6 @@ def _skip_reason(p: Path, exclude: Path | None) -> dict[str, str]:
     if not p.is_file():
         return {"why": "special"}
     return {"why": "file", "suffix": p.suffix} if p.suffix else {"why": "no-extension"}
-
-
-def skip_reason_text(entry: dict) -> str:
-    """A skipped entry's reason in the current language (an entry without a
-    known key, from an older grader's summary.json: as it was written)."""
-    why = entry.get("why")
-    if why not in SKIP_REASONS:
-        return str(entry.get("reason", ""))
-    return SKIP_REASONS[why] % {"suffix": str(entry.get("suffix", ""))}
 
 
 def skipped_entries(folder: Path, exclude: Path | None = None) -> list[dict[str, str]]:

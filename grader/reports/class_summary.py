@@ -28,8 +28,7 @@ from urllib.parse import quote
 
 from markupsafe import Markup
 
-from ..course.class_files import MISSING
-from ..course.grade_all import skip_reason_text
+from ..course.class_files import MISSING, skip_reason_text
 from ..course.roster import left_out_text
 from ..grading.results import BUILD_ERROR, GRADED, TIMEOUT, UNGRADABLE
 from ..i18n import N_, Translated, _, ngettext
