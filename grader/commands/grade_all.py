@@ -68,7 +68,7 @@ def run(args) -> int:
     from ..reports.class_summary import entry_text
     from ..reports.text import clean
     from ..course.lms_csv import TargetError
-    from ..course.roster import RosterError
+    from ..course.roster import RosterError, left_out_text
     from ..course.similarity import SimilarityUnavailable
     if not args.submissions.is_dir():
         print(f"grade-all: {args.submissions} is not a folder (expected one sub-folder or archive per student)",
@@ -134,7 +134,7 @@ def run(args) -> int:
     for key, what in (("unmatched", "matches no one on the roster (not in the LMS files)"),
                       ("missing", "handed in nothing"), ("left_out", "left out of the roster")):
         for entry in roster.get(key) or []:
-            print(f"  {what}: {clean(entry_text(entry))}")
+            print(f"  {what}: {clean(left_out_text(entry) if key == 'left_out' else entry_text(entry))}")
     for entry in roster.get("lms_left_out") or []:
         print(f"  left out of {entry['file']}: {clean(entry['student'])}: {entry['why']}")
     for note in roster.get("lms_notes") or []:

@@ -41,7 +41,7 @@ from .. import PROJECT_ROOT
 from ..grading.results import TIMEOUT, UNGRADABLE
 from ..i18n import N_
 from ..intake import SUFFIXES, student_name  # noqa: F401  (grade-all's names, re-exported)
-from .class_files import MISSING, cell, write_text_atomic
+from .class_files import MISSING, SKIP_REASONS, cell, write_text_atomic
 from .lms_csv import FILES as LMS_FILES
 
 # grade() imports this module for student_name: what only a class needs
@@ -71,29 +71,30 @@ OWN_TIMEOUT_WHY = N_("the code used up its CPU-time limit on a call (or stopped 
 CHART_METRICS = ("ns_per_lookup", "uniform_smooth_rms", "speed_ratio", "flip_mean", "ssim")
 
 
-def _skip_reason(p: Path, exclude: Path | None) -> str:
-    """Why an entry of the class folder is not a submission ("" when it is one)."""
+def _skip_reason(p: Path, exclude: Path | None) -> dict[str, str]:
+    """Why an entry of the class folder is not a submission: its key in
+    SKIP_REASONS ("why") and the values its sentence names; {} when it is one."""
     if exclude is not None and p.resolve() == Path(exclude).resolve():
-        return "the results folder (--out) sits among the submissions"
+        return {"why": "results-folder"}
     if p.name.startswith("."):
-        return "a hidden file or folder (its name starts with a dot)"
+        return {"why": "hidden"}
     if p.is_symlink():
-        return "a symbolic link (not followed: hand in the folder or file itself)"
+        return {"why": "link"}
     if p.is_dir() or p.name.lower().endswith(SUFFIXES):
-        return ""
+        return {}
     if not p.is_file():
-        return "neither a file nor a folder"
-    kind = f"a {p.suffix} file" if p.suffix else "a file without an extension"
-    return f"{kind}, not a submission (expected a folder, an archive or a .cpp per student)"
+        return {"why": "special"}
+    return {"why": "file", "suffix": p.suffix} if p.suffix else {"why": "no-extension"}
 
 
 def skipped_entries(folder: Path, exclude: Path | None = None) -> list[dict[str, str]]:
-    """[{"entry": name, "reason": why}] for every entry find_submissions leaves out."""
+    """[{"entry": name, "reason": why in English, "why": its key, ...}] for
+    every entry find_submissions leaves out."""
     out = []
     for p in sorted(Path(folder).iterdir()):
         reason = _skip_reason(p, exclude)
         if reason:
-            out.append({"entry": p.name, "reason": reason})
+            out.append({"entry": p.name, "reason": SKIP_REASONS.msgid(reason["why"]) % reason, **reason})
     return out
 
 

@@ -39,6 +39,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..i18n import N_, Translated
+
 # Header names, normalised (lower case, letters and digits only), by what they hold.
 ID_COLUMNS = ("sid", "studentid", "sisuserid", "idnumber", "studentnumber", "matriculationnumber", "id", "userid")
 EMAIL_COLUMNS = ("email", "emailaddress", "email1")
@@ -58,6 +60,13 @@ MOODLE_DOWNLOAD = re.compile(r"(?P<name>[^_]+)_(?P<participant>\d+)_assignsubmis
 CANVAS_ASSIGNMENT = re.compile(r"(?P<name>.*\S) \((?P<id>\d+)\)")        # "Environment map (4711)"
 MOODLE_ASSIGNMENT = re.compile(r"Assignment: (?P<name>.*\S) \(Real\)")   # its grades export's column
 MAX_ROSTER_BYTES = 10 << 20
+# Why a roster row is no one, by key. Roster.left_out (and summary.json)
+# keeps the key ("why") with the row's name and role; the command's output
+# and the class page say it in their language (left_out_text).
+LEFT_OUT = Translated({
+    "role": N_("%(name)s: %(role)s, not a student"),
+    "test-student": N_("%(name)s: Canvas's test student (Student View), not a student"),
+})
 
 
 class RosterError(Exception):
@@ -79,7 +88,7 @@ class Student:
 class Roster:
     students: list[Student]
     columns: dict[str, str] = field(default_factory=dict)   # what -> the header it came from
-    left_out: list[str] = field(default_factory=list)       # rows that are no one, and why
+    left_out: list[dict] = field(default_factory=list)      # rows that are no one, and why (LEFT_OUT)
     assignments: list[str] = field(default_factory=list)    # Canvas's assignment columns, "Name (id)"
     points_possible: dict[str, float] = field(default_factory=dict)   # Canvas: assignment column -> points
     moodle_items: list[str] = field(default_factory=list)   # a Moodle export's "Assignment: Name (Real)" columns
@@ -188,10 +197,10 @@ def load_roster(path: Path) -> Roster:
             points = {a: float(get(a)) for a in assignments if _is_number(get(a))}
             continue
         if get(role_col) and _norm(get(role_col)) != "student":
-            left_out.append(f"{name}: {get(role_col)}, not a student")
+            left_out.append({"why": "role", "name": name, "role": get(role_col)})
             continue
         if _norm(name) in CANVAS_TEST_STUDENT:
-            left_out.append(f"{name}: Canvas's test student (Student View), not a student")
+            left_out.append({"why": "test-student", "name": name})
             continue
         login = get(login_col)
         email = get(email_col) or (login if "@" in login else "")
@@ -203,6 +212,15 @@ def load_roster(path: Path) -> Roster:
                                  ("login", login_col)) if v}
     moodle_items = [h.strip() for h in reader.fieldnames if h and MOODLE_ASSIGNMENT.fullmatch(h.strip())]
     return Roster(students, columns, left_out, assignments, points, moodle_items)
+
+
+def left_out_text(entry: dict | str) -> str:
+    """A row left out of the roster, with why, in the current language (an
+    entry without a known key, from an older grader's summary.json: as it
+    was written)."""
+    if isinstance(entry, dict) and entry.get("why") in LEFT_OUT:
+        return LEFT_OUT[entry["why"]] % {"name": str(entry.get("name", "")), "role": str(entry.get("role", ""))}
+    return str(entry)
 
 
 def _is_number(text: str) -> bool:

@@ -29,6 +29,7 @@ import io
 from pathlib import Path
 
 from .. import PROJECT_ROOT
+from ..i18n import N_
 
 BOILERPLATE = PROJECT_ROOT / "student_template" / "EnvironmentMap.cpp"
 NOISE_TOKENS = 25        # shorter shared runs are noise (copydetect's noise threshold, its default)
@@ -37,6 +38,10 @@ MIN_LISTED = 0.5         # share of a submission's own code found in the other
 MAX_PAIRS = 20
 MAX_PASSAGES = 3         # per pair, the longest
 MAX_PASSAGE_CHARS = 1200
+# Why a submission was not compared, when it is ours to say: in English in
+# summary.json; the class page shows it translated (an intake error's
+# message comes in the words it was made in).
+NOTHING_OF_ITS_OWN = N_("nothing of its own beyond the template")
 
 
 class SimilarityUnavailable(Exception):
@@ -100,7 +105,7 @@ def compare_sources(sources: dict[str, str], boilerplate: str | None = None,
     for student, text in sources.items():
         fp = _fingerprint(CodeFingerprint, text, bp_hashes)
         if fp.token_coverage == 0:
-            not_compared.append({"student": student, "reason": "nothing of its own beyond the template"})
+            not_compared.append({"student": student, "reason": NOTHING_OF_ITS_OWN})
         else:
             prints[student] = fp
     pairs = []

@@ -77,7 +77,7 @@ NOT_FOLLOWED = ("grader.study",)
 # report.html's templates and stylesheet (grader.reports.templating).
 # The null submission and reference_submission.c serve only speed.
 GRADER_FILES = ("build/shim/shim.cpp", "build/shim/submission_abi.h",
-                "reports/templates/report.html", "reports/templates/figure.html",
+                "reports/templates/report.html", "reports/templates/page.html", "reports/templates/figure.html",
                 "reports/templates/report.css",
                 *(f"worker/{path.name}" for path in WORKER_SOURCES if path.parent.name == "worker"))
 # What the kit's rubric keeps of [grading] (never the secret); [checks] whole.

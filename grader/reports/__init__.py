@@ -24,12 +24,11 @@ and reaches every format as text, never as markup:
     output through inert_markdown, which shows it literally when it would
     form anything beyond paragraphs, lists, tables, emphasis and code;
     inside our <details><summary>, HTML escaping (no Markdown there);
-  - HTML (report.html, audit.html): jinja2 templates (templates/, one
-    stylesheet) whose every printed value the engine escapes (templating.py);
-    summary.html: html.escape at each value; both: Markdown rendered with
-    raw HTML, links and images off, and a Content-Security-Policy
-    (default-src 'none'; img-src data:; style-src 'unsafe-inline') that
-    forbids any script;
+  - HTML (report.html, summary.html, audit.html): jinja2 templates
+    (templates/, one stylesheet) whose every printed value the engine
+    escapes (templating.py); Markdown rendered with raw HTML, links and
+    images off; a Content-Security-Policy (default-src 'none'; img-src
+    data:; style-src 'unsafe-inline') that forbids any script;
   - charts: names never reach matplotlib's mathtext ($ escaped);
   - the terminal: rich Text objects, never markup strings.
 tests/unit/reports/test_report_injection.py parses each output as its reader does

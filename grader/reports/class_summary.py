@@ -5,13 +5,16 @@ summary.html is the page an instructor reads: the class at a glance, what
 needs their attention (ungradable students, results worth grading again,
 roster mismatches), a table of students with score, status and first
 diagnosis (each linking to its report), the charts, and similar submissions
-grouped into clusters, each collapsed. It is styled by report.html's own
-stylesheet (grader/reports/html.py), self-contained (charts embedded).
+grouped into clusters, each collapsed. Its markup is templates/summary.html
+(in report.html's shell, page.html, with the one stylesheet, report.css),
+self-contained (charts embedded); this module gives the template plain
+values: the rows, counts, sentences and links.
 
 Student names are folder and archive names chosen by students, and the
 error of an ungradable row can quote them: hostile text. So summary.md
-escapes them as Markdown, summary.html is rendered with raw HTML disabled
-plus a Content-Security-Policy that allows no script, and chart labels
+escapes them as Markdown; summary.html prints them through the template
+engine, which escapes every value (templating.py), never as template source,
+behind a Content-Security-Policy that allows no script; and chart labels
 never reach matplotlib's mathtext ($...$ in a name once crashed grade-all).
 
     write_summary(rows, out)   rows: grade_all.Row, in gradebook order
@@ -19,12 +22,18 @@ never reach matplotlib's mathtext ($...$ in a name once crashed grade-all).
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import quote
 
-from ..course.class_files import MISSING
+from markupsafe import Markup
+
+from ..course.class_files import MISSING, skip_reason_text
+from ..course.roster import left_out_text
 from ..grading.results import BUILD_ERROR, GRADED, TIMEOUT, UNGRADABLE
 from ..i18n import N_, Translated, _, ngettext
+from .html import STATE_MARK, embedded_image, percent, score_class
+from .templating import render_page
 from .text import clean, md_code, md_escape, md_fence, points
 
 HISTOGRAM = "summary_histogram.png"
@@ -60,53 +69,14 @@ def status_counts(rows) -> str:
 # The page needs inline styles and data: images, nothing else: no script,
 # no request anywhere (a student's report is a relative link, which
 # default-src does not govern).
-CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'; base-uri 'none'; form-action 'none'"
-# What the class page adds to report.html's stylesheet.
-CLASS_CSS = """
-table.students td { vertical-align: top; }
-/* Fixed columns: a long name wraps in its own column instead of pushing
-   status and diagnosis off the page (the table once needed scrolling at 1280 px). */
-table.checks.students { table-layout: fixed; width: 100%; }
-table.checks.students th.c-who { width: 30%; }
-table.checks.students th.c-pts { width: 13rem; }     /* rem: a th's own font is smaller */
-table.checks.students th.c-state { width: 9.5rem; }
-table.checks.students th { white-space: nowrap; }
-table.checks.students td.who { overflow-wrap: anywhere; }
-.students .who > a, .students .who { font-weight: 600; }
-.students .wholine { font-weight: 400; font-size: .78rem; color: var(--muted); margin-top: .15em; }
-.students .fileline { font-family: var(--mono, monospace); }
-.students .diag { color: var(--muted); overflow-wrap: anywhere; }
-.students .diag strong { color: var(--text); font-weight: 500; }
-/* The bar goes above the number rather than over the next column when the cell is narrow. */
-table.checks.students td.pts { white-space: normal; }
-.students td.pts .score { white-space: nowrap; }
-table.checks.points th, table.checks.points td { overflow-wrap: normal; }
-.students .who { font-weight: 600; }
-.students .diag { color: var(--muted); }
-.students .diag strong { color: var(--text); font-weight: 500; }
-.wide { overflow-x: auto; }
-.wide table.checks { width: auto; min-width: 100%; }
-.cluster { background: var(--card); border: 1px solid var(--border); border-left: 5px solid var(--partial);
-  border-radius: 12px; padding: 12px 18px; margin: 12px 0; }
-.cluster > summary { cursor: pointer; font-weight: 600; }
-.cluster .pair-title { margin: 1em 0 .3em; font-weight: 600; }
-.passage { margin: .4em 0 .8em; }
-.passage > summary { cursor: pointer; color: var(--muted); }
-.side-by-side { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 12px; }
-.side-by-side pre { max-height: 24em; overflow: auto; }
-ul.plain { padding-left: 1.2em; margin: .4em 0; }
-/* A phone: each student two lines, the name with score and status on the
-   first, the diagnosis under them; no column is off to the side. */
-@media (max-width: 640px) {
-  table.checks.students thead { display: none; }
-  table.checks.students, table.checks.students tbody { display: block; }
-  table.checks.students tr { display: grid; grid-template-columns: 1fr auto auto; column-gap: 8px;
-    align-items: baseline; padding: 8px 12px; border-bottom: 1px solid var(--border); }
-  table.checks.students td { display: block; border: 0; padding: 0; min-width: 0; }
-  table.checks.students td.diag { grid-column: 1 / -1; margin-top: .2em; }
-  table.checks.students .bar, table.checks.students .fileline { display: none; }
-}
-"""
+CSP = Markup("default-src 'none'; img-src data:; style-src 'unsafe-inline'; base-uri 'none'; form-action 'none'")
+
+
+def translated(text) -> str:
+    """A sentence grade-all keeps in English in summary.json, in the current
+    language when it is one of the catalogue's (an error's message, made in
+    other words, stays as it is)."""
+    return _(str(text)) if text else ""     # gettext("") is the catalogue's header
 
 
 def check_names(rows) -> list[str]:
@@ -181,11 +151,6 @@ def _speed_chart(rows, path: Path) -> int:
     return len(points)
 
 
-def language_code() -> str:
-    from ..i18n import language
-    return language()
-
-
 def _diagnosis_counts(rows) -> list[tuple[str, str, int]]:
     counts = Counter(d for r in rows for d in r.diagnoses)
     return [(d, _diagnosis_title(d), n) for d, n in counts.most_common()]
@@ -247,7 +212,7 @@ def _skipped_section(skipped) -> list[str]:
     if not skipped:
         return []
     lines = ["", "## " + _("Entries that were not graded"), "", _(SKIPPED_INTRO), ""]
-    lines += [f"- {md_code(str(e.get('entry', '')))}: {md_escape(str(e.get('reason', '')))}" for e in skipped]
+    lines += [f"- {md_code(str(e.get('entry', '')))}: {md_escape(skip_reason_text(e))}" for e in skipped]
     return lines
 
 
@@ -259,7 +224,8 @@ def _roster_section(roster) -> list[str]:
         entries = roster.get(key) or []
         if entries:
             lines += ["", f"**{_(title)}:**", ""]
-            lines += [f"- {md_escape(entry_text(e), line_start=True)}" for e in entries]
+            text = left_out_text if key == "left_out" else entry_text
+            lines += [f"- {md_escape(text(e), line_start=True)}" for e in entries]
     return lines
 
 
@@ -287,8 +253,8 @@ def _similarity_section(similarity) -> list[str]:
     not_compared = similarity.get("not_compared") or []
     if not_compared:
         lines += ["", "**" + _("Not compared:") + "**", ""]
-        lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: {md_escape(str(e.get('reason', '')))}"
-                  for e in not_compared]
+        lines += [f"- {md_escape(str(e.get('student', '')), line_start=True)}: "
+                  f"{md_escape(translated(e.get('reason')))}" for e in not_compared]
     return lines
 
 
@@ -406,56 +372,61 @@ def _speed_caption(charted: int) -> str:
 
 
 # ---- summary.html -----------------------------------------------------------------
+# templates/summary.html is the page; what follows gives it plain values
+# (the template engine escapes every one).
+
+@dataclass(frozen=True)
+class FirstDiagnosis:
+    id: str
+    title: str
+    more: int           # how many other diagnoses the row has
+
+
+@dataclass(frozen=True)
+class StudentLine:
+    """One line of the students table."""
+    name: str                       # the roster's name, else the folder's
+    href: str                       # the report's link, "" when it has none
+    ids: str                        # the roster's id and email
+    file: str                       # the folder's name when the name is the roster's
+    score: str                      # "63.93 / 100", "" when there are no points (ungradable)
+    bar: tuple[str, str] | None     # the points bar: (colour class, fill)
+    state: str                      # the status pill's colour class
+    mark: str
+    status: str                     # the status in words
+    diagnosis: FirstDiagnosis | None
+    error: str                      # why the grader could not grade it
 
 
 def _status_class(r) -> str:
+    """The status pill's colour: the points' when graded."""
     if r.status == UNGRADABLE:
         return "skipped"
     if r.status != GRADED:
         return "failed"
-    fraction = r.score / r.max_score if r.max_score > 0 else 0.0
-    return "passed" if fraction >= 0.999 else "partial" if fraction >= 0.5 else "failed"
+    return score_class(r.score, r.max_score, r.status) if r.max_score > 0 else "failed"
 
 
-def _student_link(r, linked: set[str]) -> str:
-    from .html import e
-    name = e(r.student)
-    return f'<a href="{e(report_link(r.student))}">{name}</a>' if r.student in linked else name
+def _href(student: str, linked: set[str]) -> str:
+    return report_link(student) if student in linked else ""
 
 
-def _hero(rows) -> str:
-    from .html import _score_class, e
+def _hero(rows) -> dict:
     graded = [r.score for r in rows if r.status != UNGRADABLE]
     top = max([r.max_score for r in rows] + [0.0])
     mid = median(graded) if graded else 0.0
-    pct = 0.0 if top <= 0 else max(0.0, min(100.0, 100 * mid / top))
-    marks = " · " + _marks_line(graded, top) if graded and top > 0 else ""
-    median_text = _("Median score %(median)s of %(top)s") % {"median": points(mid), "top": points(top)}
-    return f"""
-<header class="hero">
-  <div class="who">
-    <p class="eyebrow">{e(_("Cube-map environment mapping · class summary"))}</p>
-    <h1>{e(_submissions_count(rows))}</h1>
-    <p class="meta">{e(status_counts(rows))}{e(marks)}</p>
-  </div>
-  <div class="ring {_score_class(mid, top, GRADED)}" style="--p:{pct:.1f}" role="img"
-       aria-label="{e(median_text)}">
-    <div><strong>{e(points(mid))}</strong><span>{e(_("of %(top)s") % {"top": points(top)})}</span></div>
-  </div>
-</header>"""
+    return {"count": _submissions_count(rows), "statuses": status_counts(rows),
+            "marks": _marks_line(graded, top) if graded and top > 0 else "",
+            "ring_class": score_class(mid, top, GRADED), "fill": percent(mid, top),
+            "median": _("Median score %(median)s of %(top)s") % {"median": points(mid), "top": points(top)},
+            "points": points(mid), "top": points(top)}
 
 
-def _attention(rows, data: dict) -> str:
-    """Callouts for what needs the instructor: ungradable students, results
-    worth grading again, roster mismatches."""
-    from .html import e
-    out = []
-    failed = [r for r in rows if r.error]
-    if failed:
-        items = "".join(f"<li><strong>{e(r.student)}</strong>: {e(r.error)}</li>" for r in failed)
-        out.append(f'<div class="callout failed"><strong>{e(_(GRADER_FAILED))}.</strong>'
-                   f'<ul class="plain">{items}</ul></div>')
+def _attention(rows, data: dict) -> dict:
+    """What needs the instructor: ungradable students, results worth grading
+    again, kept timeouts, roster mismatches."""
     names = {r.student: display_name(r) for r in rows}    # the roster's names, as the table shows them
+    grade_again = kept = None
     again = data.get("grade_again") or {}
     if again.get("students"):
         n = len(again["students"])
@@ -463,24 +434,18 @@ def _attention(rows, data: dict) -> str:
             "count": n, "statuses": _(" or ").join(status_word(s) for s in again.get("statuses", []))}
         why = ngettext("which another process can cause: running grade-all again grades it again",
                        "which another process can cause: running grade-all again grades them again", n)
-        out.append(f'<div class="callout partial"><strong>{e(said)}</strong>{e(_(", "))}{e(why)}{e(_(": "))}'
-                   f'{e(_(", ").join(names.get(s, s) for s in again["students"]))}.</div>')
+        grade_again = (said, why, _(", ").join(names.get(s, s) for s in again["students"]))
     own = data.get("own_timeouts") or {}
     if own.get("students"):
         n = len(own["students"])
-        kept = ngettext("%(count)d timeout kept", "%(count)d timeouts kept", n) % {"count": n}
-        out.append(f'<div class="callout passed"><strong>{e(kept)}</strong> '
-                   f'({e("; ".join(names.get(s, s) for s in own["students"]))}){e(_(": "))}'
-                   f'{e(_(own.get("why", "")) if own.get("why") else "")}{e(_("."))}</div>')
+        kept = (ngettext("%(count)d timeout kept", "%(count)d timeouts kept", n) % {"count": n},
+                "; ".join(names.get(s, s) for s in own["students"]), translated(own.get("why")))
     roster = data.get("roster") or {}
-    for key, title in ROSTER_LISTS:
-        entries = roster.get(key) or []
-        if entries:
-            items = "".join(f"<li>{e(entry_text(x))}</li>" for x in entries)
-            cls = "passed" if key == "left_out" else "partial"
-            out.append(f'<div class="callout {cls}"><strong>{e(_(title))} ({len(entries)}).</strong>'
-                       f'<ul class="plain">{items}</ul></div>')
-    return "\n".join(out)
+    lists = [("passed" if key == "left_out" else "partial", _(title),
+              [left_out_text(x) if key == "left_out" else entry_text(x) for x in roster[key]])
+             for key, title in ROSTER_LISTS if roster.get(key)]
+    return {"ungradable": [(r.student, r.error) for r in rows if r.error], "grade_again": grade_again,
+            "kept": kept, "roster": lists}
 
 
 def display_name(r) -> str:
@@ -490,193 +455,79 @@ def display_name(r) -> str:
     return getattr(r, "name", "") or r.student
 
 
-def _who_line(r) -> str:
-    """The muted line under a name: the roster's id and email, and the
-    entry of the class folder it was matched to (when that is not the name)."""
-    from .html import e
-    ids = " · ".join(e(x) for x in (getattr(r, "student_id", ""), getattr(r, "email", "")) if x)
-    out = f'<div class="wholine">{ids}</div>' if ids else ""
-    if getattr(r, "name", "") and r.student != r.name:   # a phone leaves the file out (the link goes there)
-        out += f'<div class="wholine fileline">{e(r.student)}</div>'
-    return out
+def _student_line(r, linked: set[str]) -> StudentLine:
+    """Who (the roster's name first; its id and email, and the entry of the
+    class folder it was matched to when that is not the name, under it),
+    score, status, the first diagnosis."""
+    d = first_diagnosis(r)
+    # The bar says the points (a timeout that kept 98 of 100 is not red); the pill says the status.
+    bar = (score_class(r.score, r.max_score, GRADED), percent(r.score, r.max_score)) if r.max_score > 0 else None
+    state = _status_class(r)
+    return StudentLine(
+        name=display_name(r), href=_href(r.student, linked),
+        ids=" · ".join(x for x in (getattr(r, "student_id", ""), getattr(r, "email", "")) if x),
+        file=r.student if getattr(r, "name", "") and r.student != r.name else "",   # a phone leaves it out
+        score=_score_cell(r) if r.max_score > 0 else "", bar=bar,
+        state=state, mark=STATE_MARK[state], status=status_word(r.status),
+        diagnosis=FirstDiagnosis(d, _diagnosis_title(d), len(set(r.diagnoses) - {d})) if d else None,
+        error=r.error)
 
 
-def _students_table(rows, linked: set[str]) -> str:
-    """One line per student: who (the roster's name first), score, status,
-    the first diagnosis. Fixed columns, so the diagnosis is never pushed off
-    to the right of a long name; a phone stacks it under the name."""
-    from .html import STATE_MARK, e
-    body = []
-    for r in rows:
-        cls = _status_class(r)
-        pct = 0.0 if r.max_score <= 0 else max(0.0, min(100.0, 100 * r.score / r.max_score))
-        # The bar says the points (a timeout that kept 98 of 100 is not red); the pill says the status.
-        points_cls = "passed" if pct >= 99.9 else "partial" if pct >= 50 else "failed"
-        bar = f'<span class="bar {points_cls}"><span style="width:{pct:.1f}%"></span></span>' if r.max_score > 0 else ""
-        d = first_diagnosis(r)
-        more = len(set(r.diagnoses) - {d})
-        diagnosis = (f'<strong>{e(_diagnosis_title(d))}</strong> <span class="id">{e(d)}</span>'
-                     + (f' <span class="more">{e(_("(+%(count)d more)") % {"count": more})}</span>' if more else "")
-                     ) if d else ""
-        if r.error:
-            diagnosis = e(r.error)
-        mark = {"passed": STATE_MARK["passed"], "failed": STATE_MARK["failed"],
-                "partial": STATE_MARK["partial"]}.get(cls, "–")
-        name = e(display_name(r))
-        link = f'<a href="{e(report_link(r.student))}">{name}</a>' if r.student in linked else name
-        body.append(f'<tr><td class="who">{link}{_who_line(r)}</td>'
-                    f'<td class="pts">{bar}<span class="score">{e(_score_cell(r)) if r.max_score > 0 else "–"}</span></td>'
-                    f'<td class="state"><span class="pill {cls}">{mark} {e(status_word(r.status))}</span></td>'
-                    f'<td class="diag">{diagnosis}</td></tr>')
-    return f"""
-<section>
-  <h2>{e(_("Students"))}</h2>
-  <table class="checks students">
-    <thead><tr><th class="c-who">{e(_("Student"))}</th><th class="pts c-pts">{e(_("Score"))}</th>
-      <th class="c-state">{e(_("Status"))}</th><th>{e(_("First diagnosis"))}</th></tr></thead>
-    <tbody>{"".join(body)}</tbody>
-  </table>
-</section>"""
-
-
-def _points_table(rows, linked: set[str]) -> str:
-    """Every check's points, as in gradebook.csv: collapsed (it is wide)."""
-    from .html import e
-    names = check_names(rows)
-    if not names:
-        return ""
+def _points_table(rows, linked: set[str]) -> dict:
+    """Every check's points, as in gradebook.csv (the page collapses it: it is
+    wide): gradebook.csv's column names, the check's words on hover."""
     from .view import CHECK_LABEL
-    # gradebook.csv's column names; the check's words on hover
-    head = "".join(f'<th class="pts" title="{e(CHECK_LABEL.get(n, n))}">{e(n)}</th>' for n in names)
-    body = "".join(f"<tr><td>{_student_link(r, linked)}</td>"
-                   + "".join(f'<td class="pts">{e(points(r.checks[n])) if n in r.checks else ""}</td>' for n in names)
-                   + f'<td>{e(" ".join(r.diagnoses))}</td></tr>' for r in rows)
-    return f"""
-<section>
-  <details class="log"><summary>{e(_("Points per check, and every diagnosis (as in gradebook.csv)"))}</summary>
-  <div class="wide"><table class="checks points">
-    <thead><tr><th>{e(_("Student"))}</th>{head}<th>{e(_("Diagnoses"))}</th></tr></thead>
-    <tbody>{body}</tbody>
-  </table></div></details>
-</section>"""
+    names = check_names(rows)
+    return {"checks": [(n, CHECK_LABEL.get(n, n)) for n in names],
+            "rows": [(r.student, _href(r.student, linked),
+                      [points(r.checks[n]) if n in r.checks else "" for n in names], " ".join(r.diagnoses))
+                     for r in rows]}
 
 
-def _charts(out: Path, charted: int) -> str:
-    from .html import _figure, e
-    return f"""
-<section>
-  <h2>{e(_("Scores and speed"))}</h2>
-  <div class="pair">
-    {_figure(out / HISTOGRAM, _("Scores"), _("ungradable submissions are not shown"))}
-    {_figure(out / SPEED_CHART, _("Speed against accuracy"), _speed_caption(charted))}
-  </div>
-</section>"""
-
-
-def _diagnoses_table(rows) -> str:
-    from .html import e
-    counted = _diagnosis_counts(rows)
-    if not counted:
-        return f'<section><h2>{e(_("Most common diagnoses"))}</h2><p>{e(_(NO_DIAGNOSES))}</p></section>'
-    body = "".join(f'<tr><td><code>{e(d)}</code></td><td>{e(title)}</td><td class="pts">{n}</td></tr>'
-                   for d, title, n in counted)
-    return f"""
-<section>
-  <h2>{e(_("Most common diagnoses"))}</h2>
-  <table class="checks">
-    <thead><tr><th>{e(_("Diagnosis"))}</th><th>{e(_("What it means"))}</th>
-      <th class="pts">{e(_("Submissions"))}</th></tr></thead>
-    <tbody>{body}</tbody>
-  </table>
-</section>"""
-
-
-def _skipped_html(skipped) -> str:
-    from .html import e
-    if not skipped:
-        return ""
-    items = "".join(f"<li><code>{e(x.get('entry', ''))}</code>: {e(x.get('reason', ''))}</li>" for x in skipped)
-    return (f"<section><h2>{e(_('Entries that were not graded'))}</h2><p>{e(_(SKIPPED_INTRO))}</p>"
-            f'<ul class="plain">{items}</ul></section>')
-
-
-def _roster_html(roster) -> str:
-    from .html import e
-    if not roster:
-        return ""
-    files = roster.get("lms_files") or []
-    imports = ("<p>" + e(_("Import-ready grade files beside this page: %(files)s (Canvas, Moodle, Gradescope; "
-                           "the roster's students only).") % {"files": _(", ").join(files)}) + "</p>") if files else ""
-    return (f"<section><h2>{e(_('Roster'))}</h2><p><code>{e(roster.get('file', ''))}</code>{e(_(': '))}"
-            + e(_roster_counts(roster)) + " "
-            + e(_("(who handed in nothing, and submissions matching no one, are listed at the top).")) + "</p>"
-            f"{imports}</section>")
-
-
-def _similarity_html(similarity) -> str:
-    """Clusters of similar students, each collapsed; in each, its pairs and
-    their longest shared passages side by side (collapsed too)."""
-    from .html import e
+def _similarity_page(similarity) -> dict | None:
+    """Clusters of similar students; in each, its pairs and their longest
+    shared passages (the page collapses both)."""
     if not similarity:
-        return ""
+        return None
     pairs = similarity.get("pairs") or []
-    parts = [f"<section><h2>{e(_('Most similar pairs'))}</h2><p>{_similarity_intro(similarity, e, e)}</p>"]
-    if not pairs:
-        parts.append(f"<p>{e(_(NO_PAIR))}</p>")
+    clusters = []
     for n, cluster in enumerate(similarity_clusters(pairs), 1):
-        inner = []
+        shown = []
         for p in cluster["pairs"]:
             a, b = str(p.get("a", "")), str(p.get("b", ""))
-            inner.append(f'<p class="pair-title">{_pair_title(a, b, p, e)}</p><p>{_pair_shares(a, b, p, e)}</p>')
+            passages = []
             for passage in p.get("passages") or []:
                 (fa, la), (fb, lb) = _lines(passage, "a"), _lines(passage, "b")
                 said = _("shared passage: %(a)s lines %(fa)d-%(la)d, %(b)s lines %(fb)d-%(lb)d") % {
                     "a": a, "fa": fa, "la": la, "b": b, "fb": fb, "lb": lb}
-                inner.append(f'<details class="passage"><summary>{e(said)}</summary><div class="side-by-side">'
-                             f'<pre><code>{e(passage.get("a_text", ""))}</code></pre>'
-                             f'<pre><code>{e(passage.get("b_text", ""))}</code></pre></div></details>')
-        parts.append(f'<details class="cluster"><summary>{_cluster_title(n, cluster, e)}</summary>'
-                     f'{"".join(inner)}</details>')
-    not_compared = similarity.get("not_compared") or []
-    if not_compared:
-        items = "".join(f"<li>{e(x.get('student', ''))}: {e(x.get('reason', ''))}</li>" for x in not_compared)
-        parts.append(f'<p><strong>{e(_("Not compared:"))}</strong></p><ul class="plain">{items}</ul>')
-    return "".join(parts) + "</section>"
-
-
-def _footer(data: dict) -> str:
-    from .html import e
-    files = ["gradebook.csv", *((data.get("roster") or {}).get("lms_files") or []), "summary.json", "summary.md"]
-    return f'<footer>{e(_("beside this page: %(files)s") % {"files": _(", ").join(files)})}</footer>'
+                passages.append((said, str(passage.get("a_text", "")), str(passage.get("b_text", ""))))
+            shown.append({"title": _pair_title(a, b, p, str), "shares": _pair_shares(a, b, p, str),
+                          "passages": passages})
+        clusters.append({"title": _cluster_title(n, cluster, str), "pairs": shown})
+    return {"intro": _similarity_intro(similarity, str, str), "clusters": clusters,
+            "not_compared": [(str(x.get("student", "")), translated(x.get("reason")))
+                             for x in similarity.get("not_compared") or []]}
 
 
 def summary_html(rows, out: Path, linked: set[str] | None = None, data: dict | None = None,
                  charted: int = 0) -> str:
-    """The class page: self-contained, in report.html's style."""
-    from .html import CSS, e
+    """The class page (templates/summary.html): self-contained, in report.html's style."""
     linked = linked or set()
     data = data or {}
-    body = "\n".join(s for s in (
-        _hero(rows), _attention(rows, data), _students_table(rows, linked), _points_table(rows, linked),
-        _charts(out, charted), _diagnoses_table(rows), _skipped_html(data.get("skipped")),
-        _roster_html(data.get("roster")), _similarity_html(data.get("similarity")), _footer(data)) if s)
-    return f"""<!DOCTYPE html>
-<html lang="{language_code()}">
-<head>
-<meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<meta http-equiv="Content-Security-Policy" content="{CSP}">
-<meta name="color-scheme" content="light dark">
-<title>{e(_("Class summary"))}</title>
-<style>{CSS}{CLASS_CSS}</style>
-</head>
-<body>
-<main>
-{body}
-</main>
-</body>
-</html>
-"""
+    roster = data.get("roster")
+    return render_page(
+        "summary.html", CSP=CSP, hero=_hero(rows), attention=_attention(rows, data),
+        students=[_student_line(r, linked) for r in rows], points=_points_table(rows, linked),
+        charts={"histogram": embedded_image(out / HISTOGRAM), "speed": embedded_image(out / SPEED_CHART),
+                "speed_caption": _speed_caption(charted)},
+        diagnoses=_diagnosis_counts(rows),
+        skipped=[(str(x.get("entry", "")), skip_reason_text(x)) for x in data.get("skipped") or []],
+        roster={"file": str(roster.get("file", "")), "counts": _roster_counts(roster),
+                "lms_files": _(", ").join(roster.get("lms_files") or [])} if roster else None,
+        similarity=_similarity_page(data.get("similarity")),
+        footer_files=_(", ").join(["gradebook.csv", *((roster or {}).get("lms_files") or []), "summary.json",
+                                   "summary.md"]),
+        GRADER_FAILED=GRADER_FAILED, NO_DIAGNOSES=NO_DIAGNOSES, NO_PAIR=NO_PAIR, SKIPPED_INTRO=SKIPPED_INTRO)
 
 
 def write_summary(rows, out: Path, data: dict | None = None) -> None:

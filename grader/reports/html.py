@@ -16,7 +16,6 @@ import base64
 import re
 import struct
 from dataclasses import dataclass
-from html import escape
 from pathlib import Path
 
 from markdown_it import MarkdownIt
@@ -26,8 +25,8 @@ from ..i18n import N_, Translated, _
 from ..grading.results import BUILD_ERROR, UNGRADABLE, CheckResult
 from .markdown import FINDINGS_SHOWN, all_correct, check_points, mistake_counts, mistake_heading
 from .pictures import RENDER_PICTURES
-from .templating import ENVIRONMENT, render_page, stylesheet
-from .text import clean, figure, inert_markdown, points, seconds, truncate_middle
+from .templating import render_page
+from .text import figure, inert_markdown, points, seconds, truncate_middle
 from .view import (GLOSSARY, STATE_ERROR, STATE_FAILED, STATE_INFO, STATE_PARTIAL,
                    STATE_PASSED, STATE_SKIPPED, DiagnosisGroup, ReportView,
                    check_label, check_output, check_state, mismatch_groups)
@@ -70,13 +69,6 @@ STATE_MARK = {
 # that would form them as literal text; this is the second lock.
 _markdown = (MarkdownIt("commonmark", {"html": False}).enable(["table", "strikethrough"])
              .disable(["image", "link", "autolink", "reference"]))
-
-
-def e(text: object) -> str:
-    """Escape any text for HTML, attribute values included. The class page
-    (class_summary.py) still builds its HTML by hand with this; report.html
-    is escaped by its template engine."""
-    return escape(clean(str(text)), quote=True)
 
 
 def markdown_html(text: str) -> Markup:
@@ -128,7 +120,9 @@ def embedded_image(path: Path | None) -> EmbeddedImage | None:
 
 # ---- what the sections show ---------------------------------------------------
 
-def _score_class(score: float, max_score: float, status: str) -> str:
+def score_class(score: float, max_score: float, status: str) -> str:
+    """A score's colour (a ring's, a bar's; report.html's and the class
+    page's): full marks, half or more, less."""
     if max_score <= 0 or status == UNGRADABLE:   # no verdict to colour
         return "skipped"
     fraction = score / max_score
@@ -237,19 +231,10 @@ def render(view: ReportView) -> str:
         STATE_CLASS=STATE_CLASS, STATE_MARK=STATE_MARK, STATE_WORD=STATE_WORD, STATE_INFO=STATE_INFO,
         FINDINGS_SHOWN=FINDINGS_SHOWN, GLOSSARY=GLOSSARY,
         ARROWS_ARTIFACT=ARROWS_ARTIFACT, CHART_ARTIFACT=CHART_ARTIFACT,
-        embedded_image=embedded_image, score_class=_score_class, percent=percent, points=points,
+        embedded_image=embedded_image, score_class=score_class, percent=percent, points=points,
         truncate_middle=truncate_middle, mistake_counts=mistake_counts, mistake_heading=mistake_heading,
         catalogue_html=catalogue_html, all_correct=all_correct, check_state=check_state,
         check_label=check_label, check_points=check_points, render_groups=render_groups,
         lookup_works=lookup_works, chart_reading=chart_reading, metric_parts=metric_parts,
         check_details=check_details)
 
-
-# What the class page (class_summary.py) still builds by hand takes these:
-# the stylesheet it adds its own rules to, and a figure.
-CSS = stylesheet()
-
-
-def _figure(path: Path | None, caption: str, note: str = "", css_class: str = "") -> Markup:
-    figure = ENVIRONMENT.get_template("figure.html").module.figure
-    return Markup(figure(embedded_image(path), caption, note, css_class))

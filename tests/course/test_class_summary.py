@@ -13,7 +13,7 @@ from grader.course.grade_all import MISSING, Row
 from grader.course.lms_csv import Target, write_lms_files
 from grader.course.roster import Student, load_roster
 from grader.reports.class_summary import similarity_clusters, write_summary
-from grader.reports.html import CSS
+from grader.reports.templating import stylesheet
 
 ROWS = [
     Row("alice", "graded", 100.0, 100.0, {"read_texture": 25.0}, [], first_diagnosis=""),
@@ -71,7 +71,7 @@ def test_the_class_page_lists_each_student_with_score_status_and_first_diagnosis
     assert rows["erin"][1:3] == ["–", "– ungradable"] and "SIGKILL" in rows["erin"][3]
     assert '<td class="who"><a href="bob/report.html">bob</a></td>' in page
     # report.html's stylesheet, not a copy of it
-    assert page.count(CSS) == 1
+    assert page.count(stylesheet()) == 1
     assert "1 result says timed out or ungradable" in page and "grades it again: erin" in page
     md = (tmp_path / "summary.md").read_text()
     assert "| [bob](<bob/report.html>) | 63.93 / 100 | graded | readTexture still returns the nearest texel " \
@@ -196,18 +196,31 @@ class Text(HTMLParser):
 def test_the_class_page_in_japanese_leaves_no_english_sentence(tmp_path):
     """grade-all --lang ja: every word the page itself says is Japanese; what
     stays is data (names, ids, file names, the tool's name, numbers) and
-    the words the glossary keeps (diagnosis ids, LMS names)."""
+    the words the glossary keeps (diagnosis ids, LMS names). The reasons
+    grade-all gives (entries it skipped, roster rows it left out, a
+    submission not compared) come from where grade-all makes them."""
     from grader import i18n
-    from grader.course.grade_all import OWN_TIMEOUT_WHY
+    from grader.course.grade_all import OWN_TIMEOUT_WHY, skipped_entries
+    from grader.course.similarity import NOTHING_OF_ITS_OWN
+    folder = tmp_path / "class"
+    folder.mkdir()
+    for name in (".DS_Store", "notes.txt", "README"):
+        (folder / name).write_text("")
+    (folder / "link.zip").symlink_to(folder / "notes.txt")
+    roster = tmp_path / "roster.csv"
+    roster.write_text("First Name,Last Name,SID,Email,Role\nGus,Gray,S9,,Student\n"
+                      "Grace,Hopper,,ghopper@uni.example,Instructor\nTest,Student,,,Student\n")
     rows = ROWS[:4] + [Row("fay", "timeout", 40.0, 100.0, {}, ["timeout"], first_diagnosis="timeout"),
                        Row("gus", MISSING, 0.0, 100.0)]
     similarity = {"tool": "copydetect 0.5.0", "compared": 5, "min_listed": 0.5, "boilerplate": "template.cpp",
-                  "pairs": [pair("ann", "ben", 0.9)], "not_compared": []}
+                  "pairs": [pair("ann", "ben", 0.9)],
+                  "not_compared": [{"student": "zed", "reason": NOTHING_OF_ITS_OWN}]}
     data = {"similarity": similarity, "grade_again": {"statuses": ["timeout"], "students": ["fay"]},
-            "own_timeouts": {"students": ["fay"], "why": OWN_TIMEOUT_WHY},
+            "own_timeouts": {"students": ["fay"], "why": OWN_TIMEOUT_WHY}, "skipped": skipped_entries(folder),
             "roster": {"file": "roster.csv", "students": 6, "matched": 5, "lms_files": ["grades_canvas.csv"],
                        "missing": [{"id": "S9", "name": "gus", "email": ""}], "unmatched": ["hal"],
-                       "left_out": [{"id": "S0", "name": "Student, Test", "email": ""}]}}
+                       "left_out": load_roster(roster).left_out}}
+    assert len(data["skipped"]) == 4 and len(data["roster"]["left_out"]) == 2
     before = i18n.language()
     i18n.set_language("ja")
     try:
@@ -218,7 +231,8 @@ def test_the_class_page_in_japanese_leaves_no_english_sentence(tmp_path):
     assert '<html lang="ja">' in page
     data_words = {"alice", "bob", "carol", "dave", "fay", "gus", "hal", "ann", "ben", "Student", "Test",
                   "copydetect", "template", "cpp", "roster", "csv", "grades_canvas", "gradebook", "summary", "json",
-                  "md", "code", "of", "Canvas", "Moodle", "Gradescope", "grade", "all", "docs", "study"}
+                  "md", "code", "of", "Canvas", "Moodle", "Gradescope", "grade", "all", "docs", "study",
+                  "zed", "Grace", "Hopper", "Instructor", "Store", "notes", "txt", "README", "link", "zip"}
     from grader.grading.catalogue import _ENTRIES
     data_words |= {"readTexture", "fetchColor", "CPU"}     # code and CPU, as the glossary keeps them
     ids = sorted((e.id for e in _ENTRIES), key=len, reverse=True)

@@ -187,9 +187,10 @@ def test_student_names_come_from_folders_and_archives(tmp_path):
     # A .rar or .7z is graded, so that its student reads why it cannot be (unknown-format), not dropped.
     assert sorted(names) == ["alice", "bob", "carol", "dave", "erin", "frank", "frank.zip", "hank", "ivy", "judy"]
     assert skipped_entries(tmp_path) == [
-        {"entry": ".hidden", "reason": "a hidden file or folder (its name starts with a dot)"},
+        {"entry": ".hidden", "reason": "a hidden file or folder (its name starts with a dot)", "why": "hidden"},
         {"entry": "notes.txt",
-         "reason": "a .txt file, not a submission (expected a folder, an archive or a .cpp per student)"}]
+         "reason": "a .txt file, not a submission (expected a folder, an archive or a .cpp per student)",
+         "why": "file", "suffix": ".txt"}]
 
 
 def test_every_skipped_entry_is_in_the_summary_data_and_printed(resumed):

@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import re
 import xml.etree.ElementTree as ET
+from urllib.parse import unquote
 from html.parser import HTMLParser
 
 import pytest
@@ -247,6 +248,39 @@ def test_class_summary_with_hostile_names(tmp_path):
     for href in links:
         assert re.fullmatch(r"[A-Za-z0-9%._~-]+/report\.html", href), href
     assert not [h for h in page.headings if "Regraded" in h]
+
+
+# Template source in a name: the class page is a jinja2 template, and a name
+# must be a value it prints, never source it runs ({{ 7*7 }} would say 49).
+TEMPLATE_SYNTAX = "<script>alert(1)</script> {{ 7*7 }} {% print 6*7 %} </style>\nsecond line"
+
+
+def test_class_summary_prints_template_syntax_and_closing_tags_as_text(tmp_path):
+    folder = "x" + TEMPLATE_SYNTAX.replace("/", "")      # a folder's name: no slash
+    rows = [Row(folder, "ungradable", 0.0, 0.0, error="RuntimeError: " + TEMPLATE_SYNTAX,
+                name=TEMPLATE_SYNTAX, student_id="id" + TEMPLATE_SYNTAX),
+            Row("ok", "graded", 10.0, 10.0, {"build": 10.0}, name="y" + TEMPLATE_SYNTAX)]
+    for r in rows:
+        (tmp_path / r.student).mkdir()
+        (tmp_path / r.student / "report.html").write_text("")
+    write_summary(rows, tmp_path)
+    raw = (tmp_path / "summary.html").read_text()
+    # Markup only as escaped text: one </style>, where the stylesheet ends; no script.
+    assert raw.count("</style>") == 1 and raw.index("</style>") > raw.index("<style>") + 1000
+    assert "<script" not in raw and "&lt;script&gt;alert(1)&lt;/script&gt;" in raw and "&lt;/style&gt;" in raw
+    # Nothing evaluated: the expressions are there as typed, their values nowhere.
+    assert raw.count("{{ 7*7 }}") >= 5 and raw.count("{% print 6*7 %}") >= 5
+    page = Page(raw.split("</style>", 1)[1])      # the page's text, after the stylesheet
+    assert not re.search(r"\b(?:49|42)\b", page.plain())
+    assert not page.tags() - HTML_TAGS - {"a"}
+    # Each field reads as it was, its newline included: the students table's name, id and folder lines, the
+    # first diagnosis column's error, the callout of ungradable students.
+    texts = "".join(page.text)
+    for shown in ("id" + TEMPLATE_SYNTAX, folder, "y" + TEMPLATE_SYNTAX, "RuntimeError: " + TEMPLATE_SYNTAX):
+        assert shown in texts, shown
+    links = [a["href"] for t, a in page.elements if t == "a"]
+    assert all(re.fullmatch(r"[A-Za-z0-9%._~-]+/report\.html", h) for h in links), links
+    assert sorted(unquote(h) for h in links) == sorted(2 * [folder + "/report.html", "ok/report.html"])
 
 
 def test_class_summary_md_links_only_to_reports(tmp_path):
