@@ -24,6 +24,7 @@ import signal
 import struct
 import subprocess
 import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,10 +48,97 @@ LIBRARY_NAME = "submission.so"
 # wall-clock limit at load 15 on 2 cores, and a timeout there became a
 # failure to load the submission).
 WALL_FACTOR, WALL_SLACK_S = 4.0, 1.0
+# The bound also stretches by the time the call waited for a core (WallBound,
+# issue 32: at load 30 on one core a worker gets about 1/32 of it, and a call
+# spinning to its 0.3 s CPU limit took 10 s, past its 2.2 s bound), by at
+# most this many bounds. The cap because the wait is not always the machine's
+# doing: the worker's main thread may lower its own priority (seccomp lets a
+# thread put itself at SCHED_IDLE or nice 19), and at SCHED_IDLE on a busy
+# machine it waits without end while its CPU time, and so its CPU limit, does
+# not move; capped, such a call still ends within 9 bounds. Under load L per
+# core a call at its CPU limit t waits about L t, L t / (4 t + 1) < L / 4
+# bounds: 8 covers load 32 per core at any limit.
+WALL_STRETCH_MAX = 8.0
 
 
 def wall_bound(timeout_s: float) -> float:
     return WALL_FACTOR * timeout_s + WALL_SLACK_S
+
+
+def run_queue_wait_ns(pid: int, tid: int | None = None) -> int | None:
+    """How long (ns) thread `tid` of process `pid` (its main thread when
+    None) has been runnable but waiting for a core since it began: the
+    scheduler's run_delay, the second field of
+    /proc/<pid>/task/<tid>/schedstat (CONFIG_SCHED_INFO; no schedstats
+    sysctl needed, readable by any uid). None where it cannot be read: the
+    task is gone, /proc hides other uids' processes (hidepid), the kernel
+    has no such file, or it says "0 0 0" (sched_info accounting off)."""
+    try:
+        with open(f"/proc/{pid}/task/{pid if tid is None else tid}/schedstat") as f:
+            fields = [int(x) for x in f.read().split()[:3]]
+    except (OSError, ValueError):
+        return None
+    if len(fields) < 3 or not any(fields):
+        return None
+    return fields[1]
+
+
+class WallBound:
+    """The wall-clock outer bound of one call (or of loading the submission):
+    `seconds` from now, stretched by the time the call waited for a core
+    since, at most WALL_STRETCH_MAX times `seconds`. A call waits on two
+    threads: the worker's main thread, which serves every request (static
+    initialisers included; the threads the submission starts are at
+    SCHED_IDLE, waiting for a core by design, and serve no request: theirs is
+    never counted), and the grader's thread that reads its reply (a reply
+    larger than the pipe waits for it). The stretch is the larger of their
+    waits, never the sum: they wait at the same time. Where neither can be
+    read (run_queue_wait_ns) the bound is today's, unstretched."""
+
+    # /proc is read only when the bound is this close: most calls end long before.
+    _REFRESH_S = 0.1
+
+    def __init__(self, seconds: float, worker_pid: int | None = None):
+        self.seconds = seconds
+        self.began = time.monotonic()
+        self.stretch_s = 0.0
+        self._watched: dict[tuple[int, int | None], int] = {}    # (pid, tid) -> its wait at the start
+        grader = os.getpid(), threading.get_native_id()
+        self._watch(grader, run_queue_wait_ns(*grader))
+        if worker_pid is not None:
+            self.watch_worker(worker_pid)
+
+    def _watch(self, task: tuple[int, int | None], wait_now: int | None) -> None:
+        if wait_now is not None:
+            self._watched[task] = wait_now
+
+    def watch_worker(self, pid: int, born_inside: bool = False) -> None:
+        """Count what the worker's main thread waits from now on (born_inside:
+        all it ever waited, as it began inside this bound)."""
+        wait = run_queue_wait_ns(pid)
+        self._watch((pid, None), 0 if born_inside and wait is not None else wait)
+
+    def refresh(self) -> float:
+        """Read the watched threads' waits now; the stretch (s)."""
+        waited = 0
+        for (pid, tid), since in self._watched.items():
+            now = run_queue_wait_ns(pid, tid)
+            if now is not None:
+                waited = max(waited, now - since)
+        self.stretch_s = min(WALL_STRETCH_MAX * self.seconds, max(self.stretch_s, waited / 1e9))
+        return self.stretch_s
+
+    def end(self) -> float:
+        """When the bound is reached, as far as is known now (monotonic s)."""
+        end = self.began + self.seconds + self.stretch_s
+        if self._watched and end - time.monotonic() < self._REFRESH_S:
+            end = self.began + self.seconds + self.refresh()
+        return end
+
+    def left(self) -> float:
+        return max(0.0, self.end() - time.monotonic())
+
+
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
 _WATCH_S = 0.02                   # how often the progress page is looked at during a long call
 PIPE_BYTES = 1 << 20
@@ -176,6 +264,23 @@ def tree_cpu_ns(pid: int) -> int:
     return total * _TICK_NS
 
 
+def tree_run_queue_waits_ns(pid: int) -> dict[int, int]:
+    """What each thread of `pid` and of every process below it has waited
+    for a core (run_queue_wait_ns), by thread id; threads whose wait cannot
+    be read are left out. {} once it is gone."""
+    waits = {}
+    for p in _descendants(pid):
+        try:
+            tids = [int(t) for t in os.listdir(f"/proc/{p}/task")]
+        except (OSError, ValueError):
+            continue
+        for tid in tids:
+            wait = run_queue_wait_ns(p, tid)
+            if wait is not None:
+                waits[tid] = wait
+    return waits
+
+
 def _all_stopped(pid: int) -> bool:
     """Every thread of `pid` is stopped (state T or t in /proc)."""
     try:
@@ -201,10 +306,6 @@ def _stopped_itself(pid: int | None) -> bool:
     except OSError:
         return False
     return _all_stopped(pid)
-
-
-def _deadline_left(deadline: float) -> float:
-    return max(0.0, deadline - time.monotonic())
 
 
 class Worker:
@@ -261,6 +362,8 @@ class Worker:
         self.start_time_s = 0.0
         # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
         self._cpu_limit: tuple[int, int] | None = None
+        self._wall_only = float("inf")   # where the CPU clock cannot be read: the call's limit on the wall clock
+        self._waited_ns = 0     # what its main thread had waited for a core, when last read (waited_s)
         self._last_cpu = 0      # ns, the last time it was read
         # The inputs of the last FETCH or READ_TEXTURE that faulted, (index,
         # protocol.CrashReport) each; the worker went on past them.
@@ -354,6 +457,8 @@ class Worker:
         self._cgroup = memory.current()
         self._oom_before = self._oom_kills()
         cmd = memory.charged(cmd)
+        # Begun before the worker is: all its main thread ever waits for a core is inside it.
+        deadline = WallBound(wall_bound(self._start_timeout_s))
         try:
             self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
                                           pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
@@ -367,7 +472,6 @@ class Worker:
         self._request_fd, self._response_fd = request_w, response_r
         os.set_blocking(self._request_fd, False)
         self._output = CappedOutput(output_r, *self._cap)
-        deadline = time.monotonic() + wall_bound(self._start_timeout_s)
         try:
             self._setup(binary, deadline)
             self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work
@@ -380,7 +484,7 @@ class Worker:
         self._idle()
         self.start_time_s = time.monotonic() - began
 
-    def _setup(self, binary: Path, deadline: float) -> None:
+    def _setup(self, binary: Path, deadline: WallBound) -> None:
         """The worker's first message, written before any student code ran:
         the only one we trust. A set-up failure is ours, not the student's."""
         head = self._read_exact(protocol.HEADER.size, deadline, "setting up the worker")
@@ -399,6 +503,8 @@ class Worker:
             raise WorkerHarnessError(protocol.decode_text(payload or b""))
         self.pid_namespace = bool(held & protocol.SANDBOXED_PID_NAMESPACE)
         self._worker_pid = find_worker_pid(self._proc.pid, binary)
+        if self._worker_pid is not None:
+            deadline.watch_worker(self._worker_pid, born_inside=True)
 
     def _limit_args(self) -> list[str]:
         lim = self.limits
@@ -430,6 +536,7 @@ class Worker:
 
     def close(self) -> None:
         """Stop the worker (politely, then by force) and remove its files."""
+        self._note_wait()
         if self._proc is not None:
             if self._proc.poll() is None:
                 self._resume()
@@ -464,6 +571,7 @@ class Worker:
         """Kill the worker's whole process group and reap it."""
         if self._proc is None:
             return
+        self._note_wait()    # the last reading, while it can be read
         self._killed = True
         try:
             os.killpg(self._proc.pid, signal.SIGKILL)
@@ -480,6 +588,21 @@ class Worker:
         while self._worker_pid is not None and os.path.exists(f"/proc/{self._worker_pid}") \
                 and time.monotonic() < deadline:
             time.sleep(0.002)
+
+    @property
+    def waited_s(self) -> float:
+        """How long (s) the worker's main thread has waited for a core in its
+        life: its start's and its calls' waits, as it waits for nothing
+        between calls (stopped, or blocked reading the next request). What
+        the runner's time budget leaves out. 0 where it cannot be read."""
+        self._note_wait()
+        return self._waited_ns / 1e9
+
+    def _note_wait(self) -> None:
+        if self._worker_pid is not None and not self._killed:
+            wait = run_queue_wait_ns(self._worker_pid)
+            if wait is not None:
+                self._waited_ns = max(self._waited_ns, wait)
 
     def progress(self) -> int | None:
         """The index (within the last FETCH or READ_TEXTURE request) of the
@@ -681,7 +804,7 @@ class Worker:
             # It ended since its last call (a thread of its own crashed, it
             # exited, the kernel killed it): the submission's doing, whichever
             # check asked next. Its reply pipe holds what it said, if anything.
-            status, count, reply = self._receive(None, None, time.monotonic() + 2.0, what)
+            status, count, reply = self._receive(None, None, WallBound(2.0), what)
             self._fail(PROTOCOL, f"the worker had ended before {what} was asked, after a reply "
                                  f"({protocol.STATUS_NAMES.get(status, status)})")
         self._resume()
@@ -693,7 +816,7 @@ class Worker:
     def _exchange(self, op: int, count: int, payload: bytes, expected_count: int | None,
                   expected_bytes: int | None, timeout_s: float, what: str) -> tuple[int, bytes]:
         self._oom_before = self._oom_kills()
-        deadline = time.monotonic() + wall_bound(timeout_s)
+        deadline = WallBound(wall_bound(timeout_s), self._worker_pid)
         if self._progress is not None:
             struct.pack_into("=Q", self._progress, 0, _NO_PROGRESS)
         self._watch, self.stuck = (None, time.monotonic(), self._cpu_or_none()), None
@@ -737,7 +860,7 @@ class Worker:
         if cpu is None:
             self._wall_only = time.monotonic() + timeout_s
 
-    def _over_limit(self, deadline: float) -> str | None:
+    def _over_limit(self, deadline: WallBound) -> str | None:
         """Why the current call must stop now, if it must: "cpu" (its CPU
         time used up: the submission's work) or "wall" (the outer bound)."""
         now = time.monotonic()
@@ -745,17 +868,17 @@ class Worker:
             cpu = self._cpu_or_none()
             if cpu is not None and cpu - self._cpu_limit[0] > self._cpu_limit[1]:
                 return "cpu"
-        elif now >= getattr(self, "_wall_only", deadline):
+        elif now >= self._wall_only:
             return "wall"
-        return "wall" if now >= deadline - _WATCH_S else None
+        return "wall" if now >= deadline.end() - _WATCH_S else None
 
-    def _send(self, buffers: list, deadline: float, what: str) -> None:
+    def _send(self, buffers: list, deadline: WallBound, what: str) -> None:
         poller = select.poll()
         poller.register(self._request_fd, select.POLLOUT)
         for buf in buffers:
             view = memoryview(buf).cast("B")
             while len(view):
-                if not poller.poll(min(_deadline_left(deadline), _WATCH_S) * 1000):
+                if not poller.poll(min(deadline.left(), _WATCH_S) * 1000):
                     why = self._over_limit(deadline)
                     if why:
                         self._timeout(what, why)
@@ -768,11 +891,11 @@ class Worker:
                     return      # the worker is gone: its reply (or EOF) says why
                 view = view[n:]
 
-    def _read_exact(self, size: int, deadline: float, what: str) -> bytes | None:
+    def _read_exact(self, size: int, deadline: WallBound, what: str) -> bytes | None:
         """`size` bytes, or None at end of file (the worker exited)."""
         chunks, got = [], 0
         while got < size:
-            left = _deadline_left(deadline)
+            left = deadline.left()
             # Short waits while a call runs, to watch which input it is on.
             ready, _, _ = select.select([self._response_fd], [], [], min(left, _WATCH_S))
             if not ready:
