@@ -24,7 +24,6 @@ import signal
 import struct
 import subprocess
 import tempfile
-import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -85,15 +84,15 @@ def run_queue_wait_ns(pid: int, tid: int | None = None) -> int | None:
 
 class WallBound:
     """The wall-clock outer bound of one call (or of loading the submission):
-    `seconds` from now, stretched by the time the call waited for a core
-    since, at most WALL_STRETCH_MAX times `seconds`. A call waits on two
-    threads: the worker's main thread, which serves every request (static
-    initialisers included; the threads the submission starts are at
-    SCHED_IDLE, waiting for a core by design, and serve no request: theirs is
-    never counted), and the grader's thread that reads its reply (a reply
-    larger than the pipe waits for it). The stretch is the larger of their
-    waits, never the sum: they wait at the same time. Where neither can be
-    read (run_queue_wait_ns) the bound is today's, unstretched."""
+    `seconds` from now, stretched by the time the worker's main thread has
+    waited for a core since, at most WALL_STRETCH_MAX times `seconds`. The
+    main thread serves every request (static initialisers included). Not
+    counted: the threads the submission starts (at SCHED_IDLE they wait for
+    a core by design, and serve no request), nor the grader's thread, which
+    wakes every _WATCH_S to watch the call: on a loaded machine it waits at
+    each wake, and counting that stretched the bound of a call that only
+    sleeps by most of its length (make test-load). Where the main thread's
+    wait cannot be read (run_queue_wait_ns) the bound is unstretched."""
 
     # /proc is read only when the bound is this close: most calls end long before.
     _REFRESH_S = 0.1
@@ -102,36 +101,30 @@ class WallBound:
         self.seconds = seconds
         self.began = time.monotonic()
         self.stretch_s = 0.0
-        self._watched: dict[tuple[int, int | None], int] = {}    # (pid, tid) -> its wait at the start
-        grader = os.getpid(), threading.get_native_id()
-        self._watch(grader, run_queue_wait_ns(*grader))
+        self._worker: tuple[int, int] | None = None     # (pid, its wait when the bound began)
         if worker_pid is not None:
             self.watch_worker(worker_pid)
-
-    def _watch(self, task: tuple[int, int | None], wait_now: int | None) -> None:
-        if wait_now is not None:
-            self._watched[task] = wait_now
 
     def watch_worker(self, pid: int, born_inside: bool = False) -> None:
         """Count what the worker's main thread waits from now on (born_inside:
         all it ever waited, as it began inside this bound)."""
         wait = run_queue_wait_ns(pid)
-        self._watch((pid, None), 0 if born_inside and wait is not None else wait)
+        if wait is not None:
+            self._worker = pid, 0 if born_inside else wait
 
     def refresh(self) -> float:
-        """Read the watched threads' waits now; the stretch (s)."""
-        waited = 0
-        for (pid, tid), since in self._watched.items():
-            now = run_queue_wait_ns(pid, tid)
+        """Read the main thread's wait now; the stretch (s)."""
+        if self._worker is not None:
+            now = run_queue_wait_ns(self._worker[0])
             if now is not None:
-                waited = max(waited, now - since)
-        self.stretch_s = min(WALL_STRETCH_MAX * self.seconds, max(self.stretch_s, waited / 1e9))
+                waited = (now - self._worker[1]) / 1e9
+                self.stretch_s = min(WALL_STRETCH_MAX * self.seconds, max(self.stretch_s, waited))
         return self.stretch_s
 
     def end(self) -> float:
         """When the bound is reached, as far as is known now (monotonic s)."""
         end = self.began + self.seconds + self.stretch_s
-        if self._watched and end - time.monotonic() < self._REFRESH_S:
+        if self._worker is not None and end - time.monotonic() < self._REFRESH_S:
             end = self.began + self.seconds + self.refresh()
         return end
 

@@ -18,8 +18,8 @@ WORKER = 4242      # a made-up worker pid
 @pytest.fixture
 def waits(monkeypatch):
     """What each thread has waited for a core (ns), as run_queue_wait_ns
-    will say: the worker's main thread under "worker", the grader's thread
-    under "grader"; None: it cannot be read."""
+    will say: the worker's main thread under "worker", any other thread (the
+    grader's) under "grader"; None: it cannot be read."""
     now = {"worker": 0, "grader": 0}
 
     def fake(pid, tid=None):
@@ -54,10 +54,12 @@ def test_a_worker_born_inside_the_bound_counts_all_it_waited(waits):
     assert stretched(bound) == pytest.approx(1.0)
 
 
-def test_the_two_threads_waiting_at_once_stretch_it_once(waits):
+def test_the_graders_own_wait_does_not_stretch_it(waits):
+    """The grader's thread wakes every 20 ms to watch the call; on a loaded
+    machine it waits at each wake, also while the submission only sleeps."""
     bound = WallBound(2.0, WORKER)
-    waits["worker"], waits["grader"] = 3 * 10**9, 2 * 10**9
-    assert stretched(bound) == pytest.approx(3.0)
+    waits["grader"] = 5 * 10**9
+    assert stretched(bound) == 0.0
 
 
 def test_a_thread_that_waits_without_end_stretches_it_at_most_eight_bounds(waits):
