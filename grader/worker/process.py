@@ -16,6 +16,7 @@ the grader; only the grader's own problems raise WorkerHarnessError.
 from __future__ import annotations
 
 import fcntl
+import functools
 import mmap
 import os
 import select
@@ -64,22 +65,42 @@ def wall_bound(timeout_s: float) -> float:
     return WALL_FACTOR * timeout_s + WALL_SLACK_S
 
 
-def run_queue_wait_ns(pid: int, tid: int | None = None) -> int | None:
-    """How long (ns) thread `tid` of process `pid` (its main thread when
-    None) has been runnable but waiting for a core since it began: the
-    scheduler's run_delay, the second field of
-    /proc/<pid>/task/<tid>/schedstat (CONFIG_SCHED_INFO; no schedstats
-    sysctl needed, readable by any uid). None where it cannot be read: the
-    task is gone, /proc hides other uids' processes (hidepid), the kernel
-    has no such file, or it says "0 0 0" (sched_info accounting off)."""
+def _schedstat(pid: int, tid: int | None = None) -> tuple[int, int] | None:
+    """(ns on a core, ns runnable but waiting for one) of thread `tid` of
+    process `pid` (its main thread when None) since it began: the first two
+    fields of /proc/<pid>/task/<tid>/schedstat (CONFIG_SCHED_INFO; no
+    schedstats sysctl needed, readable by any uid). None where the file
+    cannot be read: the task is gone, /proc hides other uids' processes
+    (hidepid), the kernel has no such file."""
     try:
         with open(f"/proc/{pid}/task/{pid if tid is None else tid}/schedstat") as f:
             fields = [int(x) for x in f.read().split()[:3]]
     except (OSError, ValueError):
         return None
-    if len(fields) < 3 or not any(fields):
-        return None
-    return fields[1]
+    return (fields[0], fields[1]) if len(fields) == 3 else None
+
+
+@functools.cache
+def _schedstat_counts() -> bool:
+    """The kernel fills schedstat in: ours, which has run, is not "0 0 0"
+    (what it says with sched_info accounting off)."""
+    return any(_schedstat(os.getpid()) or ())
+
+
+def run_queue_wait_ns(pid: int, tid: int | None = None) -> int | None:
+    """How long (ns) thread `tid` of process `pid` (its main thread when
+    None) has been runnable but waiting for a core since it began: the
+    scheduler's run_delay (_schedstat). None where it cannot be read, or the
+    kernel does not count it."""
+    stat = _schedstat(pid, tid)
+    return stat[1] if stat is not None and _schedstat_counts() else None
+
+
+def thread_run_ns(pid: int, tid: int) -> int | None:
+    """How long (ns) thread `tid` of process `pid` has run on a core (0: not
+    yet). None where it cannot be read, or the kernel does not count it."""
+    stat = _schedstat(pid, tid)
+    return stat[0] if stat is not None and _schedstat_counts() else None
 
 
 class WallBound:
@@ -132,6 +153,15 @@ class WallBound:
         return max(0.0, self.end() - time.monotonic())
 
 
+# A thread the submission starts runs its first millisecond on a core at its
+# own priority before it is put at SCHED_IDLE (Worker._demote_threads), so
+# what it does as it starts happens under any load. At load 30 a thread
+# demoted before it first ran did not run again while its worker lived: its
+# forbidden call, the verdict on a quiet machine, never came, and the
+# submission passed (make test-load, test_speed_trust.py's stop_everyone).
+# Its CPU time counts against the call's limit; each thread started costs a
+# classmate at most this much more, inside the grading's cpu cgroup.
+FIRST_RUN_NS = 1_000_000
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
 _WATCH_S = 0.02                   # how often the progress page is looked at during a long call
 PIPE_BYTES = 1 << 20
@@ -726,7 +756,8 @@ class Worker:
         (the main thread preempts it) nor a classmate's grading. A thread
         cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c). Threads started
         in a call (a static initialiser's, in loading) are demoted while it
-        runs, at each look at its progress, or once it ends."""
+        runs, at each look at its progress, or once it ends, from when they
+        have run FIRST_RUN_NS (at once where the kernel does not say)."""
         if self._worker_pid is None or not self.demote_threads:
             return
         try:
@@ -735,6 +766,9 @@ class Worker:
             return
         for tid in tids:
             if tid != self._worker_pid and tid not in self._demoted:
+                ran = thread_run_ns(self._worker_pid, tid)
+                if ran is not None and ran < FIRST_RUN_NS:
+                    continue        # its first millisecond at its own priority
                 try:
                     os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
                 except OSError:      # it has just ended

@@ -70,6 +70,27 @@ def test_a_call_kept_waiting_for_a_core_past_its_wall_bound_is_stopped_at_its_cp
         (caught.value.detail, took)
 
 
+def test_a_thread_keeps_its_priority_until_it_has_run_a_millisecond(stand_in, isolation_mode):
+    """The worker puts the threads a submission starts at SCHED_IDLE once
+    they have run 1 ms (the idle spinner's, which spin:
+    test_resource_bounds.py), not before: at load 30 a thread put there
+    before it first ran did not run while its worker lived, and what it
+    started with never happened (make test-load: test_speed_trust.py's
+    stop_everyone passed the speed check, its forbidden call never made).
+    This one sleeps 0.2 s first, then makes a forbidden call."""
+    with Worker(stand_in) as worker:
+        worker.set_faces(faces())
+        worker.fetch([[10, 0, 0]])
+        pid = worker._worker_pid
+        policies = [os.sched_getscheduler(int(t)) for t in os.listdir(f"/proc/{pid}/task") if int(t) != pid]
+        with pytest.raises(SubmissionFailure) as caught:
+            for _ in range(3):
+                worker.fetch([[9, 0, 0]])       # 0.3 s asleep: the thread wakes meanwhile
+    assert worker.isolation == isolation_mode
+    assert policies == [os.SCHED_OTHER]
+    assert caught.value.kind == "forbidden-syscall", caught.value.message
+
+
 # slow: wait out wall-clock bounds on purpose (4-6 s, a core idle)
 @pytest.mark.slow
 def test_a_batch_asleep_past_the_wall_bound_is_tried_once_more_then_narrowed(stand_in):
