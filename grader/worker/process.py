@@ -396,6 +396,7 @@ class Worker:
         # there (or on the machine) before its current call: a SIGKILL that
         # raised the count is the kernel's, for the memory it held.
         self._cgroup: memory.GradingCgroup | None = None
+        self._idle_cgroup: memory.GradingCgroup | None = None    # where its demoted threads go (memory.idle_cgroup)
         self._oom_before = 0
         self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
 
@@ -478,6 +479,7 @@ class Worker:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
         # oom_score_adj 1000 and the grading's memory and cpu cgroups, before anything runs.
         self._cgroup = memory.current()
+        self._idle_cgroup = memory.idle_cgroup()
         self._oom_before = self._oom_kills()
         cmd = memory.charged(cmd)
         # Begun before the worker is: all its main thread ever waits for a core is inside it.
@@ -753,8 +755,10 @@ class Worker:
         """Every thread of the worker but its main one, which serves the calls,
         at SCHED_IDLE: a thread the submission left spinning runs in a call
         only on CPU nothing else wants, so it neither slows the call down
-        (the main thread preempts it) nor a classmate's grading. A thread
-        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c). Threads started
+        (the main thread preempts it) nor a classmate's grading; in a grading
+        it also moves to the grading's idle cpu cgroup (memory.idle_cgroup),
+        as SCHED_IDLE alone weighs it only against its own cgroup. A thread
+        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c), nor its cgroup. Threads started
         in a call (a static initialiser's, in loading) are demoted while it
         runs, at each look at its progress, or once it ends, from when they
         have run FIRST_RUN_NS (at once where the kernel does not say)."""
@@ -774,6 +778,11 @@ class Worker:
                 except OSError:      # it has just ended
                     continue
                 self._demoted.add(tid)
+                if self._idle_cgroup is not None:
+                    try:
+                        self._idle_cgroup.take_thread(tid)
+                    except OSError:     # ended meanwhile, or the cgroup refuses: SCHED_IDLE where it is
+                        pass
 
     def _resume(self) -> None:
         if self._frozen and self._worker_pid is not None and self.alive:
