@@ -83,6 +83,16 @@ class GradingCgroup:
         """Move thread `tid` (alone) here: cgroup v1's `tasks` file."""
         (self.path / "tasks").write_text(str(tid))
 
+    def set_idle(self, idle: bool) -> None:
+        """An idle cgroup (_make_idle) at its lowest weight, or at an
+        ordinary process's for a moment: its threads must run to stop or to
+        end, and at the lowest weight a loaded machine gives them no core
+        (a grading's every worker took a second to close). Raises OSError."""
+        if (self.path / "cpu.idle").exists():
+            (self.path / "cpu.idle").write_text("1" if idle else "0")
+        else:
+            (self.path / "cpu.shares").write_text("2" if idle else "1024")
+
     def allow_uid(self, uid: int) -> None:
         """Let processes of `uid` move themselves in (the compiler's shell in
         privilege-drop mode). cgroup v1 only: v2 would need write access to
@@ -226,10 +236,7 @@ def _make_idle(cpu: GradingCgroup | None) -> GradingCgroup | None:
         return None
     group = GradingCgroup(path, 1, "cpu")
     try:
-        if (path / "cpu.idle").exists():
-            (path / "cpu.idle").write_text("1")
-        else:
-            (path / "cpu.shares").write_text("2")
+        group.set_idle(True)
     except OSError:
         group.remove()
         return None

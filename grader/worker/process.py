@@ -15,6 +15,7 @@ the grader; only the grader's own problems raise WorkerHarnessError.
 """
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import functools
 import mmap
@@ -153,15 +154,6 @@ class WallBound:
         return max(0.0, self.end() - time.monotonic())
 
 
-# A thread the submission starts runs its first millisecond on a core at its
-# own priority before it is put at SCHED_IDLE (Worker._demote_threads), so
-# what it does as it starts happens under any load. At load 30 a thread
-# demoted before it first ran did not run again while its worker lived: its
-# forbidden call, the verdict on a quiet machine, never came, and the
-# submission passed (make test-load, test_speed_trust.py's stop_everyone).
-# Its CPU time counts against the call's limit; each thread started costs a
-# classmate at most this much more, inside the grading's cpu cgroup.
-FIRST_RUN_NS = 1_000_000
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
 _WATCH_S = 0.02                   # how often the progress page is looked at during a long call
 PIPE_BYTES = 1 << 20
@@ -381,6 +373,7 @@ class Worker:
         self.stuck: tuple[int, float, float] | None = None
         self._frozen = False     # stopped by freeze(), not by itself
         self._demoted: set[int] = set()   # its threads put at SCHED_IDLE (_demote_threads)
+        self._moved: set[int] = set()     # and moved to the grading's idle cpu cgroup
         self._killed = False     # ended by us (a failure, close()): no call may follow
         self.start_time_s = 0.0
         # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
@@ -563,17 +556,18 @@ class Worker:
         """Stop the worker (politely, then by force) and remove its files."""
         self._note_wait()
         if self._proc is not None:
-            if self._proc.poll() is None:
-                self._resume()
-                try:
-                    os.write(self._request_fd, b"".join(protocol.request(protocol.QUIT, 0)))
-                except OSError:
-                    pass
-                try:
-                    self._proc.wait(timeout=1.0)
-                except subprocess.TimeoutExpired:
-                    pass
-            self._kill()
+            with self._threads_awake():
+                if self._proc.poll() is None:
+                    self._resume()
+                    try:
+                        os.write(self._request_fd, b"".join(protocol.request(protocol.QUIT, 0)))
+                    except OSError:
+                        pass
+                    try:
+                        self._proc.wait(timeout=1.0)
+                    except subprocess.TimeoutExpired:
+                        pass
+                self._kill()
         for fd in (self._request_fd, self._response_fd):
             if fd >= 0:
                 try:
@@ -598,21 +592,22 @@ class Worker:
             return
         self._note_wait()    # the last reading, while it can be read
         self._killed = True
-        try:
-            os.killpg(self._proc.pid, signal.SIGKILL)
-        except (ProcessLookupError, PermissionError):
-            pass
-        try:
-            self._proc.wait(timeout=5.0)
-        except subprocess.TimeoutExpired:
-            self._proc.kill()
-            self._proc.wait()
-        # Under relays (its own pid namespace) the worker itself may still be
-        # exiting: wait for it, so its uid is free when released.
-        deadline = time.monotonic() + 2.0
-        while self._worker_pid is not None and os.path.exists(f"/proc/{self._worker_pid}") \
-                and time.monotonic() < deadline:
-            time.sleep(0.002)
+        with self._threads_awake():
+            try:
+                os.killpg(self._proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+            try:
+                self._proc.wait(timeout=5.0)
+            except subprocess.TimeoutExpired:
+                self._proc.kill()
+                self._proc.wait()
+            # Under relays (its own pid namespace) the worker itself may still be
+            # exiting: wait for it, so its uid is free when released.
+            deadline = time.monotonic() + 2.0
+            while self._worker_pid is not None and os.path.exists(f"/proc/{self._worker_pid}") \
+                    and time.monotonic() < deadline:
+                time.sleep(0.002)
 
     @property
     def waited_s(self) -> float:
@@ -728,9 +723,10 @@ class Worker:
             self._frozen = True
             # The stop lands asynchronously: wait (briefly) until every
             # thread is stopped, so nothing of it runs in what follows.
-            deadline = time.monotonic() + 1.0
-            while time.monotonic() < deadline and not _all_stopped(self._worker_pid):
-                time.sleep(0.001)
+            with self._threads_awake():
+                deadline = time.monotonic() + 1.0
+                while time.monotonic() < deadline and not _all_stopped(self._worker_pid):
+                    time.sleep(0.001)
 
     def thaw(self) -> None:
         """Undo freeze(); a worker stopped between calls stays stopped until its next call."""
@@ -749,9 +745,29 @@ class Worker:
             except ProcessLookupError:
                 return
             self._frozen = True
-        self._demote_threads()
+        self._demote_threads(move=True)
 
-    def _demote_threads(self) -> None:
+    @contextlib.contextmanager
+    def _threads_awake(self):
+        """Its idle cgroup at an ordinary weight meanwhile, so that its
+        threads there get a core to stop or to end on."""
+        group = self._idle_cgroup
+        if group is None or not self._moved:
+            yield
+            return
+        try:
+            group.set_idle(False)
+        except OSError:
+            pass
+        try:
+            yield
+        finally:
+            try:
+                group.set_idle(True)
+            except OSError:
+                pass
+
+    def _demote_threads(self, move: bool = False) -> None:
         """Every thread of the worker but its main one, which serves the calls,
         at SCHED_IDLE: a thread the submission left spinning runs in a call
         only on CPU nothing else wants, so it neither slows the call down
@@ -760,8 +776,14 @@ class Worker:
         as SCHED_IDLE alone weighs it only against its own cgroup. A thread
         cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c), nor its cgroup. Threads started
         in a call (a static initialiser's, in loading) are demoted while it
-        runs, at each look at its progress, or once it ends, from when they
-        have run FIRST_RUN_NS (at once where the kernel does not say)."""
+        runs, at each look at its progress, or once it ends, once they have
+        run (at once where the kernel does not say): at load 30 a thread put
+        at SCHED_IDLE before it first ran did not run while its worker lived,
+        so what it starts with never happened (make test-load:
+        test_speed_trust.py's stop_everyone, whose thread's first call is
+        forbidden, passed the speed check in one run of two); moved
+        once the call has ended (`move`): a move waits for the kernel's lock
+        on thread creation, which a call starting threads holds."""
         if self._worker_pid is None or not self.demote_threads:
             return
         try:
@@ -770,19 +792,20 @@ class Worker:
             return
         for tid in tids:
             if tid != self._worker_pid and tid not in self._demoted:
-                ran = thread_run_ns(self._worker_pid, tid)
-                if ran is not None and ran < FIRST_RUN_NS:
-                    continue        # its first millisecond at its own priority
+                if thread_run_ns(self._worker_pid, tid) == 0:
+                    continue        # not yet run: it first runs at its own priority
                 try:
                     os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
                 except OSError:      # it has just ended
                     continue
                 self._demoted.add(tid)
-                if self._idle_cgroup is not None:
-                    try:
-                        self._idle_cgroup.take_thread(tid)
-                    except OSError:     # ended meanwhile, or the cgroup refuses: SCHED_IDLE where it is
-                        pass
+        if move and self._idle_cgroup is not None:
+            for tid in self._demoted - self._moved:
+                try:
+                    self._idle_cgroup.take_thread(tid)
+                except OSError:     # ended meanwhile, or the cgroup refuses: SCHED_IDLE where it is
+                    pass
+                self._moved.add(tid)
 
     def _resume(self) -> None:
         if self._frozen and self._worker_pid is not None and self.alive:

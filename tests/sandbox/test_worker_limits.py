@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from grader.worker import SubmissionFailure, SubmissionRunner, Worker
+from grader.worker import SubmissionFailure, SubmissionRunner, Worker, process
 from grader.worker.process import WALL_STRETCH_MAX, run_queue_wait_ns, wall_bound
 from loaded import busy_on
 from test_crash_localisation import directions, faces, stand_in  # noqa: F401  (the stand-in library fixture)
@@ -70,25 +70,28 @@ def test_a_call_kept_waiting_for_a_core_past_its_wall_bound_is_stopped_at_its_cp
         (caught.value.detail, took)
 
 
-def test_a_thread_keeps_its_priority_until_it_has_run_a_millisecond(stand_in, isolation_mode):
+def thread_policies(worker: Worker) -> list[int]:
+    pid = worker._worker_pid
+    return [os.sched_getscheduler(int(t)) for t in os.listdir(f"/proc/{pid}/task") if int(t) != pid]
+
+
+def test_a_thread_is_put_at_the_lowest_priority_only_once_it_has_run(stand_in, isolation_mode, monkeypatch):
     """The worker puts the threads a submission starts at SCHED_IDLE once
-    they have run 1 ms (the idle spinner's, which spin:
-    test_resource_bounds.py), not before: at load 30 a thread put there
-    before it first ran did not run while its worker lived, and what it
-    started with never happened (make test-load: test_speed_trust.py's
-    stop_everyone passed the speed check, its forbidden call never made).
-    This one sleeps 0.2 s first, then makes a forbidden call."""
+    they have run, not before: at load 30 a thread put there before it
+    first ran did not run while its worker lived, and what it started with
+    never happened (make test-load: test_speed_trust.py's stop_everyone,
+    whose thread's first call is forbidden, passed the speed check). The
+    kernel is made to say the new thread has not run yet, then lets it say."""
     with Worker(stand_in) as worker:
         worker.set_faces(faces())
-        worker.fetch([[10, 0, 0]])
-        pid = worker._worker_pid
-        policies = [os.sched_getscheduler(int(t)) for t in os.listdir(f"/proc/{pid}/task") if int(t) != pid]
-        with pytest.raises(SubmissionFailure) as caught:
-            for _ in range(3):
-                worker.fetch([[9, 0, 0]])       # 0.3 s asleep: the thread wakes meanwhile
+        with monkeypatch.context() as kernel:
+            kernel.setattr(process, "thread_run_ns", lambda pid, tid: 0)
+            worker.fetch([[10, 0, 0]])          # starts a thread, which sleeps
+            before = thread_policies(worker)
+        worker.fetch([[0.5, 0, 1]])
+        after = thread_policies(worker)
     assert worker.isolation == isolation_mode
-    assert policies == [os.SCHED_OTHER]
-    assert caught.value.kind == "forbidden-syscall", caught.value.message
+    assert (before, after) == ([os.SCHED_OTHER], [os.SCHED_IDLE])
 
 
 # slow: wait out wall-clock bounds on purpose (4-6 s, a core idle)

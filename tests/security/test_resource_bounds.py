@@ -24,7 +24,7 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.build import build_submission
-from grader.worker import SubmissionFailure, Worker, WorkerHarnessError, memory, sandbox
+from grader.worker import SubmissionFailure, Worker, WorkerHarnessError, memory, process, sandbox
 from fake_bwrap import write_failing_bwrap
 
 pytestmark = [pytest.mark.sandbox]
@@ -54,6 +54,18 @@ def faces() -> np.ndarray:
 
 def proc_field(pid: int, name: str) -> str:
     return Path(f"/proc/{pid}/{name}").read_text()
+
+
+def calls_until_every_thread_has_run(worker: Worker, calls: int = 20) -> None:
+    """`calls` calls, and more until every thread of the worker has run (a
+    thread is put at SCHED_IDLE only once it has: Worker._demote_threads),
+    then one more, after which the worker has put them there."""
+    pid = worker._worker_pid
+    for n in range(1000):
+        worker.fetch(np.eye(3), timeout_s=30)
+        if n >= calls and all(process.thread_run_ns(pid, int(t)) != 0 for t in os.listdir(f"/proc/{pid}/task")):
+            break
+    worker.fetch(np.eye(3), timeout_s=30)
 
 
 # ---- one worker ---------------------------------------------------------------------------
@@ -118,8 +130,7 @@ def test_threads_it_started_run_in_calls_only_at_the_lowest_priority(mode):
     nothing else wants. They try to leave SCHED_IDLE and cannot."""
     with Worker(library("idle_spinner"), sandbox=mode) as worker:
         worker.set_faces(faces(), timeout_s=30)
-        for _ in range(20):            # its threads spin (and try to leave) whenever no lookup runs
-            worker.fetch(np.eye(3), timeout_s=30)
+        calls_until_every_thread_has_run(worker)    # its threads spin (and try to leave) whenever no lookup runs
         pid = worker._worker_pid
         policies = {int(t): os.sched_getscheduler(int(t)) for t in os.listdir(f"/proc/{pid}/task")}
         printed = worker.output()
@@ -182,8 +193,7 @@ def test_the_threads_it_started_run_in_an_idle_cgroup_beside_the_gradings(mode):
         cpu, idle = memory.current_cpu(), memory.idle_cgroup()
         with Worker(library("idle_spinner"), sandbox=mode) as worker:
             worker.set_faces(faces(), timeout_s=30)
-            for _ in range(20):
-                worker.fetch(np.eye(3), timeout_s=30)
+            calls_until_every_thread_has_run(worker)
             pid = worker._worker_pid
             threads = {int(t) for t in os.listdir(f"/proc/{pid}/task")}
             in_idle = {int(t) for t in (idle.path / "tasks").read_text().split()}
