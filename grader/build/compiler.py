@@ -36,7 +36,7 @@ import signal
 import stat
 import subprocess
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import PROJECT_ROOT
@@ -130,17 +130,36 @@ class Deadline:
     """A build's time: `cpu_s` seconds of CPU time of the compiler's
     processes (what the source asks of the compiler; a loaded machine
     stretches wall time, never CPU time), spent step by step, and the wall
-    clock only as an outer bound (process.wall_bound's factor)."""
+    clock only as an outer bound (process.wall_bound's factor), stretched as
+    a worker's call's is (process.WallBound) by the time the compiler's
+    processes waited for a core, at most `stretch_cap_s` (WALL_STRETCH_MAX
+    bounds: a build is not hostile code, but its wait is the machine's
+    load, which has no end of its own). Their waits are summed, each
+    thread's last reading kept once it has ended: the steps run one after
+    another, and in a step the driver sleeps while cc1plus, as or ld runs."""
     cpu_s: float
     wall_end: float
+    stretch_cap_s: float = 0.0
+    waits_ns: dict[int, int] = field(default_factory=dict)    # thread id -> its wait for a core
 
     @classmethod
     def of(cls, seconds: float) -> "Deadline":
-        from ..worker.process import wall_bound
-        return cls(float(seconds), time.monotonic() + wall_bound(seconds))
+        from ..worker.process import WALL_STRETCH_MAX, wall_bound
+        bound = wall_bound(seconds)
+        return cls(float(seconds), time.monotonic() + bound, WALL_STRETCH_MAX * bound)
+
+    def note_waits(self, pid: int) -> None:
+        """Read what the processes of a step (`pid` and below) have waited for a core so far."""
+        from ..worker.process import tree_run_queue_waits_ns
+        for tid, wait in tree_run_queue_waits_ns(pid).items():
+            self.waits_ns[tid] = max(wait, self.waits_ns.get(tid, 0))
+
+    @property
+    def stretch_s(self) -> float:
+        return min(self.stretch_cap_s, sum(self.waits_ns.values()) / 1e9)
 
     def wall_left(self) -> float:
-        return self.wall_end - time.monotonic()
+        return self.wall_end + self.stretch_s - time.monotonic()
 
 
 def run_compiler(cmd: list[str], cwd: Path, deadline: Deadline, isolation: str = "trusted") -> CompilerStep:
@@ -201,6 +220,8 @@ def _read_capped(proc: subprocess.Popen, deadline: Deadline) -> tuple[bytes, str
         used_ns = max(used_ns, tree_cpu_ns(proc.pid))
         if used_ns > deadline.cpu_s * 1e9:
             return "cpu"
+        if deadline.stretch_cap_s:
+            deadline.note_waits(proc.pid)
         return "wall" if deadline.wall_left() <= 0 else None
 
     while True:

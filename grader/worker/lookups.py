@@ -14,7 +14,8 @@ from .process import Limits
 from .protocol import RECORD_ROW
 from .runner import Failure, Outcome, SubmissionRunner, TimedPasses
 
-# All the lookups of one grading together (wall clock). Past it, every call
+# All the lookups of one grading together (wall clock, less the time the
+# workers waited for a core: SubmissionRunner.budget_used). Past it, every call
 # gives up at once with one timeout failure saying why. A lookup that is
 # slow everywhere (asleep 0.3 ms per call: every large batch timed out and
 # was narrowed down, each call up to the runner's 120 s budget) kept one
@@ -38,7 +39,8 @@ def sanitizer_preload() -> tuple[str, ...]:
 
 class BudgetedRunner(SubmissionRunner):
     """A SubmissionRunner whose calls share one wall-clock budget
-    (`total_budget_s`): each call's own budget is cut to what is left, and
+    (`total_budget_s`, counted as budget_used counts it: the workers' wait
+    for a core left out): each call's own budget is cut to what is left, and
     once nothing is left a call evaluates nothing and reports one timeout."""
 
     def __init__(self, *args, total_budget_s: float = GRADING_BUDGET_S, **kwargs):
@@ -51,11 +53,11 @@ class BudgetedRunner(SubmissionRunner):
 
     def _budgeted(self, call):
         self.budget_s = min(self._call_budget_s, self._left())
-        began = time.monotonic()
+        began, waited = time.monotonic(), self.waited_s()
         try:
             return call()
         finally:
-            self.spent_s += time.monotonic() - began
+            self.spent_s += self.budget_used(began, waited)
             self.budget_s = self._call_budget_s
 
     def _used_up(self, function: str) -> Failure:

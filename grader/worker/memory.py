@@ -22,6 +22,15 @@ the same v2 folder where `cpu` is delegated too) of the default weight
 (cpu.shares 1024, cpu.weight 100: what one ordinary process gets). The
 scheduler shares the machine between cgroups first, so a worker's 63 spinning
 threads together weigh what a classmate's single-threaded worker weighs.
+And an idle one beside it (`idle_cgroup`, cgroup v1: cpu.idle 1, or
+cpu.shares 2 before Linux 5.15) for the threads the submission starts,
+which the worker moves there as it puts them at SCHED_IDLE
+(Worker._demote_threads): SCHED_IDLE is weighed only against a thread's
+siblings in its cgroup, so in the grading's cgroup, whenever the main
+thread was not running, the idle threads had that cgroup's whole share,
+one ordinary process's, against a classmate. In the idle cgroup they run
+only on a core nothing else wants. cgroup v2 keeps a process's threads in
+one domain: there they stay in the grading's cgroup.
 
 The descriptors themselves are bounded where they are made: RLIMIT_NOFILE in
 worker.c (Limits.open_files) and in the compiler's shell (grader/build.py).
@@ -69,6 +78,20 @@ class GradingCgroup:
             return int((self.path / name).read_text().split()[0])
         except (OSError, ValueError, IndexError):
             return None
+
+    def take_thread(self, tid: int) -> None:
+        """Move thread `tid` (alone) here: cgroup v1's `tasks` file."""
+        (self.path / "tasks").write_text(str(tid))
+
+    def set_idle(self, idle: bool) -> None:
+        """An idle cgroup (_make_idle) at its lowest weight, or at an
+        ordinary process's for a moment: its threads must run to stop or to
+        end, and at the lowest weight a loaded machine gives them no core
+        (a grading's every worker took a second to close). Raises OSError."""
+        if (self.path / "cpu.idle").exists():
+            (self.path / "cpu.idle").write_text("1" if idle else "0")
+        else:
+            (self.path / "cpu.shares").write_text("2" if idle else "1024")
 
     def allow_uid(self, uid: int) -> None:
         """Let processes of `uid` move themselves in (the compiler's shell in
@@ -200,8 +223,29 @@ def _make_cpu(beside: GradingCgroup | None) -> GradingCgroup | None:
     return GradingCgroup(path, version, "cpu")
 
 
+def _make_idle(cpu: GradingCgroup | None) -> GradingCgroup | None:
+    """A v1 cpu cgroup beside `cpu` at the lowest weight: cpu.idle 1 (the
+    whole cgroup runs at SCHED_IDLE against its siblings), or cpu.shares 2
+    where the kernel has no cpu.idle."""
+    if cpu is None or cpu.version != 1:
+        return None
+    path = cpu.path.with_name(cpu.path.name + "-idle")
+    try:
+        path.mkdir()
+    except OSError:
+        return None
+    group = GradingCgroup(path, 1, "cpu")
+    try:
+        group.set_idle(True)
+    except OSError:
+        group.remove()
+        return None
+    return group
+
+
 _current: GradingCgroup | None = None
 _current_cpu: GradingCgroup | None = None
+_current_idle: GradingCgroup | None = None
 
 
 def current() -> GradingCgroup | None:
@@ -214,6 +258,12 @@ def current_cpu() -> GradingCgroup | None:
     return _current_cpu
 
 
+def idle_cgroup() -> GradingCgroup | None:
+    """The idle cpu cgroup of the grading in progress, for the threads a
+    worker starts (None: none, cgroup v2, or not available)."""
+    return _current_idle
+
+
 def _groups() -> list[GradingCgroup]:
     return [g for g in (_current, _current_cpu) if g is not None]
 
@@ -224,16 +274,17 @@ def grading_cgroup(limit_mb: int | None = None):
     compilers) is charged to one new memory cgroup of `limit_mb` MiB and one
     new cpu cgroup, where the machine offers them; yields the memory one, or
     None (cgroup_problem() says why)."""
-    global _current, _current_cpu
-    outer = _current, _current_cpu
+    global _current, _current_cpu, _current_idle
+    outer = _current, _current_cpu, _current_idle
     group = _make(limit_mb or GRADING_MEMORY_MB)
     cpu = _make_cpu(group)
-    _current, _current_cpu = group or outer[0], cpu or outer[1]
+    idle = _make_idle(cpu)
+    _current, _current_cpu, _current_idle = group or outer[0], cpu or outer[1], idle or outer[2]
     try:
         yield group
     finally:
-        _current, _current_cpu = outer
-        for made in (cpu, group):
+        _current, _current_cpu, _current_idle = outer
+        for made in (idle, cpu, group):
             if made is not None:
                 made.remove()
 

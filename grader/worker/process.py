@@ -15,7 +15,9 @@ the grader; only the grader's own problems raise WorkerHarnessError.
 """
 from __future__ import annotations
 
+import contextlib
 import fcntl
+import functools
 import mmap
 import os
 import select
@@ -47,10 +49,111 @@ LIBRARY_NAME = "submission.so"
 # wall-clock limit at load 15 on 2 cores, and a timeout there became a
 # failure to load the submission).
 WALL_FACTOR, WALL_SLACK_S = 4.0, 1.0
+# The bound also stretches by the time the call waited for a core (WallBound,
+# issue 32: at load 30 on one core a worker gets about 1/32 of it, and a call
+# spinning to its 0.3 s CPU limit took 10 s, past its 2.2 s bound), by at
+# most this many bounds. The cap because the wait is not always the machine's
+# doing: the worker's main thread may lower its own priority (seccomp lets a
+# thread put itself at SCHED_IDLE or nice 19), and at SCHED_IDLE on a busy
+# machine it waits without end while its CPU time, and so its CPU limit, does
+# not move; capped, such a call still ends within 9 bounds. Under load L per
+# core a call at its CPU limit t waits about L t, L t / (4 t + 1) < L / 4
+# bounds: 8 covers load 32 per core at any limit.
+WALL_STRETCH_MAX = 8.0
 
 
 def wall_bound(timeout_s: float) -> float:
     return WALL_FACTOR * timeout_s + WALL_SLACK_S
+
+
+def _schedstat(pid: int, tid: int | None = None) -> tuple[int, int] | None:
+    """(ns on a core, ns runnable but waiting for one) of thread `tid` of
+    process `pid` (its main thread when None) since it began: the first two
+    fields of /proc/<pid>/task/<tid>/schedstat (CONFIG_SCHED_INFO; no
+    schedstats sysctl needed, readable by any uid). None where the file
+    cannot be read: the task is gone, /proc hides other uids' processes
+    (hidepid), the kernel has no such file."""
+    try:
+        with open(f"/proc/{pid}/task/{pid if tid is None else tid}/schedstat") as f:
+            fields = [int(x) for x in f.read().split()[:3]]
+    except (OSError, ValueError):
+        return None
+    return (fields[0], fields[1]) if len(fields) == 3 else None
+
+
+@functools.cache
+def _schedstat_counts() -> bool:
+    """The kernel fills schedstat in: ours, which has run, is not "0 0 0"
+    (what it says with sched_info accounting off)."""
+    return any(_schedstat(os.getpid()) or ())
+
+
+def run_queue_wait_ns(pid: int, tid: int | None = None) -> int | None:
+    """How long (ns) thread `tid` of process `pid` (its main thread when
+    None) has been runnable but waiting for a core since it began: the
+    scheduler's run_delay (_schedstat). None where it cannot be read, or the
+    kernel does not count it."""
+    stat = _schedstat(pid, tid)
+    return stat[1] if stat is not None and _schedstat_counts() else None
+
+
+def thread_run_ns(pid: int, tid: int) -> int | None:
+    """How long (ns) thread `tid` of process `pid` has run on a core (0: not
+    yet). None where it cannot be read, or the kernel does not count it."""
+    stat = _schedstat(pid, tid)
+    return stat[0] if stat is not None and _schedstat_counts() else None
+
+
+class WallBound:
+    """The wall-clock outer bound of one call (or of loading the submission):
+    `seconds` from now, stretched by the time the worker's main thread has
+    waited for a core since, at most WALL_STRETCH_MAX times `seconds`. The
+    main thread serves every request (static initialisers included). Not
+    counted: the threads the submission starts (at SCHED_IDLE they wait for
+    a core by design, and serve no request), nor the grader's thread, which
+    wakes every _WATCH_S to watch the call: on a loaded machine it waits at
+    each wake, and counting that stretched the bound of a call that only
+    sleeps by most of its length (make test-load). Where the main thread's
+    wait cannot be read (run_queue_wait_ns) the bound is unstretched."""
+
+    # /proc is read only when the bound is this close: most calls end long before.
+    _REFRESH_S = 0.1
+
+    def __init__(self, seconds: float, worker_pid: int | None = None):
+        self.seconds = seconds
+        self.began = time.monotonic()
+        self.stretch_s = 0.0
+        self._worker: tuple[int, int] | None = None     # (pid, its wait when the bound began)
+        if worker_pid is not None:
+            self.watch_worker(worker_pid)
+
+    def watch_worker(self, pid: int, born_inside: bool = False) -> None:
+        """Count what the worker's main thread waits from now on (born_inside:
+        all it ever waited, as it began inside this bound)."""
+        wait = run_queue_wait_ns(pid)
+        if wait is not None:
+            self._worker = pid, 0 if born_inside else wait
+
+    def refresh(self) -> float:
+        """Read the main thread's wait now; the stretch (s)."""
+        if self._worker is not None:
+            now = run_queue_wait_ns(self._worker[0])
+            if now is not None:
+                waited = (now - self._worker[1]) / 1e9
+                self.stretch_s = min(WALL_STRETCH_MAX * self.seconds, max(self.stretch_s, waited))
+        return self.stretch_s
+
+    def end(self) -> float:
+        """When the bound is reached, as far as is known now (monotonic s)."""
+        end = self.began + self.seconds + self.stretch_s
+        if self._worker is not None and end - time.monotonic() < self._REFRESH_S:
+            end = self.began + self.seconds + self.refresh()
+        return end
+
+    def left(self) -> float:
+        return max(0.0, self.end() - time.monotonic())
+
+
 _NO_PROGRESS = (1 << 64) - 1     # the progress page before the worker wrote it
 _WATCH_S = 0.02                   # how often the progress page is looked at during a long call
 PIPE_BYTES = 1 << 20
@@ -176,6 +279,23 @@ def tree_cpu_ns(pid: int) -> int:
     return total * _TICK_NS
 
 
+def tree_run_queue_waits_ns(pid: int) -> dict[int, int]:
+    """What each thread of `pid` and of every process below it has waited
+    for a core (run_queue_wait_ns), by thread id; threads whose wait cannot
+    be read are left out. {} once it is gone."""
+    waits = {}
+    for p in _descendants(pid):
+        try:
+            tids = [int(t) for t in os.listdir(f"/proc/{p}/task")]
+        except (OSError, ValueError):
+            continue
+        for tid in tids:
+            wait = run_queue_wait_ns(p, tid)
+            if wait is not None:
+                waits[tid] = wait
+    return waits
+
+
 def _all_stopped(pid: int) -> bool:
     """Every thread of `pid` is stopped (state T or t in /proc)."""
     try:
@@ -201,10 +321,6 @@ def _stopped_itself(pid: int | None) -> bool:
     except OSError:
         return False
     return _all_stopped(pid)
-
-
-def _deadline_left(deadline: float) -> float:
-    return max(0.0, deadline - time.monotonic())
 
 
 class Worker:
@@ -257,10 +373,13 @@ class Worker:
         self.stuck: tuple[int, float, float] | None = None
         self._frozen = False     # stopped by freeze(), not by itself
         self._demoted: set[int] = set()   # its threads put at SCHED_IDLE (_demote_threads)
+        self._moved: set[int] = set()     # and moved to the grading's idle cpu cgroup
         self._killed = False     # ended by us (a failure, close()): no call may follow
         self.start_time_s = 0.0
         # The current call's CPU-time limit: (the worker's CPU ns at its start, limit ns).
         self._cpu_limit: tuple[int, int] | None = None
+        self._wall_only = float("inf")   # where the CPU clock cannot be read: the call's limit on the wall clock
+        self._waited_ns = 0     # what its main thread had waited for a core, when last read (waited_s)
         self._last_cpu = 0      # ns, the last time it was read
         # The inputs of the last FETCH or READ_TEXTURE that faulted, (index,
         # protocol.CrashReport) each; the worker went on past them.
@@ -270,6 +389,7 @@ class Worker:
         # there (or on the machine) before its current call: a SIGKILL that
         # raised the count is the kernel's, for the memory it held.
         self._cgroup: memory.GradingCgroup | None = None
+        self._idle_cgroup: memory.GradingCgroup | None = None    # where its demoted threads go (memory.idle_cgroup)
         self._oom_before = 0
         self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
 
@@ -352,8 +472,11 @@ class Worker:
             cmd = [str(binary), *args, str(input_dir / LIBRARY_NAME)]
         # oom_score_adj 1000 and the grading's memory and cpu cgroups, before anything runs.
         self._cgroup = memory.current()
+        self._idle_cgroup = memory.idle_cgroup()
         self._oom_before = self._oom_kills()
         cmd = memory.charged(cmd)
+        # Begun before the worker is: all its main thread ever waits for a core is inside it.
+        deadline = WallBound(wall_bound(self._start_timeout_s))
         try:
             self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
                                           pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
@@ -367,7 +490,6 @@ class Worker:
         self._request_fd, self._response_fd = request_w, response_r
         os.set_blocking(self._request_fd, False)
         self._output = CappedOutput(output_r, *self._cap)
-        deadline = time.monotonic() + wall_bound(self._start_timeout_s)
         try:
             self._setup(binary, deadline)
             self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work
@@ -380,7 +502,7 @@ class Worker:
         self._idle()
         self.start_time_s = time.monotonic() - began
 
-    def _setup(self, binary: Path, deadline: float) -> None:
+    def _setup(self, binary: Path, deadline: WallBound) -> None:
         """The worker's first message, written before any student code ran:
         the only one we trust. A set-up failure is ours, not the student's."""
         head = self._read_exact(protocol.HEADER.size, deadline, "setting up the worker")
@@ -399,6 +521,8 @@ class Worker:
             raise WorkerHarnessError(protocol.decode_text(payload or b""))
         self.pid_namespace = bool(held & protocol.SANDBOXED_PID_NAMESPACE)
         self._worker_pid = find_worker_pid(self._proc.pid, binary)
+        if self._worker_pid is not None:
+            deadline.watch_worker(self._worker_pid, born_inside=True)
 
     def _limit_args(self) -> list[str]:
         lim = self.limits
@@ -430,18 +554,20 @@ class Worker:
 
     def close(self) -> None:
         """Stop the worker (politely, then by force) and remove its files."""
+        self._note_wait()
         if self._proc is not None:
-            if self._proc.poll() is None:
-                self._resume()
-                try:
-                    os.write(self._request_fd, b"".join(protocol.request(protocol.QUIT, 0)))
-                except OSError:
-                    pass
-                try:
-                    self._proc.wait(timeout=1.0)
-                except subprocess.TimeoutExpired:
-                    pass
-            self._kill()
+            with self._threads_awake():
+                if self._proc.poll() is None:
+                    self._resume()
+                    try:
+                        os.write(self._request_fd, b"".join(protocol.request(protocol.QUIT, 0)))
+                    except OSError:
+                        pass
+                    try:
+                        self._proc.wait(timeout=1.0)
+                    except subprocess.TimeoutExpired:
+                        pass
+                self._kill()
         for fd in (self._request_fd, self._response_fd):
             if fd >= 0:
                 try:
@@ -464,22 +590,39 @@ class Worker:
         """Kill the worker's whole process group and reap it."""
         if self._proc is None:
             return
+        self._note_wait()    # the last reading, while it can be read
         self._killed = True
-        try:
-            os.killpg(self._proc.pid, signal.SIGKILL)
-        except (ProcessLookupError, PermissionError):
-            pass
-        try:
-            self._proc.wait(timeout=5.0)
-        except subprocess.TimeoutExpired:
-            self._proc.kill()
-            self._proc.wait()
-        # Under relays (its own pid namespace) the worker itself may still be
-        # exiting: wait for it, so its uid is free when released.
-        deadline = time.monotonic() + 2.0
-        while self._worker_pid is not None and os.path.exists(f"/proc/{self._worker_pid}") \
-                and time.monotonic() < deadline:
-            time.sleep(0.002)
+        with self._threads_awake():
+            try:
+                os.killpg(self._proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+            try:
+                self._proc.wait(timeout=5.0)
+            except subprocess.TimeoutExpired:
+                self._proc.kill()
+                self._proc.wait()
+            # Under relays (its own pid namespace) the worker itself may still be
+            # exiting: wait for it, so its uid is free when released.
+            deadline = time.monotonic() + 2.0
+            while self._worker_pid is not None and os.path.exists(f"/proc/{self._worker_pid}") \
+                    and time.monotonic() < deadline:
+                time.sleep(0.002)
+
+    @property
+    def waited_s(self) -> float:
+        """How long (s) the worker's main thread has waited for a core in its
+        life: its start's and its calls' waits, as it waits for nothing
+        between calls (stopped, or blocked reading the next request). What
+        the runner's time budget leaves out. 0 where it cannot be read."""
+        self._note_wait()
+        return self._waited_ns / 1e9
+
+    def _note_wait(self) -> None:
+        if self._worker_pid is not None and not self._killed:
+            wait = run_queue_wait_ns(self._worker_pid)
+            if wait is not None:
+                self._waited_ns = max(self._waited_ns, wait)
 
     def progress(self) -> int | None:
         """The index (within the last FETCH or READ_TEXTURE request) of the
@@ -580,9 +723,10 @@ class Worker:
             self._frozen = True
             # The stop lands asynchronously: wait (briefly) until every
             # thread is stopped, so nothing of it runs in what follows.
-            deadline = time.monotonic() + 1.0
-            while time.monotonic() < deadline and not _all_stopped(self._worker_pid):
-                time.sleep(0.001)
+            with self._threads_awake():
+                deadline = time.monotonic() + 1.0
+                while time.monotonic() < deadline and not _all_stopped(self._worker_pid):
+                    time.sleep(0.001)
 
     def thaw(self) -> None:
         """Undo freeze(); a worker stopped between calls stays stopped until its next call."""
@@ -601,16 +745,45 @@ class Worker:
             except ProcessLookupError:
                 return
             self._frozen = True
-        self._demote_threads()
+        self._demote_threads(move=True)
 
-    def _demote_threads(self) -> None:
+    @contextlib.contextmanager
+    def _threads_awake(self):
+        """Its idle cgroup at an ordinary weight meanwhile, so that its
+        threads there get a core to stop or to end on."""
+        group = self._idle_cgroup
+        if group is None or not self._moved:
+            yield
+            return
+        try:
+            group.set_idle(False)
+        except OSError:
+            pass
+        try:
+            yield
+        finally:
+            try:
+                group.set_idle(True)
+            except OSError:
+                pass
+
+    def _demote_threads(self, move: bool = False) -> None:
         """Every thread of the worker but its main one, which serves the calls,
         at SCHED_IDLE: a thread the submission left spinning runs in a call
         only on CPU nothing else wants, so it neither slows the call down
-        (the main thread preempts it) nor a classmate's grading. A thread
-        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c). Threads started
+        (the main thread preempts it) nor a classmate's grading; in a grading
+        it also moves to the grading's idle cpu cgroup (memory.idle_cgroup),
+        as SCHED_IDLE alone weighs it only against its own cgroup. A thread
+        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c), nor its cgroup. Threads started
         in a call (a static initialiser's, in loading) are demoted while it
-        runs, at each look at its progress, or once it ends."""
+        runs, at each look at its progress, or once it ends, once they have
+        run (at once where the kernel does not say): at load 30 a thread put
+        at SCHED_IDLE before it first ran did not run while its worker lived,
+        so what it starts with never happened (make test-load:
+        test_speed_trust.py's stop_everyone, whose thread's first call is
+        forbidden, passed the speed check in one run of two); moved
+        once the call has ended (`move`): a move waits for the kernel's lock
+        on thread creation, which a call starting threads holds."""
         if self._worker_pid is None or not self.demote_threads:
             return
         try:
@@ -619,11 +792,20 @@ class Worker:
             return
         for tid in tids:
             if tid != self._worker_pid and tid not in self._demoted:
+                if thread_run_ns(self._worker_pid, tid) == 0:
+                    continue        # not yet run: it first runs at its own priority
                 try:
                     os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
                 except OSError:      # it has just ended
                     continue
                 self._demoted.add(tid)
+        if move and self._idle_cgroup is not None:
+            for tid in self._demoted - self._moved:
+                try:
+                    self._idle_cgroup.take_thread(tid)
+                except OSError:     # ended meanwhile, or the cgroup refuses: SCHED_IDLE where it is
+                    pass
+                self._moved.add(tid)
 
     def _resume(self) -> None:
         if self._frozen and self._worker_pid is not None and self.alive:
@@ -681,7 +863,7 @@ class Worker:
             # It ended since its last call (a thread of its own crashed, it
             # exited, the kernel killed it): the submission's doing, whichever
             # check asked next. Its reply pipe holds what it said, if anything.
-            status, count, reply = self._receive(None, None, time.monotonic() + 2.0, what)
+            status, count, reply = self._receive(None, None, WallBound(2.0), what)
             self._fail(PROTOCOL, f"the worker had ended before {what} was asked, after a reply "
                                  f"({protocol.STATUS_NAMES.get(status, status)})")
         self._resume()
@@ -693,7 +875,7 @@ class Worker:
     def _exchange(self, op: int, count: int, payload: bytes, expected_count: int | None,
                   expected_bytes: int | None, timeout_s: float, what: str) -> tuple[int, bytes]:
         self._oom_before = self._oom_kills()
-        deadline = time.monotonic() + wall_bound(timeout_s)
+        deadline = WallBound(wall_bound(timeout_s), self._worker_pid)
         if self._progress is not None:
             struct.pack_into("=Q", self._progress, 0, _NO_PROGRESS)
         self._watch, self.stuck = (None, time.monotonic(), self._cpu_or_none()), None
@@ -737,7 +919,7 @@ class Worker:
         if cpu is None:
             self._wall_only = time.monotonic() + timeout_s
 
-    def _over_limit(self, deadline: float) -> str | None:
+    def _over_limit(self, deadline: WallBound) -> str | None:
         """Why the current call must stop now, if it must: "cpu" (its CPU
         time used up: the submission's work) or "wall" (the outer bound)."""
         now = time.monotonic()
@@ -745,17 +927,17 @@ class Worker:
             cpu = self._cpu_or_none()
             if cpu is not None and cpu - self._cpu_limit[0] > self._cpu_limit[1]:
                 return "cpu"
-        elif now >= getattr(self, "_wall_only", deadline):
+        elif now >= self._wall_only:
             return "wall"
-        return "wall" if now >= deadline - _WATCH_S else None
+        return "wall" if now >= deadline.end() - _WATCH_S else None
 
-    def _send(self, buffers: list, deadline: float, what: str) -> None:
+    def _send(self, buffers: list, deadline: WallBound, what: str) -> None:
         poller = select.poll()
         poller.register(self._request_fd, select.POLLOUT)
         for buf in buffers:
             view = memoryview(buf).cast("B")
             while len(view):
-                if not poller.poll(min(_deadline_left(deadline), _WATCH_S) * 1000):
+                if not poller.poll(min(deadline.left(), _WATCH_S) * 1000):
                     why = self._over_limit(deadline)
                     if why:
                         self._timeout(what, why)
@@ -768,11 +950,11 @@ class Worker:
                     return      # the worker is gone: its reply (or EOF) says why
                 view = view[n:]
 
-    def _read_exact(self, size: int, deadline: float, what: str) -> bytes | None:
+    def _read_exact(self, size: int, deadline: WallBound, what: str) -> bytes | None:
         """`size` bytes, or None at end of file (the worker exited)."""
         chunks, got = [], 0
         while got < size:
-            left = _deadline_left(deadline)
+            left = deadline.left()
             # Short waits while a call runs, to watch which input it is on.
             ready, _, _ = select.select([self._response_fd], [], [], min(left, _WATCH_S))
             if not ready:

@@ -19,7 +19,8 @@ an Outcome: values (n, 3), NaN rows where nothing could be evaluated, and the
 failures, each with the input in words and a hint. The search is the same
 every time for the same submission, so the report is too. After
 `max_failures` failures in one call, `max_timeouts` timeouts, or when the
-batch has used `budget_s` seconds, the rest of the batch is given up cleanly
+batch has used `budget_s` seconds (not counting the time its workers waited
+for a core: budget_used), the rest of the batch is given up cleanly
 (NaN, `gave_up`); after `max_failed_runs` failed worker runs since the
 runner began (or since reset_failure_budget(): the checks call it each), a
 failing batch is no longer narrowed down (_give_up).
@@ -36,7 +37,7 @@ import numpy as np
 
 from ..i18n import _
 from .failures import FACE_NAMES, PROTOCOL, TIMEOUT, SubmissionFailure, from_crash, hint
-from .process import Limits, Worker, WorkerHarnessError
+from .process import WALL_STRETCH_MAX, Limits, Worker, WorkerHarnessError
 from .protocol import RECORD_ROW
 from .sandbox import ISOLATION, resolve_mode
 
@@ -162,6 +163,7 @@ class SubmissionRunner:
         self._placement: str | None = None
         self._load_failure: Failure | None = None
         self._last_output = ""
+        self._waited_before_s = 0.0     # what the workers it closed had waited for a core (Worker.waited_s)
 
     def __enter__(self) -> "SubmissionRunner":
         return self
@@ -302,11 +304,24 @@ class SubmissionRunner:
     def _timeout(self, n: int) -> float:
         return self.timeout_s + self.per_input_s * n
 
+    def waited_s(self) -> float:
+        """How long this runner's workers have waited for a core, in s (Worker.waited_s)."""
+        return self._waited_before_s + (self._worker.waited_s if self._worker is not None else 0.0)
+
+    def budget_used(self, began: float, waited_s: float) -> float:
+        """Seconds of the time budget used since `began`, when the workers had
+        waited `waited_s` for a core: the wall time less what they have waited
+        since (issue 32: a loaded machine must not narrow fewer failures
+        down), that wait counting at most WALL_STRETCH_MAX budgets, as a
+        call's wall bound does (process.WALL_STRETCH_MAX says why)."""
+        waited = min(self.waited_s() - waited_s, WALL_STRETCH_MAX * self.budget_s)
+        return time.monotonic() - began - waited
+
     def _run_batch(self, n: int, run: Callable[[Worker, int, int], np.ndarray], placement: str | None,
                    function: str, describe: Callable[[int], str], width: int = 3) -> Outcome:
         outcome = Outcome(values=np.full((n, width), np.nan), evaluated=np.zeros(n, bool),
                           warnings=self.warnings)
-        began = time.monotonic()
+        began, waited = time.monotonic(), self.waited_s()
 
         hint: list[int | None] = [None]
         stuck: list[tuple | None] = [None]
@@ -341,7 +356,7 @@ class SubmissionRunner:
             # Faults the worker went past cost no time: only failed runs count here.
             narrowed = len(outcome.failures) - min(len(outcome.recovered_rows), self.max_failures)
             if (narrowed >= self.max_failures or timeouts >= self.max_timeouts
-                    or time.monotonic() - began > self.budget_s):
+                    or self.budget_used(began, waited) > self.budget_s):
                 outcome.gave_up = True
                 break
             try:
@@ -378,7 +393,7 @@ class SubmissionRunner:
                             lo = f + 1
                             continue
                         hi = f      # something before it fails: the first failure is there
-                while hi - lo > 1 and time.monotonic() - began <= self.budget_s:
+                while hi - lo > 1 and self.budget_used(began, waited) <= self.budget_s:
                     mid = (lo + hi) // 2
                     if attempt(lo, mid) is None:
                         lo = mid
@@ -455,11 +470,13 @@ class SubmissionRunner:
                     break
                 except WorkerHarnessError:
                     worker.close()
+                    self._waited_before_s += worker.waited_s
                     if tries == 2:
                         raise
                     self.retries += 1       # a worker that did not start: once more before it is ours
                 except SubmissionFailure as failure:
                     worker.close()
+                    self._waited_before_s += worker.waited_s
                     if failure.grader_limit and tries == 1:
                         self.retries += 1   # stopped by the machine's limit, maybe: once more
                         continue
@@ -476,6 +493,7 @@ class SubmissionRunner:
     def _drop_worker(self) -> None:
         if self._worker is not None:
             self._worker.close()
+            self._waited_before_s += self._worker.waited_s
             self._last_output = self._worker.output()
             self._worker = None
 

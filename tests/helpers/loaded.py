@@ -14,6 +14,8 @@ cores, as on a C-core machine at load N (C=1: harder than load N on 2
 cores, and harder still where the machine is busy too), while the machine's
 other users lose at most C cores. Without a cgroup it says so and loads the
 whole machine.
+
+Tests import `busy_on` for a wait for a core of their own, on one core.
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ import signal
 import subprocess
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
@@ -29,6 +32,24 @@ from grader.worker import memory  # noqa: E402
 
 BUSY = "import time\nend = time.monotonic() + 3600\nwhile time.monotonic() < end: pass"
 PERIOD_US = 100_000
+
+
+@contextmanager
+def busy_on(core: int, count: int):
+    """`count` processes spinning on CPU `core` only, ended on the way out:
+    a process pinned there too gets about 1/(count + 1) of it. Each runs in
+    a session of its own, as a worker or a compiler does: where the kernel
+    groups each session's processes (autogroup), they compete one by one."""
+    spinners = [subprocess.Popen(["/bin/sh", "-c", "while :; do :; done"], start_new_session=True)
+                for _ in range(count)]
+    try:
+        for proc in spinners:
+            os.sched_setaffinity(proc.pid, {core})
+        yield
+    finally:
+        for proc in spinners:
+            proc.kill()
+            proc.wait()
 
 
 def capped_cgroup(cpus: float, processes: int) -> Path | None:

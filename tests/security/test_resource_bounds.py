@@ -24,7 +24,7 @@ import pytest
 
 from grader import PROJECT_ROOT
 from grader.build import build_submission
-from grader.worker import SubmissionFailure, Worker, WorkerHarnessError, memory, sandbox
+from grader.worker import SubmissionFailure, Worker, WorkerHarnessError, memory, process, sandbox
 from fake_bwrap import write_failing_bwrap
 
 pytestmark = [pytest.mark.sandbox]
@@ -54,6 +54,18 @@ def faces() -> np.ndarray:
 
 def proc_field(pid: int, name: str) -> str:
     return Path(f"/proc/{pid}/{name}").read_text()
+
+
+def calls_until_every_thread_has_run(worker: Worker, calls: int = 20) -> None:
+    """`calls` calls, and more until every thread of the worker has run (a
+    thread is put at SCHED_IDLE only once it has: Worker._demote_threads),
+    then one more, after which the worker has put them there."""
+    pid = worker._worker_pid
+    for n in range(1000):
+        worker.fetch(np.eye(3), timeout_s=30)
+        if n >= calls and all(process.thread_run_ns(pid, int(t)) != 0 for t in os.listdir(f"/proc/{pid}/task")):
+            break
+    worker.fetch(np.eye(3), timeout_s=30)
 
 
 # ---- one worker ---------------------------------------------------------------------------
@@ -118,8 +130,7 @@ def test_threads_it_started_run_in_calls_only_at_the_lowest_priority(mode):
     nothing else wants. They try to leave SCHED_IDLE and cannot."""
     with Worker(library("idle_spinner"), sandbox=mode) as worker:
         worker.set_faces(faces(), timeout_s=30)
-        for _ in range(20):            # its threads spin (and try to leave) whenever no lookup runs
-            worker.fetch(np.eye(3), timeout_s=30)
+        calls_until_every_thread_has_run(worker)    # its threads spin (and try to leave) whenever no lookup runs
         pid = worker._worker_pid
         policies = {int(t): os.sched_getscheduler(int(t)) for t in os.listdir(f"/proc/{pid}/task")}
         printed = worker.output()
@@ -164,6 +175,35 @@ def test_the_grading_cgroups_hold_the_worker_and_go_with_the_grading():
             assert str(worker._worker_pid) in group.procs.read_text().split()
             assert str(worker._worker_pid) in cpu.procs.read_text().split()
     assert not group.path.exists() and not cpu.path.exists()
+
+
+IDLE_CGROUP = CPU_CGROUP or (None if memory._own_cgroup("cpu")[1] == 1 else "cgroup v2 keeps a process's threads "
+                                                                          "in one domain")
+
+
+@pytest.mark.skipif(IDLE_CGROUP is not None, reason=f"no idle cpu cgroup for threads here: {IDLE_CGROUP}")
+@pytest.mark.parametrize("mode", MODES)
+def test_the_threads_it_started_run_in_an_idle_cgroup_beside_the_gradings(mode):
+    """The idle spinner's 63 threads, once at SCHED_IDLE, move to a cpu
+    cgroup beside the grading's that runs only on a core nothing else wants
+    (cpu.idle 1): SCHED_IDLE alone weighs a thread only against its own
+    cgroup, where they had the grading's whole share against a classmate
+    whenever the main thread was not running. The main thread stays."""
+    with memory.grading_cgroup():
+        cpu, idle = memory.current_cpu(), memory.idle_cgroup()
+        with Worker(library("idle_spinner"), sandbox=mode) as worker:
+            worker.set_faces(faces(), timeout_s=30)
+            calls_until_every_thread_has_run(worker)
+            pid = worker._worker_pid
+            threads = {int(t) for t in os.listdir(f"/proc/{pid}/task")}
+            in_idle = {int(t) for t in (idle.path / "tasks").read_text().split()}
+            in_cpu = {int(t) for t in (cpu.path / "tasks").read_text().split()}
+            weight = ((idle.path / "cpu.idle").read_text().strip() if (idle.path / "cpu.idle").exists()
+                      else (idle.path / "cpu.shares").read_text().strip())
+    assert idle.path.parent == cpu.path.parent and weight in ("1", "2")
+    assert in_cpu & threads == {pid}
+    assert in_idle == threads - {pid} and len(in_idle) == 63
+    assert not idle.path.exists()           # removed with the grading
 
 
 @needs_cgroup

@@ -3,6 +3,7 @@ clock is only an outer bound (issue 32: a loaded machine, or a classmate's
 spinning threads, stretched wall-clock builds past their limit)."""
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 
@@ -12,6 +13,8 @@ from grader import i18n
 from grader.build import BuildResult
 from grader.build.compiler import Deadline, run_compiler
 from grader.build.messages import describe
+from grader.worker.process import run_queue_wait_ns, wall_bound
+from loaded import busy_on
 
 
 def test_waiting_costs_no_cpu_time(tmp_path):
@@ -34,6 +37,25 @@ def test_the_wall_clock_is_the_outer_bound(tmp_path):
     began = time.monotonic()
     step = run_compiler(["/bin/sh", "-c", "sleep 30"], tmp_path, Deadline(cpu_s=60, wall_end=time.monotonic() + 1))
     assert step.timed_out and step.stopped_by == "wall" and time.monotonic() - began < 10
+
+
+@pytest.mark.skipif(run_queue_wait_ns(os.getpid()) is None, reason="this kernel does not say how long a thread "
+                    "waited for a core (/proc/<pid>/task/<tid>/schedstat)")
+def test_a_step_kept_waiting_for_a_core_past_its_wall_bound_is_stopped_by_its_cpu_time(tmp_path):
+    """The step shares one core with 39 spinning processes: spinning to its
+    0.05 s of CPU time takes it about 2 s, past its 1.2 s wall bound, which
+    stretches by what its processes waited for that core."""
+    core, ours = max(os.sched_getaffinity(0)), os.sched_getaffinity(0)
+    with busy_on(core, 39):
+        os.sched_setaffinity(0, {core})      # the step's processes inherit it
+        try:
+            began = time.monotonic()
+            step = run_compiler(["/bin/sh", "-c", "while :; do :; done"], tmp_path, Deadline.of(0.05))
+            took = time.monotonic() - began
+        finally:
+            os.sched_setaffinity(0, ours)
+    assert took > wall_bound(0.05), f"{took:.2f} s: it was not kept waiting"
+    assert step.timed_out and step.stopped_by == "cpu", (step.stopped_by, took)
 
 
 def test_a_deadline_is_spent_step_by_step(tmp_path):
