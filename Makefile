@@ -60,7 +60,7 @@ FAST = not slow and not sanitizer and not browser
 PYTEST = env -u PYTHONDONTWRITEBYTECODE PYTHONPYCACHEPREFIX=$(CURDIR)/$(BUILD)/pycache $(PY) -m pytest
 
 test-all: system-deps venv reference
-	$(PYTEST) -n 2 -q -m "not agreement and not exhaustive" tests
+	$(PYTEST) -n 2 -q -m "not agreement and not exhaustive" --durations=15 tests
 
 # A developer's run (about 3 min): the fast tests and the representative slow
 # ones (each grading path once, both isolation modes).
