@@ -379,3 +379,18 @@ def test_a_worker_that_cannot_set_up_is_the_graders_problem(stand_in):
     # A worker that exits before its set-up report.
     with pytest.raises(WorkerHarnessError, match="exited during set-up"):
         Worker(stand_in, sandbox="plain", limits=Limits(texture_mb=8192), texture_shape=(8000, 8000)).start()
+
+
+def test_without_a_grading_cgroup_the_machines_oom_count_is_read_once_per_worker(stand_in, monkeypatch):
+    """/proc/vmstat costs each call a tenth of a millisecond of kernel time
+    (issue 29's bench): read when the worker starts, not before every call.
+    A grading's own cgroup is read before every call (test_resource_bounds)."""
+    from grader.worker import memory
+    reads = []
+    monkeypatch.setattr(memory, "oom_kills_on_machine", lambda: reads.append(1) or 0)
+    assert memory.current() is None
+    with Worker(stand_in, sandbox="plain") as worker:
+        worker.set_faces(faces())
+        for _ in range(5):
+            worker.fetch([[0.5, 7, 1]])
+    assert len(reads) == 1
