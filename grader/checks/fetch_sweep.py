@@ -9,7 +9,7 @@ from ..envmap import library
 from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
-from .instruments.compare import describe_direction, format_vector, tolerance, worst_cases
+from .instruments.compare import chance_margin, describe_direction, format_vector, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import FIBONACCI_SET, RANDOM_SET, fibonacci_sphere, sweep_sets
 from .instruments import fetch_record
@@ -32,13 +32,9 @@ SECOND_SIZE_SET = N_("Fibonacci sphere, 24 x 16 faces after 32 x 32")
 # than a few hundredths (a 50% threshold put the same code 8 points apart,
 # issue 30).
 WORKING = (0.3, 0.6)
-# The random set keeps the fixed sets honest (a lookup that knows the public
-# directions gains nothing by it) but scores nothing itself: 20,000 draws
-# put its share within +-0.7% of the sphere's (two standard errors at 50%),
-# +-0.03 points of 30, and a score must not hinge on the draw (issue 30).
-# Its share below the Fibonacci sphere's by more than STANDARD_ERRORS
-# standard errors (chance: 1 in 10^9) is not chance: then it is the share.
-STANDARD_ERRORS = 6.0
+# The random set keeps the fixed sets honest but scores nothing itself
+# (compare.below_by_more_than_chance): 20,000 draws put its share within
+# +-0.7% of the sphere's (two standard errors at 50%), +-0.03 points of 30.
 MIN_ANSWERED = 1_000    # fewer random directions answered than this say nothing either way
 
 
@@ -133,7 +129,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     # The random set held to the Fibonacci sphere: both estimate the share of
     # the sphere that is right, the random one within its standard error.
     (drawn, n), even = share_of[RANDOM_SET], share_of[FIBONACCI_SET][0]
-    by_chance = STANDARD_ERRORS * np.sqrt(max(even * (1 - even), 1.0 / max(n, 1)) / max(n, 1))
+    by_chance = chance_margin(n, even)
     answers_differ = n >= MIN_ANSWERED and drawn < even - by_chance and drawn < fraction
     if answers_differ:
         fraction = shown(drawn)

@@ -18,6 +18,26 @@ from .directions import tied_axes
 FLOAT_EPS = 2.0 ** -24   # float32 unit roundoff
 NUDGE = 2.0 ** -30       # makes a tied component strictly the largest
 
+# Random inputs keep fixed ones honest (code that knows the public inputs
+# gains nothing by it) but score nothing themselves: a score must not hinge
+# on the draw (issue 30). A random share below the fixed one by more than
+# STANDARD_ERRORS of its standard errors (chance: 1 in 10^9) is not chance:
+# then it is the share.
+STANDARD_ERRORS = 6.0
+
+
+def chance_margin(count: int, fixed: float) -> float:
+    """How far below `fixed` a share of `count` random cases may fall by
+    chance: STANDARD_ERRORS standard errors."""
+    n = max(count, 1)
+    return float(STANDARD_ERRORS * np.sqrt(max(fixed * (1 - fixed), 1.0 / n) / n))
+
+
+def below_by_more_than_chance(drawn: float, count: int, fixed: float) -> bool:
+    """A share `drawn` of `count` random cases is lower than the fixed
+    cases' share `fixed` by more than chance_margin."""
+    return drawn < fixed - chance_margin(count, fixed)
+
 
 def tolerance(face_width: int, face_height: int, magnitude: np.ndarray | float) -> np.ndarray | float:
     """Largest difference from the reference that float rounding explains.

@@ -375,6 +375,12 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
 IN_CONTEXT_SIZE = (16, 16)
 IN_CONTEXT_DIRECTIONS = 3_000
 IN_CONTEXT_MARGIN = 2.0     # texels from the border (in_context)
+# The share the check keeps is measured on public directions and texels (this
+# seed, the same in every grading and in the kit), and held to a draw from
+# the grading's own seed (compare.below_by_more_than_chance): a share from
+# the draw alone moved the points with it (redteam2/pays_to_be_believed:
+# 18.93 in the kit, 18.75 in the grader, issue 30).
+IN_CONTEXT_SEED = 0x1C0DE
 
 
 def in_context(lookups, seed: int) -> tuple[int, int, tuple | None]:
@@ -430,20 +436,25 @@ def judged_in_context(read_texture_check):
     from ...i18n import _
     from ...grading.results import FAILED, Diagnosis
 
+    from .. import shown
+    from .compare import below_by_more_than_chance
+
     @functools.wraps(read_texture_check)
     def run(ctx, result, *findings):
         finding = read_texture_check(ctx, result, *findings)
-        differ, observed, example = in_context(ctx.lookups, ctx.seed)
+        fixed, drawn = in_context(ctx.lookups, IN_CONTEXT_SEED), in_context(ctx.lookups, ctx.seed)
+        shares = [1.0 - d / n if n else 1.0 for d, n, _ in (fixed, drawn)]
+        differ, observed, example = drawn if below_by_more_than_chance(shares[1], drawn[1], shares[0]) else fixed
         if not differ:
             return finding
-        share = 1.0 - differ / observed
+        share = shown(1.0 - differ / observed)     # as printed, as used
         face, u, v, called, direct = example
         result.diagnoses = list(result.diagnoses) + [Diagnosis("texture-context-dependent", _(
             "Of %(observed)d readTexture calls your fetchColor made, %(differ)d were answered otherwise than the same "
             "call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: %(called)s to fetchColor, %(direct)s "
             "directly. The score is at most the share answered alike (%(share)s).") % {
             "observed": observed, "differ": differ, "face": library.FACE_NAMES[face], "u": u, "v": v,
-            "called": format_vector(called), "direct": format_vector(direct), "share": f"{share:.1%}"})]
+            "called": format_vector(called), "direct": format_vector(direct), "share": f"{share:.2%}"})]
         result.status = FAILED
         result.fraction = min(result.fraction, share)
         return dataclasses.replace(finding, ok=False, fraction=min(finding.fraction, share))
