@@ -20,6 +20,7 @@ from grader.checks.context import CheckContext
 from grader.checks.speed import WITHIN, speed
 from grader.checks.fetch_sweep import SweepFinding
 from grader.grading.results import FAILED, PASSED, CheckResult
+from grader.worker import memory
 from grader.worker.lookups import open_lookups
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
@@ -156,8 +157,9 @@ def libraries(tmp_path_factory) -> dict:
 
 
 def speed_verdict(library, tmp_path) -> CheckResult:
+    """The speed check's verdict, in a grading's cgroups as grade() makes them."""
     result = CheckResult("speed", "speed")
-    with open_lookups(library) as lookups:
+    with memory.grading_cgroup(), open_lookups(library) as lookups:
         ctx = CheckContext(lookups=lookups, seed=4242, artifacts=tmp_path / "images", quick=True)
         speed(ctx, result, SweepFinding(fraction=1.0))
     return result
