@@ -774,16 +774,18 @@ class Worker:
         (the main thread preempts it) nor a classmate's grading; in a grading
         it also moves to the grading's idle cpu cgroup (memory.idle_cgroup),
         as SCHED_IDLE alone weighs it only against its own cgroup. A thread
-        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c), nor its cgroup. Threads started
-        in a call (a static initialiser's, in loading) are demoted while it
-        runs, at each look at its progress, or once it ends, once they have
-        run (at once where the kernel does not say): at load 30 a thread put
-        at SCHED_IDLE before it first ran did not run while its worker lived,
-        so what it starts with never happened (make test-load:
-        test_speed_trust.py's stop_everyone, whose thread's first call is
-        forbidden, passed the speed check in one run of two); moved
-        once the call has ended (`move`): a move waits for the kernel's lock
-        on thread creation, which a call starting threads holds."""
+        cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c), nor its cgroup.
+        Threads started in a call (a static initialiser's, in loading) are
+        demoted while it runs, at each look at its progress, or once it
+        ends; moved once the call has ended (`move`: a move waits for the
+        kernel's lock on thread creation, which a call starting threads
+        holds) and the thread has run (at once where the kernel does not
+        say): in the idle cgroup a thread that has not run yet may not run
+        while its worker lives, and what it starts with would never happen
+        (issue 32: at load 30 test_speed_trust.py's stop_everyone, whose
+        thread's first call is forbidden, passed the speed check in one run
+        of two). Until then it has the grading cgroup's share when the main
+        thread does not run."""
         if self._worker_pid is None or not self.demote_threads:
             return
         try:
@@ -792,8 +794,6 @@ class Worker:
             return
         for tid in tids:
             if tid != self._worker_pid and tid not in self._demoted:
-                if thread_run_ns(self._worker_pid, tid) == 0:
-                    continue        # not yet run: it first runs at its own priority
                 try:
                     os.sched_setscheduler(tid, os.SCHED_IDLE, os.sched_param(0))
                 except OSError:      # it has just ended
@@ -801,6 +801,8 @@ class Worker:
                 self._demoted.add(tid)
         if move and self._idle_cgroup is not None:
             for tid in self._demoted - self._moved:
+                if thread_run_ns(self._worker_pid, tid) == 0:
+                    continue
                 try:
                     self._idle_cgroup.take_thread(tid)
                 except OSError:     # ended meanwhile, or the cgroup refuses: SCHED_IDLE where it is

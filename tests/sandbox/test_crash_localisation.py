@@ -28,7 +28,6 @@ MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(
 #   x == 7: writes y into the grader's progress page (found in /proc/self/maps), then aborts;
 #   x == 8: aborts on the process's z-th call (state: only a fresh worker forgets it);
 #   x == 9: sleeps 0.3 s (no CPU time);
-#   x == 10: starts a thread that sleeps for good, and answers;
 #   x == 6: writes a forged reply ("bad argument") onto the reply pipe, then y into the
 #           progress page when y > 0 (how far a worker that went on may have got), and goes on.
 STAND_IN = r"""
@@ -41,7 +40,6 @@ STAND_IN = r"""
 #include <string.h>
 #include <time.h>
 #include <fcntl.h>
-#include <pthread.h>
 #include <unistd.h>
 
 static int deeper(volatile int n) { volatile char pad[4096]; pad[0] = (char)n; return deeper(n + 1) + pad[0]; }
@@ -70,7 +68,6 @@ static void forge_reply(void)
         }
 }
 static long calls;
-static void *asleep(void *unused) { (void)unused; for (;;) pause(); return NULL; }
 int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
 {
     (void)map; (void)m; (void)s;
@@ -86,7 +83,6 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
         if (x == 8 && calls == (long)z) abort();
         if (x == 6) { forge_reply(); if (y > 0) forge((uint64_t)y); }
         if (x == 9) { struct timespec t = { 0, 300000000 }; nanosleep(&t, NULL); }
-        if (x == 10) { pthread_t t; pthread_create(&t, NULL, asleep, NULL); pthread_detach(t); }
         rgb[3*i] = x; rgb[3*i+1] = y; rgb[3*i+2] = z;
     }
     return SUB_OK;

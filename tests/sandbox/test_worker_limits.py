@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from grader.worker import SubmissionFailure, SubmissionRunner, Worker, process
+from grader.worker import SubmissionFailure, SubmissionRunner, Worker
 from grader.worker.process import WALL_STRETCH_MAX, run_queue_wait_ns, wall_bound
 from loaded import busy_on
 from test_crash_localisation import directions, faces, stand_in  # noqa: F401  (the stand-in library fixture)
@@ -68,30 +68,6 @@ def test_a_call_kept_waiting_for_a_core_past_its_wall_bound_is_stopped_at_its_cp
     assert took > wall_bound(0.05), f"{took:.2f} s: it was not kept waiting"
     assert caught.value.kind == "timeout" and caught.value.detail == "cpu" and not caught.value.grader_limit, \
         (caught.value.detail, took)
-
-
-def thread_policies(worker: Worker) -> list[int]:
-    pid = worker._worker_pid
-    return [os.sched_getscheduler(int(t)) for t in os.listdir(f"/proc/{pid}/task") if int(t) != pid]
-
-
-def test_a_thread_is_put_at_the_lowest_priority_only_once_it_has_run(stand_in, isolation_mode, monkeypatch):
-    """The worker puts the threads a submission starts at SCHED_IDLE once
-    they have run, not before: at load 30 a thread put there before it
-    first ran did not run while its worker lived, and what it started with
-    never happened (make test-load: test_speed_trust.py's stop_everyone,
-    whose thread's first call is forbidden, passed the speed check). The
-    kernel is made to say the new thread has not run yet, then lets it say."""
-    with Worker(stand_in) as worker:
-        worker.set_faces(faces())
-        with monkeypatch.context() as kernel:
-            kernel.setattr(process, "thread_run_ns", lambda pid, tid: 0)
-            worker.fetch([[10, 0, 0]])          # starts a thread, which sleeps
-            before = thread_policies(worker)
-        worker.fetch([[0.5, 0, 1]])
-        after = thread_policies(worker)
-    assert worker.isolation == isolation_mode
-    assert (before, after) == ([os.SCHED_OTHER], [os.SCHED_IDLE])
 
 
 # slow: wait out wall-clock bounds on purpose (4-6 s, a core idle)

@@ -183,24 +183,34 @@ IDLE_CGROUP = CPU_CGROUP or (None if memory._own_cgroup("cpu")[1] == 1 else "cgr
 
 @pytest.mark.skipif(IDLE_CGROUP is not None, reason=f"no idle cpu cgroup for threads here: {IDLE_CGROUP}")
 @pytest.mark.parametrize("mode", MODES)
-def test_the_threads_it_started_run_in_an_idle_cgroup_beside_the_gradings(mode):
-    """The idle spinner's 63 threads, once at SCHED_IDLE, move to a cpu
-    cgroup beside the grading's that runs only on a core nothing else wants
-    (cpu.idle 1): SCHED_IDLE alone weighs a thread only against its own
-    cgroup, where they had the grading's whole share against a classmate
-    whenever the main thread was not running. The main thread stays."""
+def test_the_threads_it_started_run_in_an_idle_cgroup_beside_the_gradings(mode, monkeypatch):
+    """The idle spinner's 63 threads, once at SCHED_IDLE and once they have
+    run, move to a cpu cgroup beside the grading's that runs only on a core
+    nothing else wants (cpu.idle 1): SCHED_IDLE alone weighs a thread only
+    against its own cgroup, where they had the grading's whole share against
+    a classmate whenever the main thread was not running. The main thread
+    stays. A thread that has not run yet stays too (here the kernel is made
+    to say so at first): in the idle cgroup on a loaded machine it might
+    never run, and what it starts with never happen."""
+    def tasks(group):
+        return {int(t) for t in (group.path / "tasks").read_text().split()}
+
     with memory.grading_cgroup():
         cpu, idle = memory.current_cpu(), memory.idle_cgroup()
+        monkeypatch.setattr(process, "thread_run_ns", lambda pid, tid: 0)
         with Worker(library("idle_spinner"), sandbox=mode) as worker:
             worker.set_faces(faces(), timeout_s=30)
+            worker.fetch(np.eye(3), timeout_s=30)
+            not_yet_run = tasks(idle)
+            monkeypatch.undo()
             calls_until_every_thread_has_run(worker)
             pid = worker._worker_pid
             threads = {int(t) for t in os.listdir(f"/proc/{pid}/task")}
-            in_idle = {int(t) for t in (idle.path / "tasks").read_text().split()}
-            in_cpu = {int(t) for t in (cpu.path / "tasks").read_text().split()}
+            in_idle, in_cpu = tasks(idle), tasks(cpu)
             weight = ((idle.path / "cpu.idle").read_text().strip() if (idle.path / "cpu.idle").exists()
                       else (idle.path / "cpu.shares").read_text().strip())
     assert idle.path.parent == cpu.path.parent and weight in ("1", "2")
+    assert not_yet_run == set()
     assert in_cpu & threads == {pid}
     assert in_idle == threads - {pid} and len(in_idle) == 63
     assert not idle.path.exists()           # removed with the grading

@@ -20,6 +20,7 @@ from grader.checks.context import CheckContext
 from grader.checks.speed import SETTLED_FACTOR, SETTLED_ROUNDS, WITHIN, speed
 from grader.checks.fetch_sweep import SweepFinding
 from grader.grading.results import FAILED, PASSED, CheckResult
+from grader.worker import memory
 from grader.worker.lookups import open_lookups
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # whole gradings / workers (tests/conftest.py's markers)
@@ -156,8 +157,9 @@ def libraries(tmp_path_factory) -> dict:
 
 
 def speed_verdict(library, tmp_path) -> CheckResult:
+    """The speed check's verdict, in a grading's cgroups as grade() makes them."""
     result = CheckResult("speed", "speed")
-    with open_lookups(library) as lookups:
+    with memory.grading_cgroup(), open_lookups(library) as lookups:
         ctx = CheckContext(lookups=lookups, seed=4242, artifacts=tmp_path / "images", quick=True)
         speed(ctx, result, SweepFinding(fraction=1.0))
     return result
@@ -251,7 +253,9 @@ def test_the_student_worker_is_stopped_between_calls(libraries, monkeypatch):
         assert lookups.fetch(np.eye(3)).ok       # and it answers the next call
 
 
-BUSY = [sys.executable, "-c", "import time\nend = time.monotonic() + 120\nwhile time.monotonic() < end: pass"]
+# Killed when the measurement ends; 15 minutes is only a safety net (at load
+# 30 on one core, make test-load, the loaded measurement took over 2).
+BUSY = [sys.executable, "-c", "import time\nend = time.monotonic() + 900\nwhile time.monotonic() < end: pass"]
 
 
 def test_the_speed_verdict_of_a_correct_lookup_does_not_change_under_load(libraries, tmp_path):
