@@ -777,9 +777,9 @@ class Worker:
         cannot leave SCHED_IDLE (RLIMIT_NICE 0, worker.c), nor its cgroup.
         Threads started in a call (a static initialiser's, in loading) are
         demoted while it runs, at each look at its progress, or once it
-        ends; moved once the call has ended (`move`: a move waits for the
-        kernel's lock on thread creation, which a call starting threads
-        holds) and the thread has run (at once where the kernel does not
+        ends; moved once the call has ended (`move`: a move takes a lock
+        every thread creation takes too, and would hold up a static initialiser
+        starting threads) and the thread has run (at once where the kernel does not
         say): in the idle cgroup a thread that has not run yet may not run
         while its worker lives, and what it starts with would never happen
         (issue 32: at load 30 test_speed_trust.py's stop_everyone, whose
