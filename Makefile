@@ -60,7 +60,7 @@ FAST = not slow and not sanitizer and not browser
 PYTEST = env -u PYTHONDONTWRITEBYTECODE PYTHONPYCACHEPREFIX=$(CURDIR)/$(BUILD)/pycache $(PY) -m pytest
 
 test-all: system-deps venv reference
-	$(PYTEST) -n 2 -q -m "not agreement and not exhaustive" --durations=15 tests
+	$(PYTEST) -n 2 -q -m "not agreement and not exhaustive and not wallclock" --durations=15 tests
 
 # A developer's run (about 3 min): the fast tests and the representative slow
 # ones (each grading path once, both isolation modes).
@@ -79,7 +79,7 @@ test-fast: system-deps venv reference
 LOAD ?= 30
 LOAD_CPUS ?= 1
 TIMING_TESTS = tests/security/test_speed_trust.py tests/sandbox/test_worker_limits.py \
-	tests/unit/build/test_compiler_deadline.py
+	tests/unit/build/test_compiler_deadline.py tests/security/test_resource_bounds.py
 test-load: system-deps venv reference
 	$(PY) tests/helpers/loaded.py $(LOAD) --cpus $(LOAD_CPUS) -- $(PYTEST) -n 2 -q -m "not agreement" $(TIMING_TESTS)
 

@@ -319,6 +319,7 @@ def grade_all_cmd(folder: Path, out: Path) -> list[str]:
 
 
 @pytest.mark.slow
+@pytest.mark.wallclock      # make test-load, not CI's test-all: a wall-clock ratio
 @pytest.mark.parametrize("mode", MODES)
 def test_the_idle_spinner_costs_its_classmates_neither_marks_nor_time(mode, tmp_path):
     """63 threads that spin whenever no call is in flight, beside four correct
