@@ -9,7 +9,7 @@ from ..envmap import library
 from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
-from .instruments.compare import chance_margin, describe_direction, format_vector, tolerance, worst_cases
+from .instruments.compare import below_by_more_than_chance, chance_margin, describe_direction, format_vector, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import FIBONACCI_SET, RANDOM_SET, fibonacci_sphere, sweep_sets
 from .instruments import fetch_record
@@ -129,8 +129,8 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
     # The random set held to the Fibonacci sphere: both estimate the share of
     # the sphere that is right, the random one within its standard error.
     (drawn, n), even = share_of[RANDOM_SET], share_of[FIBONACCI_SET][0]
-    by_chance = chance_margin(n, even)
-    answers_differ = n >= MIN_ANSWERED and drawn < even - by_chance and drawn < fraction
+    by_chance = chance_margin(n, even)        # printed below
+    answers_differ = n >= MIN_ANSWERED and below_by_more_than_chance(drawn, n, even) and drawn < fraction
     if answers_differ:
         fraction = shown(drawn)
     result.fraction = fraction
