@@ -9,7 +9,8 @@ from ..envmap import library
 from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
-from .instruments.compare import below_by_more_than_chance, chance_margin, describe_direction, format_vector, tolerance, worst_cases
+from .instruments.compare import (below_by_more_than_chance, chance_margin, describe_direction, format_vector,
+                                  tied_face_uv, tolerance, worst_cases)
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import FIBONACCI_SET, RANDOM_SET, fibonacci_sphere, sweep_sets
 from .instruments import fetch_record
@@ -143,6 +144,7 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
             black, np.concatenate([verdict.ok for *_, verdict in scored]),
             np.concatenate([verdict.table[0] for *_, verdict in scored]),
             np.concatenate([verdict.table[1] for *_, verdict in scored]), all_dirs)))
+    diagnoses += border_diagnoses(scored)
     itself = np.concatenate([verdict.case == fetch_record.READS_ITSELF for *_, verdict in scored])
     notes = ""
     # Those that returned black with no call are told by black-without-lookup, not here.
@@ -222,6 +224,72 @@ def _black_words(black: np.ndarray, ok: np.ndarray, faces: np.ndarray, uv: np.nd
                          "at most %(short)s, against %(long)s and above.") % {
             "short": f"{length[rows].max():.3g}", "long": f"{length[looked_up].min():.3g}"}
     return words
+
+
+# The ids border_diagnoses gives from a variable (tests/unit/grading/test_diagnosis_catalogue.py).
+DIAGNOSIS_IDS = ("coordinate-wraps", "uv-clamped-inward")
+
+
+def border_diagnoses(parts) -> list[Diagnosis]:
+    """What fetchColor does at faces' borders, where the record proves it:
+    on a face, every direction it gets wrong asks the table's face and (u, v)
+    but for a coordinate of exactly 1 asked as 0 (or 0 as 1): coordinate-wraps;
+    or asks the table's (u, v) clamped to the narrowest range it ever asks
+    within [0, 1], which is not [0, 1]: uv-clamped-inward. Each named with
+    the faces where it is every mistake, and one direction in numbers."""
+    tol = fetch_record.UV_TOLERANCE
+    wrong_dirs, asked_faces, asked, table = [], [], [], []
+    seen = []
+    for _name, dirs, _size, rec, verdict in parts:
+        faces, uv = verdict.requested
+        read = (verdict.case == fetch_record.READ) & (faces >= 0)
+        seen.append(uv[read])
+        rows = np.flatnonzero(read & ~verdict.ok)
+        if not len(rows):
+            continue
+        t_faces, t_uv = tied_face_uv(dirs[rows])
+        k = np.argmax(t_faces == faces[rows, None], axis=1)
+        on = (t_faces == faces[rows, None]).any(axis=1)
+        wrong_dirs.append(dirs[rows])
+        asked_faces.append(np.where(on, faces[rows], -1))
+        asked.append(uv[rows])
+        table.append(np.where(on[:, None], t_uv[np.arange(len(rows)), k], np.nan))
+    if not wrong_dirs:
+        return []
+    dirs, faces, got, want = (np.concatenate(x) for x in (wrong_dirs, asked_faces, asked, table))
+    seen = np.concatenate(seen)
+    with np.errstate(invalid="ignore"):
+        lo, hi = (float(np.nanmin(seen)), float(np.nanmax(seen))) if np.isfinite(seen).any() else (0.0, 1.0)
+    with np.errstate(invalid="ignore"):
+        close = np.abs(got - want) <= tol
+        wrapped = (np.abs(want - 1) <= tol) & (np.abs(got) <= tol) | (np.abs(want) <= tol) & (np.abs(got - 1) <= tol)
+        wraps = (close | wrapped).all(axis=1) & wrapped.any(axis=1)
+        clamps = (np.abs(got - np.clip(want, lo, hi)) <= tol).all(axis=1) & ~close.all(axis=1)
+    out = []
+    statements = [("coordinate-wraps", wraps)]
+    if lo > tol or hi < 1 - tol:
+        statements.append(("uv-clamped-inward", clamps))
+    for ident, explained in statements:
+        whole = [f for f in range(6) if (faces == f).any() and explained[faces == f].all()]
+        rows = np.flatnonzero(np.isin(faces, whole) & explained)
+        if not len(rows):
+            continue
+        i = rows[0]
+        words = {"count": len(rows), "faces": ", ".join(library.FACE_NAMES[f] for f in whole),
+                 "call": describe_direction(dirs[i]), "face": library.FACE_NAMES[int(faces[i])],
+                 "want": f"({want[i, 0]:.6g}, {want[i, 1]:.6g})", "got": f"({got[i, 0]:.6g}, {got[i, 1]:.6g})",
+                 "lo": f"{lo:.6g}", "hi": f"{hi:.6g}"}
+        if ident == "coordinate-wraps":
+            text = _("%(call)s asks face %(face)s at (u, v) = %(got)s, where the table gives %(want)s: a coordinate "
+                     "of exactly 1 asked as 0 (or 0 as 1), the opposite side of the same face. Every wrong direction "
+                     "on %(faces)s is one of these %(count)d, each on a face's border.") % words
+        else:
+            text = _("fetchColor never asks for u or v below %(lo)s or above %(hi)s: %(call)s asks face %(face)s at "
+                     "(u, v) = %(got)s, where the table gives %(want)s. Every wrong direction on %(faces)s is one of "
+                     "these %(count)d, nearer a face's border than that, asked the table's (u, v) clamped to "
+                     "[%(lo)s, %(hi)s].") % words
+        out.append(Diagnosis(ident, text))
+    return out
 
 
 def _record_diagnoses(verdict, rec, dirs: np.ndarray, size: tuple[int, int]) -> list[Diagnosis]:

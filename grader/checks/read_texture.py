@@ -194,8 +194,11 @@ class Lattice:
 LATTICES = tuple(Lattice(source, size, scale, offset, flip)
                  for source in (0, 1) for size in (0, 1) for scale in (0, -1, 1)
                  for offset in (0.0, -0.5, 0.5, -1.0, 1.0) for flip in ("", "index", "coordinate"))
-# How the weight of the texel above the lattice point follows f = t - floor(t).
-MODES = ("linear", "swapped", "constant", "nearest")
+# How the weight of the texel above the lattice point follows f = t - floor(t):
+# "rounded" (with offset 0.5 only) is the handout's blend from the lattice
+# point round(t) instead of floor(t), weights 1.5 - f and f - 0.5; "other"
+# follows the other axis's fraction instead of this one's.
+MODES = ("linear", "swapped", "constant", "nearest", "rounded", "other")
 
 
 def _lattice_point(lattice: Lattice, which: int, m: Measured) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -208,6 +211,13 @@ def _lattice_point(lattice: Lattice, which: int, m: Measured) -> tuple[np.ndarra
     t = ((w, h)[lattice.size] + lattice.scale) * c + lattice.offset
     low = np.floor(t)
     return low, t - low, (low >= 0) & (low <= (w, h)[which] - 2)
+
+
+def _other_fraction(lattice: Lattice, m: Measured) -> np.ndarray:
+    """(n,) the fraction of the other axis's p (the other coordinate times
+    the other size) at each probe of `m`."""
+    t = m.student.uv[:, 1 - lattice.source] * m.student.size[1 - lattice.size]
+    return t - np.floor(t)
 
 
 def _axis_modes(lattice: Lattice, which: int, measured: list[Measured],
@@ -236,9 +246,12 @@ def _axis_modes(lattice: Lattice, which: int, measured: list[Measured],
         if (rest > fp.TAP).any():
             return set(), seen
         f = f[rows]
+        g = _other_fraction(lattice, m)[rows]
         near = lambda x, y: bool((np.abs(x - y) <= fp.WEIGHT_TOL).all())   # noqa: E731
         checks = {"linear": near(at1, f) and near(at0, 1 - f), "swapped": near(at1, 1 - f) and near(at0, f),
-                  "constant": near(at0, 0.5) and near(at1, 0.5), "nearest": near(at0, 1.0) and near(at1, 0.0)}
+                  "constant": near(at0, 0.5) and near(at1, 0.5), "nearest": near(at0, 1.0) and near(at1, 0.0),
+                  "rounded": lattice.offset == 0.5 and near(at1, f - 0.5) and near(at0, 1.5 - f),
+                  "other": near(at1, g) and near(at0, 1 - g)}
         modes &= {k for k, ok in checks.items() if ok}
         if not modes:
             return set(), seen
@@ -254,11 +267,18 @@ def axis_statement(which: int, measured: list[Measured], other: Lattice | None =
         if seen < 8:
             continue
         for mode in modes:
-            # A nearest texel at t + 0.5 is the rounded one: no offset in the code.
-            cost = lattice.cost(which) + (mode != "linear") - (mode == "nearest" and lattice.offset == 0.5) * 0.9
+            # A nearest texel at t + 0.5 is the rounded one: no offset in the code (a
+            # rounded lattice point likewise).
+            cost = lattice.cost(which) + (mode != "linear") - (_rounds(lattice, mode)) * 0.9
             if best is None or cost < best[0]:
                 best = (cost, lattice, mode)
     return None if best is None else (best[1], best[2])
+
+
+def _rounds(lattice: Lattice, mode: str) -> bool:
+    """The statement's offset of 0.5 is a rounding in the code (the nearest
+    texel, or a blend from the rounded lattice point), not an offset."""
+    return mode in ("nearest", "rounded") and lattice.offset == 0.5
 
 
 def lattice_ids(which: int, lattice: Lattice, mode: str) -> list[str]:
@@ -268,7 +288,11 @@ def lattice_ids(which: int, lattice: Lattice, mode: str) -> list[str]:
         ids.append("weights-swapped")
     if mode == "constant":
         ids.append("constant-weights")
-    if lattice.offset in (-0.5, 0.5) and not (mode == "nearest" and lattice.offset == 0.5):
+    if mode == "rounded":
+        ids.append("lattice-rounded")
+    if mode == "other":
+        ids.append("fractions-exchanged")
+    if lattice.offset in (-0.5, 0.5) and not _rounds(lattice, mode):
         ids.append("half-texel-offset")
     if lattice.offset in (-1.0, 1.0):
         ids.append("texel-offset")
@@ -288,6 +312,11 @@ def lattice_ids(which: int, lattice: Lattice, mode: str) -> list[str]:
 # What each axis statement proves, one sentence per id (the measurement follows it).
 PROVES = {
     "weights-swapped": N_("readTexture gives the texel nearer to p the smaller weight."),
+    "lattice-rounded": N_("readTexture takes its lattice point as p rounded, not floor(p): where the fraction of "
+                          "p is 0.5 or more it reads the texel above p and the next one, with a weight above 1 and "
+                          "a negative one (it extrapolates instead of blending the two texels around p)."),
+    "fractions-exchanged": N_("readTexture weighs the two columns by the fraction of vH (beta) and the two rows by "
+                              "the fraction of uW (alpha): alpha and beta, or c01 and c10, are exchanged."),
     "constant-weights": N_("readTexture gives the texels it blends the same weight wherever p is."),
     "half-texel-offset": N_("readTexture reads half a texel away from p = (uW, vH)."),
     "texel-offset": N_("readTexture reads a whole texel away from p = (uW, vH)."),
@@ -305,12 +334,19 @@ PROVES = {
 def axis_words(lattice: Lattice, mode: str, which: int) -> str:
     """One axis of the footprint in words: where and how it reads."""
     t = lattice.formula(which)
+    unrounded = Lattice(lattice.source, lattice.size, lattice.scale, 0.0, lattice.flip).formula(which)
     if mode == "nearest":
         if lattice.offset == 0.5:
-            t = Lattice(lattice.source, lattice.size, lattice.scale, 0.0, lattice.flip).formula(which)
-            text = _("reads the one texel nearest to %(t)s") % {"t": t}
+            text = _("reads the one texel nearest to %(t)s") % {"t": unrounded}
         else:
             text = _("reads the one texel at floor(%(t)s)") % {"t": t}
+    elif mode == "rounded":
+        text = _("blends texel round(%(t)s) and the next one with weights 1 - a and a, a = %(t)s - round(%(t)s) "
+                 "(negative where the fraction of %(t)s is 0.5 or more)") % {"t": unrounded}
+    elif mode == "other":
+        other = f"{'uv'[1 - lattice.source]}{'WH'[1 - lattice.size]}"
+        text = _("blends the two texels around %(t)s with weights that follow the fraction of %(other)s") % {
+            "t": t, "other": other}
     else:
         text = {"linear": _("blends the two texels around %(t)s with weights that follow it"),
                 "swapped": _("blends the two texels around %(t)s with the weights swapped"),
@@ -432,6 +468,44 @@ def _unequal(weights: np.ndarray) -> np.ndarray:
     return big - small > fp.WEIGHT_TOL
 
 
+def handout_lattice(m: Measured) -> tuple[np.ndarray, np.ndarray]:
+    """(x0, y0) at each probe of `m`: the handout's lower lattice point,
+    clamp(floor(uW), 0, W - 1) and clamp(floor(vH), 0, H - 1)."""
+    w, h = m.student.size
+    x0 = np.clip(np.floor(m.student.uv[:, 0] * w), 0, w - 1).astype(np.int64)
+    y0 = np.clip(np.floor(m.student.uv[:, 1] * h), 0, h - 1).astype(np.int64)
+    return x0, y0
+
+
+def single_texel_at_edges(measured: list[Measured]) -> tuple[Measured, int, int] | None:
+    """(a size, a probe there, how many probes) where every probe whose
+    footprint differs from the handout's lies on the last column or the last
+    row (x0 = W - 1 or y0 = H - 1), where the handout still blends along the
+    other axis, and reads texel (x0, y0) alone there: an early return at the
+    border instead of clamped lattice points. None unless every differing
+    probe is such a probe (and one is)."""
+    count, example = 0, None
+    for m in measured:
+        w, h = m.student.size
+        differs = ~m.student.equals(m.handout)
+        if not differs.any():
+            continue
+        x0, y0 = handout_lattice(m)
+        border = (x0 == w - 1) | (y0 == h - 1)
+        alone = np.zeros(len(x0), bool)
+        weights = np.nan_to_num(m.student.weights)
+        for i in np.flatnonzero(differs & border & m.student.answered):
+            expected = np.zeros((h, w))
+            expected[y0[i], x0[i]] = 1.0
+            alone[i] = bool((np.abs(weights[i] - expected) <= fp.WEIGHT_TOL).all())
+        if not (alone[differs]).all():
+            return None
+        count += int(differs.sum())
+        if example is None:
+            example = (m, int(np.flatnonzero(differs)[0]))
+    return None if example is None else (*example, count)
+
+
 def edge_ids(measured: list[Measured], failures: list) -> list[Diagnosis]:
     """What the footprint shows at the face's edges, where the handout
     clamps its lattice points: texels from both ends of one row or column
@@ -477,6 +551,7 @@ def edge_ids(measured: list[Measured], failures: list) -> list[Diagnosis]:
 
 # Every id the description can give (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("nearest-neighbor", "weights-swapped", "constant-weights", "half-texel-offset", "texel-offset",
+                 "lattice-rounded", "fractions-exchanged", "edge-single-texel",
                  "truncation-of-negatives", "unclamped-edge", "wrapped-edge", "scaled-by-size-minus-one",
                  "scaled-by-size-plus-one", "rows-flipped", "columns-flipped", "texture-u-flipped",
                  "texture-v-flipped", "texture-uv-swapped", "width-height-swapped", "texel-index-transposed",
@@ -560,6 +635,15 @@ def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis],
     if not any(d.id in ("kept-between-calls", "texel-index-transposed") for d in found):
         # (Either reads texels the edges' words would misread.)
         found += [d for d in edge_ids(measured, failures) if d.id not in {f.id for f in found}]
+        alone = single_texel_at_edges(naming) if not found else None
+        if alone is not None:
+            m, i, count = alone
+            found.append(Diagnosis("edge-single-texel", _(
+                "On the last column (x0 = W - 1) and the last row (y0 = H - 1) readTexture returns texel (x0, y0) "
+                "alone; the handout blends there too: its clamped lattice points read column W - 1 twice, so it "
+                "still blends the two rows around vH by beta (and, on the last row, the two columns around uW by "
+                "alpha). Every one of the %(count)d probes that differ from the handout's is such a probe.")
+                % {"count": count} + " " + worked_case(m, i)))
     wrong = _first_wrong(measured)
     if wrong is not None:
         lines.append(worked_case(*wrong))

@@ -468,6 +468,28 @@ _ENTRIES = [
         "report will then say what happens on this face."),
     ),
     DiagnosisInfo(
+        "coordinate-wraps", "mapping", ("checks.fetch_sweep",),
+        N_("fetchColor turns a coordinate of 1 into 0 at a face's edge"),
+        N_("Where the table gives u or v exactly 1 (a direction on the edge between "
+        "two faces), your fetchColor asks readTexture for 0 (or for 1 where it "
+        "gives 0): the opposite side of the same face. Code does this with u - "
+        "floor(u), fmod(u, 1.0) or a repeating wrap, which are right for a "
+        "repeating texture and wrong for a cube face, whose edge at u = 1 belongs "
+        "to it."),
+        N_("Keep u and v as the table computes them, in [0, 1] with 1 included; if "
+        "you guard them at all, clamp them to [0, 1]."),
+    ),
+    DiagnosisInfo(
+        "uv-clamped-inward", "mapping", ("checks.fetch_sweep",),
+        N_("fetchColor keeps u and v away from the face's border"),
+        N_("Your fetchColor never asks readTexture for a u or v below some small "
+        "margin or above 1 minus it (for example a clamp to [0.001, 0.999]): "
+        "directions nearer a face's border than that ask for a place moved "
+        "inward. readTexture already clamps its lattice points, so (u, v) at 0 "
+        "and 1 are safe to pass."),
+        N_("Pass the table's (u, v) unchanged; if you clamp at all, clamp to [0, 1]."),
+    ),
+    DiagnosisInfo(
         "discontinuous-seam", "mapping", ("checks.stability",),
         N_("Colours jump where two faces meet"),
         N_("Moving a direction across the edge between two faces changes the "
@@ -572,12 +594,47 @@ _ENTRIES = [
         "weights-swapped", "filtering", ("checks.read_texture",),
         N_("readTexture mixes the four texels with the wrong weights"),
         N_("The interpolation weights are the wrong way round: for example "
-        "`alpha c00 + (1-alpha) c10` instead of `(1-alpha) c00 + alpha c10`, or "
-        "alpha used for the vertical direction and beta for the horizontal. "
+        "`alpha c00 + (1-alpha) c10` instead of `(1-alpha) c00 + alpha c10`. "
         "The nearer texel must get the larger weight."),
         N_("Follow equations (1)-(3) exactly: alpha is the fractional part of "
         "`u*W` and weighs c10 and c11 (the texels to the right); beta is the "
         "fractional part of `v*H` and weighs c1 (the row above)."),
+    ),
+    DiagnosisInfo(
+        "fractions-exchanged", "filtering", ("checks.read_texture",),
+        N_("readTexture weighs the columns by beta and the rows by alpha"),
+        N_("Your blend uses the fraction of vH where the handout uses the fraction of "
+        "uW, and the other way round: the texel to the right of (x0, y0) gets the "
+        "weight the texel above should get. Code does this with c01 and c10 "
+        "exchanged in equation (1), or with alpha and beta exchanged. Where the "
+        "two fractions are equal the colour is right, which hides it on a diagonal."),
+        N_("Follow equations (1)-(3): c0 = (1-alpha) c00 + alpha c10 blends along x "
+        "(c10 is the texel to the right, x0 + 1), c1 the same one row up, and beta "
+        "blends c0 and c1."),
+    ),
+    DiagnosisInfo(
+        "lattice-rounded", "filtering", ("checks.read_texture",),
+        N_("readTexture rounds p to its lattice point instead of flooring it"),
+        N_("Your lattice point is round(p) (or (int)(p + 0.5)), not floor(p). Where "
+        "the fraction of p is below 0.5 the blend is the handout's; where it is 0.5 "
+        "or more your lattice point is one texel too far, alpha = p - x0 is "
+        "negative, and the lookup extrapolates from that texel and the next one "
+        "(weights above 1 and below 0) instead of blending the two texels around p."),
+        N_("Take x0 = floor(p.x) and y0 = floor(p.y) (or (int) of them: p is never "
+        "negative), alpha = p.x - x0 and beta = p.y - y0, so both lie in [0, 1)."),
+    ),
+    DiagnosisInfo(
+        "edge-single-texel", "filtering", ("checks.read_texture",),
+        N_("readTexture stops blending on the face's last row and column"),
+        N_("On the last column (x0 = W - 1) or the last row (y0 = H - 1) your "
+        "readTexture returns the single texel (x0, y0). The handout clamps its "
+        "lattice points there instead: x1 = x0 = W - 1, so the blend across x "
+        "mixes one texel with itself, but the blend across y still mixes two rows "
+        "by beta. Yours turns a smooth gradient into steps along two sides of "
+        "every face."),
+        N_("Do not return early at the border: clamp x1 = min(x0 + 1, W - 1) and "
+        "y1 = min(y0 + 1, H - 1), and blend the four (clamped) texels as everywhere "
+        "else."),
     ),
     DiagnosisInfo(
         "texel-offset", "filtering", ("checks.read_texture",),

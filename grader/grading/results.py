@@ -48,6 +48,8 @@ class TexelHit:
     face: str                      # a FACE_NAMES entry; "" when the colour is not one of the texture's
     texel: tuple[float, float]     # lattice position p = (u W, v H), in texels
     uv: tuple[float, float]
+    address: float | None = None   # with face "": a recorded call's address, in floats from the first
+                                   # face's first texel, where no face starts
 
 
 @dataclass(frozen=True)

@@ -131,6 +131,9 @@ def _numbers(values, decimals: int | None = None) -> str:
 
 def hit_text(hit: TexelHit) -> str:
     """Where a lookup landed, in the handout's terms."""
+    if not hit.face and hit.address is not None:
+        return _("an address %(offset)s floats after the first face's first texel, where no face starts, at "
+                 "(u, v) = %(uv)s") % {"offset": f"{hit.address:.0f}", "uv": _numbers(hit.uv, 4)}
     if not hit.face:
         return _("a colour that is in no face of the texture")
     return _("face %(face)s at texel %(texel)s, (u, v) = %(uv)s") % {

@@ -28,18 +28,20 @@ BLIND = SUBMISSIONS / "blind"
 CHECKS = ("read_texture", "fetch_sweep", "arrows", "stability", "renders", "speed")
 MAPPING = {"u-flipped", "v-flipped", "uv-swapped", "wrong-face", "uv-mismatch", "face-order", "uv-rotated",
            "opengl-table", "signed-major", "uv-inset", "uv-offset", "not-divided-by-m", "float-precision",
-           "tie-untouched-face", "fetch-not-returned", "asks-otherwise", "address-not-face-start", "kept-between-calls"}
+           "tie-untouched-face", "fetch-not-returned", "asks-otherwise", "address-not-face-start", "kept-between-calls",
+           "coordinate-wraps", "uv-clamped-inward"}
 FILTERING = {"nearest-neighbor", "half-texel-offset", "weights-swapped", "wrapped-edge", "unclamped-edge",
              "constant-weights", "not-a-blend", "rows-flipped", "columns-flipped", "texture-v-flipped",
              "texture-u-flipped", "texture-uv-swapped", "scaled-by-size-minus-one", "scaled-by-size-plus-one",
-             "texel-offset", "truncation-of-negatives", "texel-index-transposed", "width-height-swapped"}
+             "texel-offset", "truncation-of-negatives", "texel-index-transposed", "width-height-swapped",
+             "lattice-rounded", "fractions-exchanged", "edge-single-texel"}
 ALL_FULL = dict(needs=[], never=MAPPING | FILTERING | {"timing-faces-wrong", "render-mismatch"}, loses=(), keeps=CHECKS)
 TRUTH = {
     "correct_sign-mask-switch_twice-averaged": ALL_FULL,
     "correct_rotation-matrices_memoised-geometry": ALL_FULL,
     "correct_lambda-array_reads-texels-itself": ALL_FULL,
     "lattice-rounded-not-floored_early-returns": dict(
-        needs=[], never=MAPPING | {"timing-faces-wrong", "half-texel-offset", "nearest-neighbor"},
+        needs=[{"lattice-rounded"}], never=MAPPING | (FILTERING - {"lattice-rounded"}) | {"timing-faces-wrong"},
         loses=("read_texture",), keeps=("fetch_sweep", "arrows", "speed")),
     "box-3x3-around-nearest_face-templates": dict(
         needs=[{"constant-weights", "not-a-blend"}], never=MAPPING | {"wrapped-edge", "unclamped-edge"},

@@ -72,6 +72,15 @@ ZOO = {
 }
 
 
+# name: the id the record proves (issue 29: "ids exact"), said by the check that loses points.
+NAMED = {
+    "static-face-size_switch": ("address-not-face-start", "fetch_sweep"),
+    "clamped-uv_switch": ("uv-clamped-inward", "fetch_sweep"),
+    "wraps-at-one_switch": ("coordinate-wraps", "fetch_sweep"),
+    "swapped-corners-read_switch": ("fractions-exchanged", "read_texture"),
+}
+
+
 def test_every_record_submission_has_its_truth():
     assert {p.stem for p in RECORD.glob("*.cpp")} == set(ZOO)
 
@@ -122,5 +131,8 @@ def test_record_submission_is_graded_on_what_it_asks(name, tmp_path):
     assert all(by_name[c].score == by_name[c].max_score for c in keeps), {c: by_name[c].score for c in keeps}
     said = {d.id for d in result.diagnoses}
     assert not said & false, said & false
-    if name.startswith("static"):
-        assert "address-not-face-start" in said
+    named, where = NAMED[name]
+    assert named in {d.id for d in by_name[where].diagnoses}, by_name[where].output
+    # What to fix first (catalogue order, reports.view.group_diagnoses) leads with it.
+    from grader.grading import catalogue
+    assert sorted(said, key=catalogue.sort_key)[0] == named, sorted(said, key=catalogue.sort_key)

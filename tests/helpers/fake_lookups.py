@@ -15,6 +15,8 @@ fake's own readTexture.
     FakeLookups(fetch="not-normalized", texture="half-texel")
     FakeLookups(fetch="half-texel-u", texture="one-point")     # issue 18's attack
     FakeLookups(fetch="inset", texture="scrambled")             # nothing models readTexture
+    FakeLookups(fetch="wraps-at-one")                           # u - floor(u) on every face
+    FakeLookups(fetch="clamped-inward")                         # (u, v) clamped to [0.001, 0.999]
 """
 from __future__ import annotations
 
@@ -118,6 +120,11 @@ class FakeLookups:
             # 1.5 texels in from every border, on every face.
             size = np.array(self.faces.shape[2:0:-1], np.float64)
             uv = (1.5 + uv * (size - 3)) / size
+        elif mistakes == "wraps-at-one":
+            # u - floor(u): a coordinate of exactly 1 (on a cube edge) becomes 0.
+            uv = uv - np.floor(uv)
+        elif mistakes == "clamped-inward":
+            uv = np.clip(uv, 0.001, 0.999)
         elif mistakes == "half-texel-u":
             # Half a texel off in u on every face.
             uv[:, 0] = uv[:, 0] + 0.5 / self.faces.shape[2]

@@ -205,6 +205,8 @@ class Judgement(Mismatches):
     own: np.ndarray           # (n, 3) what fetchColor returned
     own_rows: np.ndarray      # (n,) where that colour is the one credited (it read itself, or returned no answer it was given)
     texels: np.ndarray        # the faces it was recorded on
+    stray: np.ndarray | None = None   # (n, 3) address (floats from face 0's first texel), u, v of the call
+                                      # returned where no face starts there (NO_FACE_START); NaN elsewhere
 
     @functools.cached_property
     def expected(self) -> np.ndarray:
@@ -295,8 +297,14 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
         actual = _actual(texels, (req_faces[rows], req_uv[rows]), own_rows[rows], own[rows])
         cmp = compare(actual, acceptable, np.broadcast_to(np.asarray(tol, np.float64), (n,))[rows])
         ok[rows], error[rows] = itself[rows] & cmp.ok, cmp.error
+    stray = np.full((n, 3), np.nan)
+    astray = np.flatnonzero(case == NO_FACE_START)
+    if len(astray):
+        k = tagged.returned[astray]
+        stray[astray, 0] = tagged.offsets[astray, k]
+        stray[astray, 1:] = tagged.uv[astray, k]
     return Judgement(ok=ok, error=error, case=case, unreadable=np.zeros(n, bool), requested=(req_faces, req_uv),
-                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels)
+                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels, stray=stray)
 
 
 # The plain recording (answered by the student's own readTexture) is made
@@ -366,8 +374,12 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
             return None
         return TexelHit(library.FACE_NAMES[face], (float(uv[0]) * w, float(uv[1]) * h), (float(uv[0]), float(uv[1])))
 
-    return at(int(judgement.table[0][i]), judgement.table[1][i]), at(int(judgement.requested[0][i]),
-                                                                      judgement.requested[1][i])
+    asked = at(int(judgement.requested[0][i]), judgement.requested[1][i])
+    if asked is None and judgement.stray is not None and np.isfinite(judgement.stray[i]).all():
+        # An address where no face starts: what was asked there, not a colour.
+        offset, u, v = (float(x) for x in judgement.stray[i])
+        asked = TexelHit("", (float("nan"), float("nan")), (u, v), address=offset)
+    return at(int(judgement.table[0][i]), judgement.table[1][i]), asked
 
 
 # ---- readTexture as fetchColor calls it ------------------------------------

@@ -129,3 +129,85 @@ def test_a_size_kept_from_an_earlier_call_shows_on_the_second_size_in_a_process(
     assert [d.id for d in result.diagnoses] == ["kept-between-calls"], result.output
     # Right on the first size of each process, wrong on 3 x 4 after 4 x 3: scored there.
     assert finding.by_size[0] == 1.0 and finding.by_size[1] < 0.5 and result.fraction == min(finding.by_size)
+
+
+# ---- three readTextures that blend, but not as the handout does (issue 29, patterns 4, 7, 13) ----
+# Each is written from what it is, on the face the fake hands over; the
+# read_texture check must name it from the footprint alone.
+
+def _blend(face: np.ndarray, x0, y0, x1, y1, wx, wy) -> np.ndarray:
+    """sum of the four texels (clamped to the face) with weights (1 - wx, wx) x (1 - wy, wy)."""
+    h, w = face.shape[:2]
+    cx0, cx1 = np.clip(x0, 0, w - 1), np.clip(x1, 0, w - 1)
+    cy0, cy1 = np.clip(y0, 0, h - 1), np.clip(y1, 0, h - 1)
+    wx, wy = wx[:, None], wy[:, None]
+    f = face.astype(np.float64)
+    return ((1 - wy) * ((1 - wx) * f[cy0, cx0] + wx * f[cy0, cx1])
+            + wy * ((1 - wx) * f[cy1, cx0] + wx * f[cy1, cx1]))
+
+
+class BlendLookups(FakeLookups):
+    """A readTexture given as read(face (H, W, 3), u, v) -> (n, 3)."""
+
+    def __init__(self, read):
+        super().__init__()
+        self.read = read
+
+    def read_texture(self, face, uv, placement="end"):
+        uv = np.asarray(uv, np.float64).reshape(-1, 2)
+        values = self.read(self.faces[face], uv[:, 0], uv[:, 1])
+        return self._outcome(values, np.zeros(len(uv), bool), lambda i: "readTexture", "readTexture")
+
+
+def rounded_lattice(face, u, v):
+    """x0 = round(uW), alpha = uW - x0 (in [-0.5, 0.5)), the blend of x0 and x0 + 1; the same in y."""
+    h, w = face.shape[:2]
+    px, py = u * w, v * h
+    x0, y0 = np.floor(px + 0.5).astype(int), np.floor(py + 0.5).astype(int)
+    return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
+
+
+def fractions_exchanged(face, u, v):
+    """The handout's lattice points, the columns weighed by beta and the rows by alpha (c01 and c10 exchanged)."""
+    h, w = face.shape[:2]
+    px, py = u * w, v * h
+    x0, y0 = np.floor(px).astype(int), np.floor(py).astype(int)
+    return _blend(face, x0, y0, x0 + 1, y0 + 1, py - y0, px - x0)
+
+
+def single_texel_at_edges(face, u, v):
+    """The handout's blend, except texel (x0, y0) alone on the last column and the last row."""
+    h, w = face.shape[:2]
+    px, py = u * w, v * h
+    x0, y0 = np.minimum(np.floor(px), w - 1).astype(int), np.minimum(np.floor(py), h - 1).astype(int)
+    out = _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
+    edge = (x0 == w - 1) | (y0 == h - 1)
+    out[edge] = face[y0[edge], x0[edge]]
+    return out
+
+
+@pytest.mark.parametrize("read, ids", [
+    (rounded_lattice, ["lattice-rounded"]),
+    (fractions_exchanged, ["fractions-exchanged"]),
+    (single_texel_at_edges, ["edge-single-texel"]),
+])
+def test_a_blend_that_is_not_the_handouts_is_named_from_its_footprint(read, ids):
+    result, finding = run_check(BlendLookups(read))
+    assert result.status == FAILED and [d.id for d in result.diagnoses] == ids, result.output
+    assert finding.mistake == ids[0]
+    # Its evidence goes with it: the footprint in words, or a probe in numbers.
+    assert "Measured on every face size" in result.output or "At u = " in result.output
+
+
+def test_single_texels_at_the_edges_beside_another_mistake_inside_are_not_called_edge_single_texel():
+    """The edge rule needs every probe that differs to be a single texel on
+    the last row or column: with texel (0, 0) read alone inside texel (1, 1)
+    too (still a fixed blend), nothing is named for the edges."""
+    def also_inside(face, u, v):
+        out = single_texel_at_edges(face, u, v)
+        h, w = face.shape[:2]
+        inside = (np.floor(u * w) == 1) & (np.floor(v * h) == 1)
+        out[inside] = face[0, 0]
+        return out
+    result, _finding = run_check(BlendLookups(also_inside))
+    assert result.status == FAILED and "edge-single-texel" not in [d.id for d in result.diagnoses], result.output

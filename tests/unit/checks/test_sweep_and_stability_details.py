@@ -140,3 +140,24 @@ def test_honestly_wrong_everywhere_is_not_timed_output_wrong(tmp_path):
     speed = results["speed"]
     assert not {"timed-output-wrong", "timing-faces-wrong"} & {i for i, _ in ids(speed)}, speed.output
     assert speed.metrics["timed_agrees_with_untimed"] == 1.0
+
+
+# ---- faces' borders, as the record shows them (issue 29, patterns 5 and 10) ----
+
+@pytest.mark.parametrize("mistake, named", [("wraps-at-one", "coordinate-wraps"), ("clamped-inward", "uv-clamped-inward")])
+def test_a_mistake_only_at_faces_borders_is_named_from_the_record(mistake, named, tmp_path):
+    sweep = run(FakeLookups(fetch=mistake), tmp_path, "fetch_sweep")["fetch_sweep"]
+    said = [d for d in sweep.diagnoses if d.id == named]
+    assert sweep.status == FAILED and said, sweep.output[:500]
+    other = {"coordinate-wraps", "uv-clamped-inward"} - {named}
+    assert not other & {d.id for d in sweep.diagnoses}
+    # With the faces where it is every mistake, and one direction in numbers.
+    assert "+X, -X, +Y, -Y, +Z, -Z" in said[0].detail and "fetchColor(Vector3(" in said[0].detail
+
+
+def test_a_flipped_face_is_not_called_a_wrap_or_a_clamp(tmp_path):
+    """u flipped on +X asks 0 where the table gives 1 on that face's border
+    too, but its inside is wrong as well: no border statement for it."""
+    sweep = run(FakeLookups(fetch={"+X": "u-flipped"}), tmp_path, "fetch_sweep")["fetch_sweep"]
+    assert sweep.status == FAILED
+    assert not {"coordinate-wraps", "uv-clamped-inward"} & {d.id for d in sweep.diagnoses}

@@ -72,8 +72,14 @@ def test_an_address_inside_a_face_is_no_face_start():
     def inside(rows, tagged):
         rows[2, 5] = -1
         rows[2, 6] += 3 * (W + 1)
-    _, verdict = judged(Rows(inside))
+    rec, verdict = judged(Rows(inside))
     assert verdict.case[2] == fetch_record.NO_FACE_START and not verdict.ok[2]
+    # Its worst case prints the address and (u, v) it asked there, not a colour read at no face.
+    table, asked = fetch_record.hits(verdict, 2, (W, H))
+    assert table.face == "-Z" and asked.face == "" and asked.address == rec.offsets[2, 0]
+    assert asked.uv == tuple(rec.uv[2, 0]) and np.isfinite(asked.uv).all()
+    from grader.reports.view import hit_text
+    assert hit_text(asked).startswith(f"an address {rec.offsets[2, 0]:.0f} floats after the first face's first texel")
 
 
 def test_asking_otherwise_when_the_student_answers_is_seen():
