@@ -9,8 +9,7 @@ from ..envmap import library
 from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
-from .instruments.compare import (below_by_more_than_chance, chance_margin, describe_direction, format_vector,
-                                  tied_face_uv, tolerance, worst_cases)
+from .instruments.compare import below_by_more_than_chance, chance_margin, describe_direction, format_vector, tolerance, worst_cases
 from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import FIBONACCI_SET, RANDOM_SET, fibonacci_sphere, sweep_sets
 from .instruments import fetch_record
@@ -247,7 +246,7 @@ def border_diagnoses(parts) -> list[Diagnosis]:
         rows = np.flatnonzero(read & ~verdict.ok)
         if not len(rows):
             continue
-        t_faces, t_uv = tied_face_uv(dirs[rows])
+        t_faces, t_uv = (x[rows] for x in verdict.touching)
         k = np.argmax(t_faces == faces[rows, None], axis=1)
         on = (t_faces == faces[rows, None]).any(axis=1)
         wrong_dirs.append(dirs[rows])

@@ -205,6 +205,8 @@ class Judgement(Mismatches):
     own: np.ndarray           # (n, 3) what fetchColor returned
     own_rows: np.ndarray      # (n,) where that colour is the one credited (it read itself, or returned no answer it was given)
     texels: np.ndarray        # the faces it was recorded on
+    touching: tuple | None = None     # (faces (n, 4), uv (n, 4, 2)): the table's request on each face the
+                                      # direction touches (compare.tied_face_uv), the first as `table`
     stray: np.ndarray | None = None   # (n, 3) address (floats from face 0's first texel), u, v of the call
                                       # returned where no face starts there (NO_FACE_START); NaN elsewhere
 
@@ -304,7 +306,8 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
         stray[astray, 0] = tagged.offsets[astray, k]
         stray[astray, 1:] = tagged.uv[astray, k]
     return Judgement(ok=ok, error=error, case=case, unreadable=np.zeros(n, bool), requested=(req_faces, req_uv),
-                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels, stray=stray)
+                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels, touching=(faces, uv),
+                     stray=stray)
 
 
 # The plain recording (answered by the student's own readTexture) is made

@@ -158,6 +158,14 @@ class BlendLookups(FakeLookups):
         values = self.read(self.faces[face], uv[:, 0], uv[:, 1])
         return self._outcome(values, np.zeros(len(uv), bool), lambda i: "readTexture", "readTexture")
 
+    def _read(self, faces, uv):
+        """fetchColor's calls go through the same readTexture."""
+        values = np.full((len(uv), 3), np.nan)
+        for f in np.unique(faces[faces >= 0]):
+            rows = faces == f
+            values[rows] = self.read(self.faces[f], uv[rows, 0], uv[rows, 1])
+        return values, np.zeros(len(uv), bool)
+
 
 def rounded_lattice(face, u, v):
     """x0 = round(uW), alpha = uW - x0 (in [-0.5, 0.5)), the blend of x0 and x0 + 1; the same in y."""
