@@ -279,9 +279,13 @@ def border_diagnoses(parts) -> list[Diagnosis]:
                  "want": f"({want[i, 0]:.6g}, {want[i, 1]:.6g})", "got": f"({got[i, 0]:.6g}, {got[i, 1]:.6g})",
                  "lo": f"{lo:.6g}", "hi": f"{hi:.6g}"}
         if ident == "coordinate-wraps":
-            text = _("%(call)s asks face %(face)s at (u, v) = %(got)s, where the table gives %(want)s: a coordinate "
-                     "of exactly 1 asked as 0 (or 0 as 1), the opposite side of the same face. Every wrong direction "
-                     "on %(faces)s is one of these %(count)d, each on a face's border.") % words
+            with np.errstate(invalid="ignore"):
+                one_to_zero = ((np.abs(want[rows] - 1) <= tol) & (np.abs(got[rows]) <= tol)).any(axis=1)
+            words.update(down=int(one_to_zero.sum()), up=int((~one_to_zero).sum()))
+            text = _("%(call)s asks face %(face)s at (u, v) = %(got)s, where the table gives %(want)s: the opposite "
+                     "side of the same face. Every wrong direction on %(faces)s is one of these %(count)d, each on a "
+                     "face's border: %(down)d ask 0 where the table gives exactly 1, %(up)d ask 1 where it gives "
+                     "0.") % words
         else:
             text = _("fetchColor never asks for u or v below %(lo)s or above %(hi)s: %(call)s asks face %(face)s at "
                      "(u, v) = %(got)s, where the table gives %(want)s. Every wrong direction on %(faces)s is one of "
