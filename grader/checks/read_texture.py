@@ -315,8 +315,9 @@ PROVES = {
     "lattice-rounded": N_("readTexture takes its lattice point as p rounded, not floor(p): where the fraction of "
                           "p is 0.5 or more it reads the texel above p and the next one, with a weight above 1 and "
                           "a negative one (it extrapolates instead of blending the two texels around p)."),
-    "fractions-exchanged": N_("readTexture weighs the two columns by the fraction of vH (beta) and the two rows by "
-                              "the fraction of uW (alpha): alpha and beta, or c01 and c10, are exchanged."),
+    "fractions-exchanged": N_("readTexture weighs the texels along one axis by the other axis's fraction: beta "
+                              "(of vH) where alpha (of uW) belongs, or alpha where beta belongs (alpha and beta, or "
+                              "c01 and c10, exchanged)."),
     "constant-weights": N_("readTexture gives the texels it blends the same weight wherever p is."),
     "half-texel-offset": N_("readTexture reads half a texel away from p = (uW, vH)."),
     "texel-offset": N_("readTexture reads a whole texel away from p = (uW, vH)."),

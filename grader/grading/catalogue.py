@@ -602,12 +602,14 @@ _ENTRIES = [
     ),
     DiagnosisInfo(
         "fractions-exchanged", "filtering", ("checks.read_texture",),
-        N_("readTexture weighs the columns by beta and the rows by alpha"),
-        N_("Your blend uses the fraction of vH where the handout uses the fraction of "
-        "uW, and the other way round: the texel to the right of (x0, y0) gets the "
-        "weight the texel above should get. Code does this with c01 and c10 "
-        "exchanged in equation (1), or with alpha and beta exchanged. Where the "
-        "two fractions are equal the colour is right, which hides it on a diagonal."),
+        N_("readTexture uses beta where alpha belongs, or alpha where beta belongs"),
+        N_("Your blend weighs the texels along one axis by the other axis's fraction: "
+        "the fraction of vH where the handout uses the fraction of uW, or the other "
+        "way round (the detail above says which axis). With both exchanged, the "
+        "texel to the right of (x0, y0) gets the weight the texel above should get: "
+        "code does this with c01 and c10 exchanged in equation (1), or with alpha and "
+        "beta exchanged. Where the two fractions are equal the colour is right, "
+        "which hides it on a diagonal."),
         N_("Follow equations (1)-(3): c0 = (1-alpha) c00 + alpha c10 blends along x "
         "(c10 is the texel to the right, x0 + 1), c1 the same one row up, and beta "
         "blends c0 and c1."),

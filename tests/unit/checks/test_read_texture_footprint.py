@@ -183,6 +183,14 @@ def fractions_exchanged(face, u, v):
     return _blend(face, x0, y0, x0 + 1, y0 + 1, py - y0, px - x0)
 
 
+def alpha_for_both_axes(face, u, v):
+    """The handout's lattice points, both axes weighed by alpha (beta never computed)."""
+    h, w = face.shape[:2]
+    px, py = u * w, v * h
+    x0, y0 = np.floor(px).astype(int), np.floor(py).astype(int)
+    return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, px - x0)
+
+
 def single_texel_at_edges(face, u, v):
     """The handout's blend, except texel (x0, y0) alone on the last column and the last row."""
     h, w = face.shape[:2]
@@ -197,6 +205,7 @@ def single_texel_at_edges(face, u, v):
 @pytest.mark.parametrize("read, ids", [
     (rounded_lattice, ["lattice-rounded"]),
     (fractions_exchanged, ["fractions-exchanged"]),
+    (alpha_for_both_axes, ["fractions-exchanged"]),
     (single_texel_at_edges, ["edge-single-texel"]),
 ])
 def test_a_blend_that_is_not_the_handouts_is_named_from_its_footprint(read, ids):
@@ -205,6 +214,10 @@ def test_a_blend_that_is_not_the_handouts_is_named_from_its_footprint(read, ids)
     assert finding.mistake == ids[0]
     # Its evidence goes with it: the footprint in words, or a probe in numbers.
     assert "Measured on every face size" in result.output or "At u = " in result.output
+    if read is alpha_for_both_axes:
+        # Which axis, in the measured words: x as the handout, y by u's fraction.
+        assert ("along x it blends the two texels around uW with weights that follow it; along y it blends the two "
+                "texels around vH with weights that follow the fraction of uW") in result.output, result.output
 
 
 def test_single_texels_at_the_edges_beside_another_mistake_inside_are_not_called_edge_single_texel():
