@@ -234,18 +234,20 @@ def border_diagnoses(parts) -> list[Diagnosis]:
     on a face, every direction it gets wrong asks the table's face and (u, v)
     but for a coordinate of exactly 1 asked as 0 (or 0 as 1): coordinate-wraps;
     or asks the table's (u, v) clamped to the narrowest range it ever asks
-    within [0, 1], which is not [0, 1]: uv-clamped-inward. Each named with
-    the faces where it is every mistake, and one direction in numbers."""
+    on those faces (per coordinate and face size: a clamp to the border
+    texels' centres depends on both), which is not [0, 1]: uv-clamped-inward.
+    Each named with the faces where it is every mistake, and one direction
+    in numbers."""
     tol = fetch_record.UV_TOLERANCE
-    wrong_dirs, asked_faces, asked, table = [], [], [], []
-    seen = []
-    for _name, dirs, _size, rec, verdict in parts:
+    wrong_dirs, asked_faces, asked, table, bounds, sizes = [], [], [], [], [], []
+    for _name, dirs, size, rec, verdict in parts:
         faces, uv = verdict.requested
-        read = (verdict.case == fetch_record.READ) & (faces >= 0)
-        seen.append(uv[read])
+        read = (verdict.case == fetch_record.READ) & (faces >= 0) & np.isfinite(uv).all(axis=1)
         rows = np.flatnonzero(read & ~verdict.ok)
         if not len(rows):
             continue
+        # The range asked on these faces, per coordinate: (lo_u, lo_v, hi_u, hi_v).
+        part_bounds = np.concatenate([uv[read].min(axis=0), uv[read].max(axis=0)])
         t_faces, t_uv = (x[rows] for x in verdict.touching)
         k = np.argmax(t_faces == faces[rows, None], axis=1)
         on = (t_faces == faces[rows, None]).any(axis=1)
@@ -253,22 +255,21 @@ def border_diagnoses(parts) -> list[Diagnosis]:
         asked_faces.append(np.where(on, faces[rows], -1))
         asked.append(uv[rows])
         table.append(np.where(on[:, None], t_uv[np.arange(len(rows)), k], np.nan))
+        bounds.append(np.broadcast_to(part_bounds, (len(rows), 4)))
+        sizes.append(np.broadcast_to(np.asarray(size, np.float64), (len(rows), 2)))
     if not wrong_dirs:
         return []
-    dirs, faces, got, want = (np.concatenate(x) for x in (wrong_dirs, asked_faces, asked, table))
-    seen = np.concatenate(seen)
-    with np.errstate(invalid="ignore"):
-        lo, hi = (float(np.nanmin(seen)), float(np.nanmax(seen))) if np.isfinite(seen).any() else (0.0, 1.0)
+    dirs, faces, got, want, bounds, sizes = (np.concatenate(x) for x in (wrong_dirs, asked_faces, asked, table,
+                                                                           bounds, sizes))
+    lo, hi = bounds[:, :2], bounds[:, 2:]
     with np.errstate(invalid="ignore"):
         close = np.abs(got - want) <= tol
         wrapped = (np.abs(want - 1) <= tol) & (np.abs(got) <= tol) | (np.abs(want) <= tol) & (np.abs(got - 1) <= tol)
         wraps = (close | wrapped).all(axis=1) & wrapped.any(axis=1)
-        clamps = (np.abs(got - np.clip(want, lo, hi)) <= tol).all(axis=1) & ~close.all(axis=1)
+        inward = ((lo > tol) | (hi < 1 - tol)).any(axis=1)
+        clamps = inward & (np.abs(got - np.clip(want, lo, hi)) <= tol).all(axis=1) & ~close.all(axis=1)
     out = []
-    statements = [("coordinate-wraps", wraps)]
-    if lo > tol or hi < 1 - tol:
-        statements.append(("uv-clamped-inward", clamps))
-    for ident, explained in statements:
+    for ident, explained in (("coordinate-wraps", wraps), ("uv-clamped-inward", clamps)):
         whole = [f for f in range(6) if (faces == f).any() and explained[faces == f].all()]
         rows = np.flatnonzero(np.isin(faces, whole) & explained)
         if not len(rows):
@@ -276,8 +277,7 @@ def border_diagnoses(parts) -> list[Diagnosis]:
         i = rows[0]
         words = {"count": len(rows), "faces": ", ".join(library.FACE_NAMES[f] for f in whole),
                  "call": describe_direction(dirs[i]), "face": library.FACE_NAMES[int(faces[i])],
-                 "want": f"({want[i, 0]:.6g}, {want[i, 1]:.6g})", "got": f"({got[i, 0]:.6g}, {got[i, 1]:.6g})",
-                 "lo": f"{lo:.6g}", "hi": f"{hi:.6g}"}
+                 "want": f"({want[i, 0]:.6g}, {want[i, 1]:.6g})", "got": f"({got[i, 0]:.6g}, {got[i, 1]:.6g})"}
         if ident == "coordinate-wraps":
             with np.errstate(invalid="ignore"):
                 one_to_zero = ((np.abs(want[rows] - 1) <= tol) & (np.abs(got[rows]) <= tol)).any(axis=1)
@@ -287,10 +287,15 @@ def border_diagnoses(parts) -> list[Diagnosis]:
                      "face's border: %(down)d ask 0 where the table gives exactly 1, %(up)d ask 1 where it gives "
                      "0.") % words
         else:
-            text = _("fetchColor never asks for u or v below %(lo)s or above %(hi)s: %(call)s asks face %(face)s at "
-                     "(u, v) = %(got)s, where the table gives %(want)s. Every wrong direction on %(faces)s is one of "
-                     "these %(count)d, nearer a face's border than that, asked the table's (u, v) clamped to "
-                     "[%(lo)s, %(hi)s].") % words
+            w, h = (int(x) for x in sizes[i])
+            margin = np.concatenate([lo[i], 1 - hi[i]]) * np.array([w, h, w, h])
+            words.update(w=w, h=h, u=f"[{lo[i, 0]:.6g}, {hi[i, 0]:.6g}]", v=f"[{lo[i, 1]:.6g}, {hi[i, 1]:.6g}]",
+                         texels=", ".join(f"{x:.3g}" for x in margin))
+            text = _("On %(w)d x %(h)d faces fetchColor never asks for u outside %(u)s or v outside %(v)s (%(texels)s "
+                     "texels from the left, bottom, right and top borders): %(call)s asks face %(face)s at (u, v) = "
+                     "%(got)s, where the table gives %(want)s. Every wrong direction on %(faces)s is one of these "
+                     "%(count)d, nearer a face's border than that, asked the table's (u, v) clamped to that "
+                     "range.") % words
         out.append(Diagnosis(ident, text))
     return out
 

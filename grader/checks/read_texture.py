@@ -235,7 +235,13 @@ def _axis_modes(lattice: Lattice, which: int, measured: list[Measured],
         axis = m.student.axis(which)
         if lattice.flip == "index":
             axis = axis[:, ::-1]
-        rows = np.flatnonzero(inside & m.student.separable)
+        usable = inside & m.student.separable
+        if lattice.offset == 0.5:
+            # Where p is exactly halfway between texels, rounding has a tie:
+            # half up (floor(p + 0.5), std::round) and half to even
+            # (nearbyint, lrint) differ there and nowhere else. Either is rounding.
+            usable &= f != 0
+        rows = np.flatnonzero(usable)
         if not len(rows):
             continue
         seen += len(rows)
@@ -478,14 +484,32 @@ def handout_lattice(m: Measured) -> tuple[np.ndarray, np.ndarray]:
     return x0, y0
 
 
-def single_texel_at_edges(measured: list[Measured]) -> tuple[Measured, int, int] | None:
-    """(a size, a probe there, how many probes) where every probe whose
-    footprint differs from the handout's lies on the last column or the last
-    row (x0 = W - 1 or y0 = H - 1), where the handout still blends along the
-    other axis, and reads texel (x0, y0) alone there: an early return at the
-    border instead of clamped lattice points. None unless every differing
-    probe is such a probe (and one is)."""
-    count, example = 0, None
+# edge-single-texel's proof, by the borders where the footprint differs.
+EDGE_WORDS = {
+    "both": N_("On the last column (x0 = W - 1) and the last row (y0 = H - 1) readTexture returns texel (x0, y0) "
+               "alone; the handout blends there too: its clamped lattice points read column W - 1 twice, so it still "
+               "blends the two rows around vH by beta (and, on the last row, the two columns around uW by alpha). "
+               "Every one of the %(count)d probes that differ from the handout's is such a probe."),
+    "column": N_("On the last column (x0 = W - 1) readTexture returns texel (x0, y0) alone; the handout blends there "
+                 "too: its clamped lattice points read column W - 1 twice, so it still blends the two rows around vH "
+                 "by beta. Every one of the %(count)d probes that differ from the handout's is such a probe; on the "
+                 "last row yours blends as the handout does."),
+    "row": N_("On the last row (y0 = H - 1) readTexture returns texel (x0, y0) alone; the handout blends there too: "
+              "its clamped lattice points read row H - 1 twice, so it still blends the two columns around uW by "
+              "alpha. Every one of the %(count)d probes that differ from the handout's is such a probe; on the last "
+              "column yours blends as the handout does."),
+}
+
+
+def single_texel_at_edges(measured: list[Measured]) -> tuple[Measured, int, int, str] | None:
+    """(a size, a probe there, how many probes, the borders: "both",
+    "column" or "row") where every probe whose footprint differs from the
+    handout's lies on the last column or the last row (x0 = W - 1 or
+    y0 = H - 1), where the handout still blends along the other axis, and
+    reads texel (x0, y0) alone there: an early return at the border instead
+    of clamped lattice points. None unless every differing probe is such a
+    probe (and one is)."""
+    count, example, column, row = 0, None, False, False
     for m in measured:
         w, h = m.student.size
         differs = ~m.student.equals(m.handout)
@@ -502,9 +526,13 @@ def single_texel_at_edges(measured: list[Measured]) -> tuple[Measured, int, int]
         if not (alone[differs]).all():
             return None
         count += int(differs.sum())
+        column |= bool((differs & (x0 == w - 1)).any())
+        row |= bool((differs & (y0 == h - 1)).any())
         if example is None:
             example = (m, int(np.flatnonzero(differs)[0]))
-    return None if example is None else (*example, count)
+    if example is None:
+        return None
+    return (*example, count, "both" if column and row else "column" if column else "row")
 
 
 def edge_ids(measured: list[Measured], failures: list) -> list[Diagnosis]:
@@ -638,13 +666,9 @@ def describe(measured: list[Measured], failures: list) -> tuple[list[Diagnosis],
         found += [d for d in edge_ids(measured, failures) if d.id not in {f.id for f in found}]
         alone = single_texel_at_edges(naming) if not found else None
         if alone is not None:
-            m, i, count = alone
-            found.append(Diagnosis("edge-single-texel", _(
-                "On the last column (x0 = W - 1) and the last row (y0 = H - 1) readTexture returns texel (x0, y0) "
-                "alone; the handout blends there too: its clamped lattice points read column W - 1 twice, so it "
-                "still blends the two rows around vH by beta (and, on the last row, the two columns around uW by "
-                "alpha). Every one of the %(count)d probes that differ from the handout's is such a probe.")
-                % {"count": count} + " " + worked_case(m, i)))
+            m, i, count, sides = alone
+            found.append(Diagnosis("edge-single-texel", _(EDGE_WORDS[sides]) % {"count": count} + " "
+                                   + worked_case(m, i)))
     wrong = _first_wrong(measured)
     if wrong is not None:
         lines.append(worked_case(*wrong))

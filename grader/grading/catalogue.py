@@ -627,12 +627,13 @@ _ENTRIES = [
     ),
     DiagnosisInfo(
         "edge-single-texel", "filtering", ("checks.read_texture",),
-        N_("readTexture stops blending on the face's last row and column"),
-        N_("On the last column (x0 = W - 1) or the last row (y0 = H - 1) your "
-        "readTexture returns the single texel (x0, y0). The handout clamps its "
-        "lattice points there instead: x1 = x0 = W - 1, so the blend across x "
-        "mixes one texel with itself, but the blend across y still mixes two rows "
-        "by beta. Yours turns a smooth gradient into steps along two sides of "
+        N_("readTexture stops blending on the face's last row or column"),
+        N_("On the last column (x0 = W - 1), the last row (y0 = H - 1) or both (the "
+        "detail above says which) your readTexture returns the single texel (x0, y0). "
+        "The handout clamps its lattice points there instead: on the last column "
+        "x1 = x0 = W - 1, so the blend across x mixes one texel with itself, but the "
+        "blend across y still mixes two rows by beta (and the same on the last row "
+        "with alpha). Yours turns a smooth gradient into steps along that border of "
         "every face."),
         N_("Do not return early at the border: clamp x1 = min(x0 + 1, W - 1) and "
         "y1 = min(y0 + 1, H - 1), and blend the four (clamped) texels as everywhere "

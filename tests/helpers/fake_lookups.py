@@ -17,6 +17,7 @@ fake's own readTexture.
     FakeLookups(fetch="inset", texture="scrambled")             # nothing models readTexture
     FakeLookups(fetch="wraps-at-one")                           # u - floor(u) on every face
     FakeLookups(fetch="clamped-inward")                         # (u, v) clamped to [0.001, 0.999]
+    FakeLookups(fetch="clamped-to-texel-centres")               # ... to [0.5/W, 1 - 0.5/W] x [0.5/H, 1 - 0.5/H]
 """
 from __future__ import annotations
 
@@ -125,6 +126,10 @@ class FakeLookups:
             uv = uv - np.floor(uv)
         elif mistakes == "clamped-inward":
             uv = np.clip(uv, 0.001, 0.999)
+        elif mistakes == "clamped-to-texel-centres":
+            # Half a texel in from every border: a range that depends on the face size and the axis.
+            size = np.array(self.faces.shape[2:0:-1], np.float64)
+            uv = np.clip(uv, 0.5 / size, 1 - 0.5 / size)
         elif mistakes == "half-texel-u":
             # Half a texel off in u on every face.
             uv[:, 0] = uv[:, 0] + 0.5 / self.faces.shape[2]

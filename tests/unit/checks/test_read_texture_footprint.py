@@ -183,6 +183,25 @@ def fractions_exchanged(face, u, v):
     return _blend(face, x0, y0, x0 + 1, y0 + 1, py - y0, px - x0)
 
 
+def rounded_half_to_even(face, u, v):
+    """As rounded_lattice, with nearbyint's ties: p exactly halfway goes to the even lattice point."""
+    h, w = face.shape[:2]
+    px, py = u * w, v * h
+    x0, y0 = np.rint(px).astype(int), np.rint(py).astype(int)
+    return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
+
+
+def single_texel_on_the_last_column(face, u, v):
+    """The handout's blend, except texel (x0, y0) alone where x0 + 1 >= W (the last row blends)."""
+    h, w = face.shape[:2]
+    px, py = u * w, v * h
+    x0, y0 = np.minimum(np.floor(px), w - 1).astype(int), np.minimum(np.floor(py), h - 1).astype(int)
+    out = _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
+    edge = x0 + 1 >= w
+    out[edge] = face[y0[edge], x0[edge]]
+    return out
+
+
 def alpha_for_both_axes(face, u, v):
     """The handout's lattice points, both axes weighed by alpha (beta never computed)."""
     h, w = face.shape[:2]
@@ -204,6 +223,8 @@ def single_texel_at_edges(face, u, v):
 
 @pytest.mark.parametrize("read, ids", [
     (rounded_lattice, ["lattice-rounded"]),
+    (rounded_half_to_even, ["lattice-rounded"]),
+    (single_texel_on_the_last_column, ["edge-single-texel"]),
     (fractions_exchanged, ["fractions-exchanged"]),
     (alpha_for_both_axes, ["fractions-exchanged"]),
     (single_texel_at_edges, ["edge-single-texel"]),
@@ -214,6 +235,10 @@ def test_a_blend_that_is_not_the_handouts_is_named_from_its_footprint(read, ids)
     assert finding.mistake == ids[0]
     # Its evidence goes with it: the footprint in words, or a probe in numbers.
     assert "Measured on every face size" in result.output or "At u = " in result.output
+    if read is single_texel_on_the_last_column:
+        # Said of the border where it happens only (the blind2 zoo's last-column file).
+        assert "On the last column (x0 = W - 1) readTexture returns" in result.output
+        assert "last row (y0" not in result.output.split("What the measurements prove:")[1], result.output
     if read is alpha_for_both_axes:
         # Which axis, in the measured words: x as the handout, y by u's fraction.
         assert ("along x it blends the two texels around uW with weights that follow it; along y it blends the two "

@@ -144,7 +144,8 @@ def test_honestly_wrong_everywhere_is_not_timed_output_wrong(tmp_path):
 
 # ---- faces' borders, as the record shows them (issue 29, patterns 5 and 10) ----
 
-@pytest.mark.parametrize("mistake, named", [("wraps-at-one", "coordinate-wraps"), ("clamped-inward", "uv-clamped-inward")])
+@pytest.mark.parametrize("mistake, named", [("wraps-at-one", "coordinate-wraps"), ("clamped-inward", "uv-clamped-inward"),
+                                            ("clamped-to-texel-centres", "uv-clamped-inward")])
 def test_a_mistake_only_at_faces_borders_is_named_from_the_record(mistake, named, tmp_path):
     sweep = run(FakeLookups(fetch=mistake), tmp_path, "fetch_sweep")["fetch_sweep"]
     said = [d for d in sweep.diagnoses if d.id == named]
@@ -162,3 +163,11 @@ def test_a_flipped_face_is_not_called_a_wrap_or_a_clamp(tmp_path):
     sweep = run(FakeLookups(fetch={"+X": "u-flipped"}), tmp_path, "fetch_sweep")["fetch_sweep"]
     assert sweep.status == FAILED
     assert not {"coordinate-wraps", "uv-clamped-inward"} & {d.id for d in sweep.diagnoses}
+
+
+def test_a_clamp_to_the_border_texels_centres_is_said_with_its_range_on_each_face_size(tmp_path):
+    """Half a texel is 1/64 on the sweep's 32 x 32 faces and 1/48, 1/32 on the
+    second size's 24 x 16: the range is read per face size and coordinate."""
+    sweep = run(FakeLookups(fetch="clamped-to-texel-centres"), tmp_path, "fetch_sweep")["fetch_sweep"]
+    said = [d for d in sweep.diagnoses if d.id == "uv-clamped-inward"][0]
+    assert "(0.5, 0.5, 0.5, 0.5 texels from the left, bottom, right and top borders)" in said.detail, said.detail
