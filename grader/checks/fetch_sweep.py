@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..envmap import library
-from ..i18n import N_, _
+from ..i18n import N_, _, and_list
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Credit, check, shown
 from .instruments.compare import below_by_more_than_chance, chance_margin, describe_direction, format_vector, tolerance, worst_cases
@@ -239,15 +239,33 @@ def border_diagnoses(parts) -> list[Diagnosis]:
     Each named with the faces where it is every mistake, and one direction
     in numbers."""
     tol = fetch_record.UV_TOLERANCE
+    # Per face size, over every set asked on it: the range asked per coordinate
+    # (lo_u, lo_v, hi_u, hi_v), and which of those bounds a direction was moved
+    # to (asked above the table's coordinate there, or below): the clamp's own
+    # values, as the record shows them.
+    ranges: dict[tuple, np.ndarray] = {}
+    for _name, _dirs, size, _rec, verdict in parts:
+        faces, uv = verdict.requested
+        read = (verdict.case == fetch_record.READ) & (faces >= 0) & np.isfinite(uv).all(axis=1)
+        if not read.any():
+            continue
+        same = (read & (faces == verdict.table[0]))[:, None]
+        with np.errstate(invalid="ignore"):
+            moved = np.concatenate([(same & (uv > verdict.table[1] + tol)).any(axis=0),
+                                    (same & (uv < verdict.table[1] - tol)).any(axis=0)])
+        here = np.concatenate([uv[read].min(axis=0), uv[read].max(axis=0), moved])
+        if tuple(size) in ranges:
+            old = ranges[tuple(size)]
+            here = np.concatenate([np.minimum(old[:2], here[:2]), np.maximum(old[2:4], here[2:4]),
+                                   np.maximum(old[4:], here[4:])])
+        ranges[tuple(size)] = here
     wrong_dirs, asked_faces, asked, table, bounds, sizes = [], [], [], [], [], []
-    for _name, dirs, size, rec, verdict in parts:
+    for _name, dirs, size, _rec, verdict in parts:
         faces, uv = verdict.requested
         read = (verdict.case == fetch_record.READ) & (faces >= 0) & np.isfinite(uv).all(axis=1)
         rows = np.flatnonzero(read & ~verdict.ok)
         if not len(rows):
             continue
-        # The range asked on these faces, per coordinate: (lo_u, lo_v, hi_u, hi_v).
-        part_bounds = np.concatenate([uv[read].min(axis=0), uv[read].max(axis=0)])
         t_faces, t_uv = (x[rows] for x in verdict.touching)
         k = np.argmax(t_faces == faces[rows, None], axis=1)
         on = (t_faces == faces[rows, None]).any(axis=1)
@@ -255,13 +273,13 @@ def border_diagnoses(parts) -> list[Diagnosis]:
         asked_faces.append(np.where(on, faces[rows], -1))
         asked.append(uv[rows])
         table.append(np.where(on[:, None], t_uv[np.arange(len(rows)), k], np.nan))
-        bounds.append(np.broadcast_to(part_bounds, (len(rows), 4)))
+        bounds.append(np.broadcast_to(ranges[tuple(size)], (len(rows), 8)))
         sizes.append(np.broadcast_to(np.asarray(size, np.float64), (len(rows), 2)))
     if not wrong_dirs:
         return []
     dirs, faces, got, want, bounds, sizes = (np.concatenate(x) for x in (wrong_dirs, asked_faces, asked, table,
                                                                            bounds, sizes))
-    lo, hi = bounds[:, :2], bounds[:, 2:]
+    lo, hi, moved = bounds[:, :2], bounds[:, 2:4], bounds[:, 4:].astype(bool)
     with np.errstate(invalid="ignore"):
         close = np.abs(got - want) <= tol
         wrapped = (np.abs(want - 1) <= tol) & (np.abs(got) <= tol) | (np.abs(want) <= tol) & (np.abs(got - 1) <= tol)
@@ -288,14 +306,17 @@ def border_diagnoses(parts) -> list[Diagnosis]:
                      "0.") % words
         else:
             w, h = (int(x) for x in sizes[i])
-            margin = np.concatenate([lo[i], 1 - hi[i]]) * np.array([w, h, w, h])
-            words.update(w=w, h=h, u=f"[{lo[i, 0]:.6g}, {hi[i, 0]:.6g}]", v=f"[{lo[i, 1]:.6g}, {hi[i, 1]:.6g}]",
-                         texels=", ".join(f"{x:.3g}" for x in margin))
-            text = _("On %(w)d x %(h)d faces fetchColor never asks for u outside %(u)s or v outside %(v)s (%(texels)s "
-                     "texels from the left, bottom, right and top borders): %(call)s asks face %(face)s at (u, v) = "
-                     "%(got)s, where the table gives %(want)s. Every wrong direction on %(faces)s is one of these "
-                     "%(count)d, nearer a face's border than that, asked the table's (u, v) clamped to that "
-                     "range.") % words
+            sides = []
+            for k, (c, n, bound, word) in enumerate((("u", w, lo[i, 0], N_("at least")), ("v", h, lo[i, 1], N_("at least")),
+                                                     ("u", w, hi[i, 0], N_("at most")), ("v", h, hi[i, 1], N_("at most")))):
+                if moved[i, k]:
+                    texels = (bound if k < 2 else 1 - bound) * n
+                    sides.append(_("%(c)s %(word)s %(bound)s (%(texels)s texels from the border)") % {
+                        "c": c, "word": _(word), "bound": f"{bound:.6g}", "texels": f"{texels:.3g}"})
+            words.update(w=w, h=h, sides=and_list(sides))
+            text = _("On %(w)d x %(h)d faces fetchColor asks for the table's (u, v) clamped: %(sides)s. %(call)s asks "
+                     "face %(face)s at (u, v) = %(got)s, where the table gives %(want)s. Every wrong direction on "
+                     "%(faces)s is one of these %(count)d, nearer a face's border than that.") % words
         out.append(Diagnosis(ident, text))
     return out
 

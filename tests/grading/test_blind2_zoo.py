@@ -66,7 +66,7 @@ TRUTH = {
         says=("on +X, -X, +Y, -Y is one of these",)),
     "uv-clamp-1e-4_std-clamp_axis-struct": only(
         "uv-clamped-inward", loses=("fetch_sweep",), keeps=("read_texture", "arrows", "speed"),
-        says=("clamped to [0.0001, 0.9999]",)),
+        says=("u at least 0.0001", "v at least 0.0001", "at most 0.9999")),
     "wrap-u-if-ge-one_v-flipped-pos-z": dict(
         needs=[{("v-flipped", "+Z")}, {"coordinate-wraps"}],
         never=(MAPPING - {"v-flipped", "coordinate-wraps"}) | FILTERING
@@ -88,23 +88,12 @@ WORDS_NEVER = {
     "edge-last-column-only_x0-plus-one-ge-w": ("and the last row (y0 = H - 1) readTexture returns texel (x0, y0) alone",
                                                "(and, on the last row, the two columns around uW by alpha)"),
 }
-SEEN_WRONG = {
-    "lattice-nearbyint_z-faces-exchanged":
-        "2026-12-07: wrong-face +Z/-Z only; readTexture (std::nearbyint, round half to even) gets no id, 'No "
-        "single mistake explains every measurement': _axis_modes' 'rounded' mode is floor(p + 0.5) at every "
-        "probe, and at p = k + 0.5 with k even nearbyint is floor(p) (the handout's blend, weights 0.5/0.5)",
-    "uv-clamp-texel-centres_half-over-w":
-        "2026-12-07: discontinuous-seam and render-mismatch, no uv-clamped-inward: border_diagnoses pools one "
-        "[lo, hi] over every part and both coordinates, and a clamp to half a texel (0.5/W, 0.5/H) is [1/64, 63/64] "
-        "on 32 x 32 faces but [1/48, 47/48] x [1/32, 31/32] on the 24 x 16 set, so no face has every mistake "
-        "explained (a fixed eps of 1/64 is named)",
-}
-WORDS_SEEN = {
-    "edge-last-column-only_x0-plus-one-ge-w":
-        "2026-12-07: edge-single-texel's detail is one fixed sentence for the last row AND column, said of code "
-        "that stops blending on the last column only (the catalogue's title and text, 'last row and column', "
-        "'steps along two sides of every face', likewise)",
-}
+# Seen wrong at 602d60f (each fixed at 4d80bd3, kept in tests/submissions/blind2/README.md):
+# lattice-nearbyint_z-faces-exchanged (no lattice-rounded: nearbyint's ties), uv-clamp-texel-centres_half-over-w
+# (no uv-clamped-inward: one [lo, hi] pooled over face sizes and coordinates).
+SEEN_WRONG: dict[str, str] = {}
+# edge-last-column-only_x0-plus-one-ge-w was told "the last row and column" at 602d60f (fixed at 4d80bd3).
+WORDS_SEEN: dict[str, str] = {}
 
 
 def _said(result) -> set:
