@@ -387,8 +387,14 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
 
 # ---- readTexture as fetchColor calls it ------------------------------------
 
-IN_CONTEXT_SIZE = (16, 16)
-IN_CONTEXT_DIRECTIONS = 3_000
+# Face sizes (W, H) readTexture is observed on as fetchColor calls it: a small
+# one, and each face size of the maps the renders and arrows use (Cubemap/:
+# 128 and 256; tests/unit/checks/instruments/test_fetch_record.py holds the
+# maps to this list), so that a readTexture that answers fetchColor
+# otherwise on large faces only cannot pass the check on small ones and the
+# renders on large ones (redteam4/honest_on_small_faces).
+IN_CONTEXT_SIZES = ((16, 16), (128, 128), (256, 256))
+IN_CONTEXT_DIRECTIONS = 1_000      # per size
 IN_CONTEXT_MARGIN = 2.0     # texels from the border (in_context)
 # The share the check keeps is measured on public directions and texels (this
 # seed, the same in every grading and in the kit), and held to a draw from
@@ -398,45 +404,74 @@ IN_CONTEXT_MARGIN = 2.0     # texels from the border (in_context)
 IN_CONTEXT_SEED = 0x1C0DE
 
 
-def in_context(lookups, seed: int) -> tuple[int, int, tuple | None]:
-    """(differ, observed, first difference as (face, u, v, answer to
-    fetchColor, direct answer) or None): readTexture's answers to
-    fetchColor's own calls (recorded, answered by the student's readTexture,
-    on random texels) against the same readTexture called directly at the
-    same face and (u, v), bit for bit. Honest code computes the same thing
+@dataclass(frozen=True)
+class InContext:
+    """readTexture as fetchColor calls it, on one set of faces and directions."""
+    differ: int             # observed calls answered otherwise than the same call made directly
+    observed: int           # calls whose answer fetchColor returned unchanged, inside the face
+    called: int             # directions whose first readTexture call was inside a face
+    example: tuple | None   # (face, u, v, answer to fetchColor, direct answer) of the first that differed
+    hidden: int = 0         # calls counted as differing because their answer was not returned (hiding)
+
+    def hiding(self, public: "InContext") -> "InContext":
+        """This draw with the calls whose answers fetchColor did not return
+        counted as answered otherwise, where it returned them unchanged less
+        often than on the public faces by more than chance: a fetchColor
+        that returns no answer it was given on faces it was never shown
+        hides its readTexture there (redteam4/hides_from_the_drawn_in_context)."""
+        from .compare import below_by_more_than_chance
+        rate = lambda c: c.observed / c.called if c.called else 1.0      # noqa: E731
+        if not (self.called and public.called and below_by_more_than_chance(rate(self), self.called, rate(public))):
+            return self
+        hidden = self.called - self.observed
+        return InContext(self.differ + hidden, self.called, self.called, self.example, hidden)
+
+
+def in_context(lookups, seed: int) -> InContext:
+    """readTexture's answers to fetchColor's own calls (recorded, answered
+    by the student's readTexture, on random texels) against the same
+    readTexture called directly at the same face and (u, v), bit for bit,
+    on each of IN_CONTEXT_SIZES. Honest code computes the same thing
     whoever calls it; one that knows its caller (a flag fetchColor sets, the
     address) shows here. Only calls whose answer fetchColor returned
     unchanged, IN_CONTEXT_MARGIN texels or more inside the face, are
     observed. Sets its own faces."""
     from .directions import random_directions
     from .textures import random_faces
-    w, h = IN_CONTEXT_SIZE
-    lookups.set_faces(random_faces(w, h, seed))
-    plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed), tagged=False)
-    faces, uv = plain.request()
-    # Two texels or more inside the face: honest code reads the same texels
-    # there whether the face sits in the six-face buffer (fetchColor's calls)
-    # or alone in a window of its own (direct calls); at the border a read
-    # past the face finds a neighbour in one and the window's edge in the other.
-    with np.errstate(invalid="ignore"):
-        p = uv * np.array([w, h], np.float64)
-        inside = ((p >= IN_CONTEXT_MARGIN) & (p <= np.array([w, h]) - IN_CONTEXT_MARGIN)).all(axis=1)
-    seen = np.flatnonzero((faces >= 0) & inside)
-    differ, example = 0, None
-    for face in range(6):
-        rows = seen[faces[seen] == face]
-        if not len(rows):
-            continue
-        direct = lookups.read_texture(face, uv[rows])
-        values = np.asarray(direct.values, np.float64)
-        with np.errstate(invalid="ignore"):
-            same = ((values == plain.values[rows]) | (np.isnan(values) & np.isnan(plain.values[rows]))).all(axis=1)
-        same &= np.asarray(direct.evaluated, bool)
-        differ += int((~same).sum())
-        if example is None and (~same).any():
-            j = np.flatnonzero(~same)[0]
-            example = (face, float(uv[rows[j], 0]), float(uv[rows[j], 1]), plain.values[rows[j]], values[j])
-    return differ, len(seen), example
+    differ = observed = called = 0
+    example = None
+    for k, (w, h) in enumerate(IN_CONTEXT_SIZES):
+        lookups.set_faces(random_faces(w, h, seed + k))
+        plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed + k), tagged=False)
+        faces, uv = plain.request()
+        # Two texels or more inside the face: honest code reads the same texels
+        # there whether the face sits in the six-face buffer (fetchColor's calls)
+        # or alone in a window of its own (direct calls); at the border a read
+        # past the face finds a neighbour in one and the window's edge in the other.
+        size = np.array([w, h], np.float64)
+
+        def inside(at):
+            with np.errstate(invalid="ignore"):
+                p = at * size
+                return ((p >= IN_CONTEXT_MARGIN) & (p <= size - IN_CONTEXT_MARGIN)).all(axis=1)
+
+        seen = np.flatnonzero((faces >= 0) & inside(uv))
+        called += int(((plain.calls >= 1) & (plain.faces[:, 0] >= 0) & inside(plain.uv[:, 0])).sum())
+        observed += len(seen)
+        for face in range(6):
+            rows = seen[faces[seen] == face]
+            if not len(rows):
+                continue
+            direct = lookups.read_texture(face, uv[rows])
+            values = np.asarray(direct.values, np.float64)
+            with np.errstate(invalid="ignore"):
+                same = ((values == plain.values[rows]) | (np.isnan(values) & np.isnan(plain.values[rows]))).all(axis=1)
+            same &= np.asarray(direct.evaluated, bool)
+            differ += int((~same).sum())
+            if example is None and (~same).any():
+                j = np.flatnonzero(~same)[0]
+                example = (face, float(uv[rows[j], 0]), float(uv[rows[j], 1]), plain.values[rows[j]], values[j])
+    return InContext(differ, observed, called, example)
 
 
 def judged_in_context(read_texture_check):
@@ -457,19 +492,31 @@ def judged_in_context(read_texture_check):
     @functools.wraps(read_texture_check)
     def run(ctx, result, *findings):
         finding = read_texture_check(ctx, result, *findings)
-        fixed, drawn = in_context(ctx.lookups, IN_CONTEXT_SEED), in_context(ctx.lookups, ctx.seed)
-        shares = [1.0 - d / n if n else 1.0 for d, n, _ in (fixed, drawn)]
-        differ, observed, example = drawn if below_by_more_than_chance(shares[1], drawn[1], shares[0]) else fixed
-        if not differ:
+        fixed = in_context(ctx.lookups, IN_CONTEXT_SEED)
+        drawn = in_context(ctx.lookups, ctx.seed).hiding(fixed)
+        share_of = lambda c: 1.0 - c.differ / c.observed if c.observed else 1.0      # noqa: E731
+        used = drawn if below_by_more_than_chance(share_of(drawn), drawn.observed, share_of(fixed)) else fixed
+        if not used.differ:
             return finding
-        share = shown(1.0 - differ / observed)     # as printed, as used
-        face, u, v, called, direct = example
-        result.diagnoses = list(result.diagnoses) + [Diagnosis("texture-context-dependent", _(
-            "Of %(observed)d readTexture calls your fetchColor made, %(differ)d were answered otherwise than the same "
-            "call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: %(called)s to fetchColor, %(direct)s "
-            "directly. The score is at most the share answered alike (%(share)s).") % {
-            "observed": observed, "differ": differ, "face": library.FACE_NAMES[face], "u": u, "v": v,
-            "called": format_vector(called), "direct": format_vector(direct), "share": f"{share:.2%}"})]
+        share = shown(share_of(used))     # as printed, as used
+        words = {"observed": used.observed, "differ": used.differ, "share": f"{share:.2%}"}
+        if used.example is not None and not used.hidden:
+            face, u, v, called, direct = used.example
+            detail = _(
+                "Of %(observed)d readTexture calls your fetchColor made, %(differ)d were answered otherwise than the "
+                "same call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: %(called)s to fetchColor, "
+                "%(direct)s directly. The score is at most the share answered alike (%(share)s).") % {
+                **words, "face": library.FACE_NAMES[face], "u": u, "v": v, "called": format_vector(called),
+                "direct": format_vector(direct)}
+        else:
+            detail = _(
+                "On faces drawn for this grading your fetchColor returned readTexture's answer unchanged less often "
+                "than on the public faces (%(drawn)d of %(called)d calls, against %(public)d of %(public_called)d): "
+                "the %(differ)d answers it did not return count as answered otherwise, since what readTexture gave "
+                "fetchColor there cannot be seen. The score is at most the share answered alike (%(share)s).") % {
+                **words, "drawn": used.called - used.hidden, "called": used.called, "public": fixed.observed,
+                "public_called": fixed.called}
+        result.diagnoses = list(result.diagnoses) + [Diagnosis("texture-context-dependent", detail)]
         result.status = FAILED
         result.fraction = min(result.fraction, share)
         return dataclasses.replace(finding, ok=False, fraction=min(finding.fraction, share))

@@ -211,3 +211,29 @@ def test_the_sample_is_the_same_for_the_same_directions():
     a, b = Counting(np.array([0])), Counting(np.array([0]))
     observe_many(a), observe_many(b)
     assert a.plain == b.plain
+
+
+# ---- readTexture as fetchColor calls it (redteam4) ----------------------------------
+
+def test_readtexture_is_observed_in_context_on_every_face_size_the_renders_use():
+    """A readTexture that answers fetchColor otherwise only on large faces
+    (redteam4/honest_on_small_faces) shows on the maps' own sizes."""
+    from grader.grading import fixtures
+    sizes = set()
+    for fixture in fixtures.render_fixtures():
+        cross = library.read_hdr(fixture.map)
+        sizes.add((cross.shape[1] // 3, cross.shape[0] // 4))
+    assert sizes <= set(fetch_record.IN_CONTEXT_SIZES), sizes
+    assert min(fetch_record.IN_CONTEXT_SIZES) < min(sizes)
+
+
+def test_a_draw_whose_answers_are_not_returned_where_the_public_ones_are_counts_them_as_differing():
+    public = fetch_record.InContext(differ=0, observed=2900, called=2900, example=None)
+    hiding = fetch_record.InContext(differ=0, observed=0, called=2850, example=None).hiding(public)
+    assert (hiding.differ, hiding.observed, hiding.hidden) == (2850, 2850, 2850)
+    # Honest code returns every answer in both: nothing changes.
+    honest = fetch_record.InContext(differ=0, observed=2870, called=2870, example=None)
+    assert honest.hiding(public) == honest
+    # A fetchColor that returns no answer anywhere (its own mistake, judged by the sweep) hides nothing here.
+    nowhere = fetch_record.InContext(differ=0, observed=0, called=2800, example=None)
+    assert nowhere.hiding(fetch_record.InContext(0, 0, 2900, None)) == nowhere
