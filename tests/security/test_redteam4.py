@@ -1,0 +1,167 @@
+"""Attacks on three changes of 2026-12-07 (tests/submissions/redteam4/, each
+file's first line says what it does and the verdict a secure grader gives;
+each attack has a control, the same code without its trick):
+
+1. The renders share one worker (grader/checks/renders.py: a first lookup
+   on faces larger than the largest map, then the seven maps in turn,
+   same_process) and identical images score SSIM 1 / FLIP 0 unmeasured.
+   - wrong_until_the_faces_change: v flipped on +Z until the process has
+     looked up on faces of a second size. A program that loads one map
+     always shows the flip; every end-to-end check (arrows, stability,
+     renders) starts with faces of another size
+     (checks.context.set_faces_after_another_size), so it is right there.
+     WORKS (88.17 -> 94.83, both modes); not new with the shared worker: the
+     renders had the same prelude, one per render, before it.
+   - right_on_the_public_maps: v flipped on +Z except on faces 128 wide or
+     more (every map in Cubemap/): the seven renders are bit for bit the
+     reference's (the shortcut scores them) and the arrows point right.
+     WORKS (88.17 -> 94.07); the shortcut adds nothing (a render within the
+     thresholds passes as well): the renders and the arrows are end to end
+     on public maps (docs/security.md, "Behaving differently when graded").
+   - remembers_the_first_map: a cache of answers keyed by the direction
+     alone. The shared worker now shows it: the renders after the first on
+     envmap_test.cfg get grid_room's colours (3 of 7 fail; 1 of 7 when each
+     render had its own worker). Held.
+2. The speed check settles after 3 rounds (SETTLED_ROUNDS, SETTLED_FACTOR).
+   - fast_for_the_first_round, fast_for_three_rounds: a correct 20x lookup
+     without its busy loop for the first 50,000 (330,000) calls of a
+     process; the speed worker is fresh, and a side's figure is its fastest
+     pass, so one honest fast pass is full points. WORK (95 -> 100); not
+     the early stop: with no early stop (15 rounds) both still score 5 / 5.
+3. readTexture in context is measured on public faces (IN_CONTEXT_SEED)
+   and held to the grading's draw (compare.below_by_more_than_chance).
+   - honest_on_the_public_in_context_faces: honest to fetchColor on the
+     public faces only. Held: the draw finds every call answered otherwise.
+   - hides_from_the_drawn_in_context: the same, and on the draw's faces
+     (16 x 16 random texels that are not the public ones) fetchColor returns
+     readTexture's answer 2^-40 off: in_context observes only answers
+     returned unchanged, so the draw observes nothing, its share is 1, and
+     the public share (all alike) is kept. WORKS (65.07 -> 90.07).
+   - honest_on_small_faces: honest to fetchColor on faces 16 wide or less;
+     both in-context sets are 16 x 16 (IN_CONTEXT_SIZE), the renders' maps
+     128 or 256. WORKS (65.07 -> 90.07); not new with the public seed.
+
+Each working attack is a strict xfail saying what should happen. Both
+isolation modes (tests/helpers/isolation.py)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from grader.checks.renders import SSIM_MIN
+from grader.grading.grade import GradeOptions
+from grader.grading.results import FAILED, GRADED
+from grading_cache import grade_once
+from isolation import ISOLATION, isolation_mode
+from red_team import REDTEAM4, by_name, graded
+CONTROLS = ("v_flipped_pos_z_control", "correct_control", "slow_control", "nearest_control")
+ATTACKS = ("wrong_until_the_faces_change", "right_on_the_public_maps", "remembers_the_first_map",
+           "fast_for_the_first_round", "fast_for_three_rounds", "honest_on_the_public_in_context_faces",
+           "hides_from_the_drawn_in_context", "honest_on_small_faces")
+RED_TEAM = {"redteam4": set(CONTROLS + ATTACKS)}
+
+# Both production modes (tests/helpers/isolation.py), under the name these tests use.
+mode = isolation_mode
+
+pytestmark = [pytest.mark.slow, pytest.mark.sandbox]
+
+
+def whole(name: str, out: Path, mode: str, only: tuple[str, ...] = ()):
+    """A grading with the full direction sets and all seven renders (quick
+    runs one render: state kept across the renders' maps needs them all)."""
+    result = grade_once(REDTEAM4 / f"{name}.cpp", out, GradeOptions(allow_stale=True, only=only), write_reports=False)
+    assert result.status == GRADED, result.status
+    assert result.isolation == ISOLATION[mode]
+    return result
+
+
+def quick(name: str, out: Path, mode: str, only: tuple[str, ...] = ()):
+    return graded(REDTEAM4 / f"{name}.cpp", out, mode, only=only)
+
+
+# ---- 1. the renders' shared worker -----------------------------------------------
+
+@pytest.mark.xfail(strict=True, reason=(
+    "the arrows, stability and renders checks look up only after faces of another size were set "
+    "(checks.context.set_faces_after_another_size), so a lookup wrong until the face size changes, "
+    "as in every program that loads one map, is judged right there: 94.83 against the control's 88.17 graded whole. "
+    "It should score no more than the control (e.g. one end-to-end lookup in a fresh worker held to "
+    "the same lookup after the prelude)"))
+def test_wrong_until_the_faces_change_buys_nothing(tmp_path, mode):
+    a = quick("wrong_until_the_faces_change", tmp_path / "attack", mode)
+    c = quick("v_flipped_pos_z_control", tmp_path / "control", mode)
+    assert by_name(c)["fetch_sweep"].status == FAILED
+    for name in ("arrows", "stability", "renders"):
+        assert by_name(a)[name].score <= by_name(c)[name].score + 1e-9, (name, by_name(a)[name].score,
+                                                                         by_name(c)[name].score)
+    assert a.score <= c.score
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "the renders and the arrows are judged end to end on the public maps of Cubemap/ (128 and 256 "
+    "wide): a lookup right only on faces that wide renders them bit for bit (94.07 against 88.17 graded whole). "
+    "It should score no more than the control (e.g. a render or the arrows on a map resized to a "
+    "size drawn from the course secret)"))
+def test_right_only_on_the_public_maps_buys_nothing(tmp_path, mode):
+    a = quick("right_on_the_public_maps", tmp_path / "attack", mode)
+    c = quick("v_flipped_pos_z_control", tmp_path / "control", mode)
+    assert by_name(a)["fetch_sweep"].status == FAILED
+    assert a.score <= c.score
+
+
+def test_answers_kept_across_maps_cost_the_renders_after_the_first(tmp_path, mode):
+    """A cache keyed by the direction alone: the first map's colours for
+    the maps after it on the same scene. Charged in the renders (3 of 7)
+    and nowhere else: every recorded check re-records remembered answers in
+    a fresh worker."""
+    a = by_name(whole("remembers_the_first_map", tmp_path / "attack", mode))
+    c = by_name(whole("correct_control", tmp_path / "control", mode))
+    assert a["renders"].score < c["renders"].score == c["renders"].max_score
+    assert a["renders"].metrics["ssim_envmap_test--grid_room_cross"] == 1.0
+    for later in ("interior_cross", "sky_cross", "test_environment_map"):
+        assert a["renders"].metrics[f"ssim_envmap_test--{later}"] < SSIM_MIN, later
+    for name in ("read_texture", "fetch_sweep", "arrows", "stability"):
+        assert a[name].score == c[name].score == c[name].max_score, name
+
+
+# ---- 2. the speed check's early stop ----------------------------------------------
+
+@pytest.mark.xfail(strict=True, reason=(
+    "each side's figure is its fastest pass and the speed check's worker is a fresh process: a 20x "
+    "lookup honest and fast for its first 50,000 (or 330,000) calls gets 5 / 5 (100 against the "
+    "control's 95), with or without the early stop (15 rounds: the same). It should fail as slow, as "
+    "the control does (e.g. timed passes after an untimed run of a drawn length, or every round held "
+    "to the limit)"))
+@pytest.mark.parametrize("attack", ["fast_for_the_first_round", "fast_for_three_rounds"])
+def test_fast_only_for_the_first_calls_of_a_process_buys_nothing(tmp_path, mode, attack):
+    c = by_name(quick("slow_control", tmp_path / "control", mode, only=("speed",)))["speed"]
+    assert c.status == FAILED and {d.id for d in c.diagnoses} == {"slow"}
+    a = by_name(quick(attack, tmp_path / "attack", mode, only=("speed",)))["speed"]
+    assert a.score <= c.score, a.output
+
+
+# ---- 3. readTexture in context, on public faces held to the draw -----------------
+
+def test_honest_only_on_the_public_in_context_faces_buys_nothing(tmp_path, mode):
+    a = by_name(quick("honest_on_the_public_in_context_faces", tmp_path / "attack", mode,
+                      only=("read_texture", "fetch_sweep", "renders")))
+    c = by_name(quick("nearest_control", tmp_path / "control", mode, only=("read_texture", "fetch_sweep", "renders")))
+    assert "texture-context-dependent" in {d.id for d in a["read_texture"].diagnoses}
+    assert a["read_texture"].score <= c["read_texture"].score
+    assert sum(x.score for x in a.values()) <= sum(x.score for x in c.values())
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "readTexture in context is compared on two 16 x 16 sets of faces only (IN_CONTEXT_SIZE), and only "
+    "where fetchColor returned readTexture's answer unchanged (a draw that observes no call has share 1 "
+    "and holds nothing): honest there, or hiding its calls on the draw's faces, a readTexture nearest "
+    "for fetchColor on every render keeps read_texture's 25 (90.07 against 65.07 graded whole). It should score no "
+    "more than the control (e.g. faces of a drawn size, the renders' maps among them, and a draw that "
+    "observes fewer calls than the public set counted against it)"))
+@pytest.mark.parametrize("attack", ["hides_from_the_drawn_in_context", "honest_on_small_faces"])
+def test_readtexture_honest_only_where_in_context_looks_buys_nothing(tmp_path, mode, attack):
+    a = by_name(quick(attack, tmp_path / "attack", mode, only=("read_texture", "fetch_sweep", "renders")))
+    c = by_name(quick("nearest_control", tmp_path / "control", mode, only=("read_texture", "fetch_sweep", "renders")))
+    assert a["renders"].status == FAILED        # what every render shows: the starting code's nearest texel
+    assert a["read_texture"].score <= c["read_texture"].score
