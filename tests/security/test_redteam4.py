@@ -36,10 +36,13 @@ each attack has a control, the same code without its trick):
      (16 x 16 random texels that are not the public ones) fetchColor returns
      readTexture's answer 2^-40 off: in_context observes only answers
      returned unchanged, so the draw observes nothing, its share is 1, and
-     the public share (all alike) is kept. WORKS (65.07 -> 90.07).
+     the public share (all alike) is kept. WORKED (65.07 -> 90.07); held
+     since the draw's unreturned answers count as answered otherwise where
+     the public ones were returned (fetch_record.InContext.hiding).
    - honest_on_small_faces: honest to fetchColor on faces 16 wide or less;
-     both in-context sets are 16 x 16 (IN_CONTEXT_SIZE), the renders' maps
-     128 or 256. WORKS (65.07 -> 90.07); not new with the public seed.
+     both in-context sets were 16 x 16, the renders' maps 128 or 256. WORKED
+     (65.07 -> 90.07); held since readTexture is observed in context on the
+     maps' face sizes too (fetch_record.IN_CONTEXT_SIZES).
 
 Each working attack is a strict xfail saying what should happen. Both
 isolation modes (tests/helpers/isolation.py)."""
@@ -152,13 +155,6 @@ def test_honest_only_on_the_public_in_context_faces_buys_nothing(tmp_path, mode)
     assert sum(x.score for x in a.values()) <= sum(x.score for x in c.values())
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "readTexture in context is compared on two 16 x 16 sets of faces only (IN_CONTEXT_SIZE), and only "
-    "where fetchColor returned readTexture's answer unchanged (a draw that observes no call has share 1 "
-    "and holds nothing): honest there, or hiding its calls on the draw's faces, a readTexture nearest "
-    "for fetchColor on every render keeps read_texture's 25 (90.07 against 65.07 graded whole). It should score no "
-    "more than the control (e.g. faces of a drawn size, the renders' maps among them, and a draw that "
-    "observes fewer calls than the public set counted against it)"))
 @pytest.mark.parametrize("attack", ["hides_from_the_drawn_in_context", "honest_on_small_faces"])
 def test_readtexture_honest_only_where_in_context_looks_buys_nothing(tmp_path, mode, attack):
     a = by_name(quick(attack, tmp_path / "attack", mode, only=("read_texture", "fetch_sweep", "renders")))

@@ -427,59 +427,58 @@ class InContext:
         return InContext(self.differ + hidden, self.called, self.called, self.example, hidden)
 
 
-def in_context(lookups, seed: int) -> InContext:
+def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0) -> InContext:
     """readTexture's answers to fetchColor's own calls (recorded, answered
-    by the student's readTexture, on random texels) against the same
-    readTexture called directly at the same face and (u, v), bit for bit,
-    on each of IN_CONTEXT_SIZES. Honest code computes the same thing
-    whoever calls it; one that knows its caller (a flag fetchColor sets, the
-    address) shows here. Only calls whose answer fetchColor returned
-    unchanged, IN_CONTEXT_MARGIN texels or more inside the face, are
-    observed. Sets its own faces."""
+    by the student's readTexture, on random texels of faces `size`) against
+    the same readTexture called directly at the same face and (u, v), bit
+    for bit. Honest code computes the same thing whoever calls it; one that
+    knows its caller (a flag fetchColor sets, the address) shows here. Only
+    calls whose answer fetchColor returned unchanged, IN_CONTEXT_MARGIN
+    texels or more inside the face, are observed. Sets its own faces (drawn
+    from seed + k)."""
     from .directions import random_directions
     from .textures import random_faces
-    differ = observed = called = 0
-    example = None
-    for k, (w, h) in enumerate(IN_CONTEXT_SIZES):
-        lookups.set_faces(random_faces(w, h, seed + k))
-        plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed + k), tagged=False)
-        faces, uv = plain.request()
-        # Two texels or more inside the face: honest code reads the same texels
-        # there whether the face sits in the six-face buffer (fetchColor's calls)
-        # or alone in a window of its own (direct calls); at the border a read
-        # past the face finds a neighbour in one and the window's edge in the other.
-        size = np.array([w, h], np.float64)
+    w, h = size
+    lookups.set_faces(random_faces(w, h, seed + k))
+    plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed + k), tagged=False)
+    faces, uv = plain.request()
+    # Two texels or more inside the face: honest code reads the same texels
+    # there whether the face sits in the six-face buffer (fetchColor's calls)
+    # or alone in a window of its own (direct calls); at the border a read
+    # past the face finds a neighbour in one and the window's edge in the other.
+    extent = np.array([w, h], np.float64)
 
-        def inside(at):
-            with np.errstate(invalid="ignore"):
-                p = at * size
-                return ((p >= IN_CONTEXT_MARGIN) & (p <= size - IN_CONTEXT_MARGIN)).all(axis=1)
+    def inside(at):
+        with np.errstate(invalid="ignore"):
+            p = at * extent
+            return ((p >= IN_CONTEXT_MARGIN) & (p <= extent - IN_CONTEXT_MARGIN)).all(axis=1)
 
-        seen = np.flatnonzero((faces >= 0) & inside(uv))
-        called += int(((plain.calls >= 1) & (plain.faces[:, 0] >= 0) & inside(plain.uv[:, 0])).sum())
-        observed += len(seen)
-        for face in range(6):
-            rows = seen[faces[seen] == face]
-            if not len(rows):
-                continue
-            direct = lookups.read_texture(face, uv[rows])
-            values = np.asarray(direct.values, np.float64)
-            with np.errstate(invalid="ignore"):
-                same = ((values == plain.values[rows]) | (np.isnan(values) & np.isnan(plain.values[rows]))).all(axis=1)
-            same &= np.asarray(direct.evaluated, bool)
-            differ += int((~same).sum())
-            if example is None and (~same).any():
-                j = np.flatnonzero(~same)[0]
-                example = (face, float(uv[rows[j], 0]), float(uv[rows[j], 1]), plain.values[rows[j]], values[j])
-    return InContext(differ, observed, called, example)
+    seen = np.flatnonzero((faces >= 0) & inside(uv))
+    called = int(((plain.calls >= 1) & (plain.faces[:, 0] >= 0) & inside(plain.uv[:, 0])).sum())
+    differ, example = 0, None
+    for face in range(6):
+        rows = seen[faces[seen] == face]
+        if not len(rows):
+            continue
+        direct = lookups.read_texture(face, uv[rows])
+        values = np.asarray(direct.values, np.float64)
+        with np.errstate(invalid="ignore"):
+            same = ((values == plain.values[rows]) | (np.isnan(values) & np.isnan(plain.values[rows]))).all(axis=1)
+        same &= np.asarray(direct.evaluated, bool)
+        differ += int((~same).sum())
+        if example is None and (~same).any():
+            j = np.flatnonzero(~same)[0]
+            example = (face, float(uv[rows[j], 0]), float(uv[rows[j], 1]), plain.values[rows[j]], values[j])
+    return InContext(differ, len(seen), called, example)
 
 
 def judged_in_context(read_texture_check):
     """The read_texture check, then readTexture as fetchColor calls it
-    (in_context): where the two differ, the check's share is at most the
-    share of fetchColor's calls answered as a direct call is, and it says
-    which call differed. A readTexture that is right only for the grader's
-    direct calls gains nothing."""
+    (in_context, on each of IN_CONTEXT_SIZES): where the two differ, the
+    check's share is at most the share of fetchColor's calls answered as a
+    direct call is, on the face size where that share is lowest (as the
+    check itself is scored), and it says which call differed. A readTexture
+    that is right only for the grader's direct calls gains nothing."""
     import dataclasses
     import functools
 
@@ -489,31 +488,40 @@ def judged_in_context(read_texture_check):
     from .. import shown
     from .compare import below_by_more_than_chance
 
+    def share_of(c: InContext) -> float:
+        return 1.0 - c.differ / c.observed if c.observed else 1.0
+
     @functools.wraps(read_texture_check)
     def run(ctx, result, *findings):
         finding = read_texture_check(ctx, result, *findings)
-        fixed = in_context(ctx.lookups, IN_CONTEXT_SEED)
-        drawn = in_context(ctx.lookups, ctx.seed).hiding(fixed)
-        share_of = lambda c: 1.0 - c.differ / c.observed if c.observed else 1.0      # noqa: E731
-        used = drawn if below_by_more_than_chance(share_of(drawn), drawn.observed, share_of(fixed)) else fixed
+        judged = []
+        for k, size in enumerate(IN_CONTEXT_SIZES):
+            fixed = in_context(ctx.lookups, IN_CONTEXT_SEED, size, k)
+            drawn = in_context(ctx.lookups, ctx.seed, size, k).hiding(fixed)
+            used = drawn if below_by_more_than_chance(share_of(drawn), drawn.observed, share_of(fixed)) else fixed
+            judged.append((share_of(used), size, used, fixed))
+        worst, size, used, fixed = min(judged, key=lambda j: j[0])
         if not used.differ:
             return finding
-        share = shown(share_of(used))     # as printed, as used
-        words = {"observed": used.observed, "differ": used.differ, "share": f"{share:.2%}"}
+        share = shown(worst)     # as printed, as used
+        words = {"observed": used.observed, "differ": used.differ, "share": f"{share:.2%}", "w": size[0],
+                 "h": size[1]}
         if used.example is not None and not used.hidden:
             face, u, v, called, direct = used.example
             detail = _(
-                "Of %(observed)d readTexture calls your fetchColor made, %(differ)d were answered otherwise than the "
-                "same call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: %(called)s to fetchColor, "
-                "%(direct)s directly. The score is at most the share answered alike (%(share)s).") % {
+                "On %(w)d x %(h)d faces, of %(observed)d readTexture calls your fetchColor made, %(differ)d were "
+                "answered otherwise than the same call made directly, e.g. at face %(face)s, u = %(u)r, v = %(v)r: "
+                "%(called)s to fetchColor, %(direct)s directly. The score is at most the share answered alike on the "
+                "face size where it is lowest (%(share)s).") % {
                 **words, "face": library.FACE_NAMES[face], "u": u, "v": v, "called": format_vector(called),
                 "direct": format_vector(direct)}
         else:
             detail = _(
-                "On faces drawn for this grading your fetchColor returned readTexture's answer unchanged less often "
-                "than on the public faces (%(drawn)d of %(called)d calls, against %(public)d of %(public_called)d): "
-                "the %(differ)d answers it did not return count as answered otherwise, since what readTexture gave "
-                "fetchColor there cannot be seen. The score is at most the share answered alike (%(share)s).") % {
+                "On %(w)d x %(h)d faces drawn for this grading your fetchColor returned readTexture's answer unchanged "
+                "less often than on the public faces (%(drawn)d of %(called)d calls, against %(public)d of "
+                "%(public_called)d): the %(differ)d answers it did not return count as answered otherwise, since what "
+                "readTexture gave fetchColor there cannot be seen. The score is at most the share answered alike on "
+                "the face size where it is lowest (%(share)s).") % {
                 **words, "drawn": used.called - used.hidden, "called": used.called, "public": fixed.observed,
                 "public_called": fixed.called}
         result.diagnoses = list(result.diagnoses) + [Diagnosis("texture-context-dependent", detail)]
