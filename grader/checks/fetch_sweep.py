@@ -227,6 +227,9 @@ def _black_words(black: np.ndarray, ok: np.ndarray, faces: np.ndarray, uv: np.nd
 
 # The ids border_diagnoses gives from a variable (tests/unit/grading/test_diagnosis_catalogue.py).
 DIAGNOSIS_IDS = ("coordinate-wraps", "uv-clamped-inward")
+# A border statement is made of a face only where this share of the directions
+# that ask it are right.
+BORDER_SHARE = 0.9
 
 
 def border_diagnoses(parts) -> list[Diagnosis]:
@@ -236,8 +239,9 @@ def border_diagnoses(parts) -> list[Diagnosis]:
     or asks the table's (u, v) clamped to the narrowest range it ever asks
     on those faces (per coordinate and face size: a clamp to the border
     texels' centres depends on both), which is not [0, 1]: uv-clamped-inward.
-    Each named with the faces where it is every mistake, and one direction
-    in numbers."""
+    Each named with the faces where it is every mistake and nearly every
+    direction asking the face is right (BORDER_SHARE), and one direction in
+    numbers."""
     tol = fetch_record.UV_TOLERANCE
     # Per face size, over every set asked on it: the range asked per coordinate
     # (lo_u, lo_v, hi_u, hi_v), and which of those bounds a direction was moved
@@ -260,9 +264,11 @@ def border_diagnoses(parts) -> list[Diagnosis]:
                                    np.maximum(old[4:], here[4:])])
         ranges[tuple(size)] = here
     wrong_dirs, asked_faces, asked, table, bounds, sizes = [], [], [], [], [], []
+    right_on = np.zeros(6, np.int64)        # directions that asked each face and are right
     for _name, dirs, size, _rec, verdict in parts:
         faces, uv = verdict.requested
         read = (verdict.case == fetch_record.READ) & (faces >= 0) & np.isfinite(uv).all(axis=1)
+        np.add.at(right_on, faces[read & verdict.ok], 1)
         rows = np.flatnonzero(read & ~verdict.ok)
         if not len(rows):
             continue
@@ -287,8 +293,11 @@ def border_diagnoses(parts) -> list[Diagnosis]:
         inward = ((lo > tol) | (hi < 1 - tol)).any(axis=1)
         clamps = inward & (np.abs(got - np.clip(want, lo, hi)) <= tol).all(axis=1) & ~close.all(axis=1)
     out = []
+    # A face whose border is the only place it is wrong: nearly every direction that
+    # asks it is right (not a face asked only at ties, as a face-order mistake does).
+    mostly_right = [f for f in range(6) if right_on[f] >= BORDER_SHARE * (right_on[f] + (faces == f).sum())]
     for ident, explained in (("coordinate-wraps", wraps), ("uv-clamped-inward", clamps)):
-        whole = [f for f in range(6) if (faces == f).any() and explained[faces == f].all()]
+        whole = [f for f in mostly_right if (faces == f).any() and explained[faces == f].all()]
         rows = np.flatnonzero(np.isin(faces, whole) & explained)
         if not len(rows):
             continue
