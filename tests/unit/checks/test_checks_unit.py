@@ -397,3 +397,37 @@ def test_a_harness_error_leaves_its_traceback_for_the_instructor_only(tmp_path, 
     for name in ("report.md", "report.html", "results.json", "junit.xml"):
         text = (tmp_path / name).read_text()
         assert "ZeroDivisionError" not in text and "Traceback" not in text, name
+
+
+# ---- speed: a failure on rare inputs is not a draw's luck (issue 30) ----------
+
+class FailsSomeRounds(FakeLookups):
+    """A correct lookup whose first `failing` timed rounds fail at one lookup
+    with a broken reply (as runtime_attacks/forged_reply.cpp does near +x)."""
+
+    def __init__(self, failing: int):
+        super().__init__()
+        self.failing = failing
+
+    def time_fetch(self, passes):
+        from grader.worker.runner import Failure, TimedPasses
+        if self.failing > 0:
+            self.failing -= 1
+            return TimedPasses(failure=Failure("protocol", "fetchColor", 7, "fetchColor(Vector3(1, 0, 0))",
+                                               "the reply broke the protocol", ""))
+        return super().time_fetch(passes)
+
+
+def test_speed_draws_again_rounds_that_failed_at_a_rare_input(tmp_path):
+    from grader.checks.speed import REDRAWS
+    speed = run(FailsSomeRounds(failing=4), tmp_path, "speed")["speed"]
+    assert speed.status == PASSED and speed.score == speed.max_score, speed.output
+    assert "4 timed rounds failed at some lookup" in speed.output and REDRAWS >= 4
+
+
+def test_speed_fails_a_lookup_that_fails_every_round_after_its_redraws(tmp_path):
+    from grader.checks.speed import REDRAWS
+    lookups = FailsSomeRounds(failing=10 ** 6)
+    speed = run(lookups, tmp_path, "speed")["speed"]
+    assert speed.status == FAILED and speed.fraction == 0.0 and ids(speed) == {("protocol", None)}, speed.output
+    assert lookups.failing == 10 ** 6 - REDRAWS - 1
