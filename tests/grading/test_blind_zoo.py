@@ -20,21 +20,13 @@ import pytest
 from grader.grading.grade import GradeOptions
 from grader.grading.results import GRADED
 from grading_cache import grade_once
+from zoo_truth import FILTERING, MAPPING
 from project_paths import PROJECT_ROOT, SUBMISSIONS
 
 pytestmark = [pytest.mark.slow, pytest.mark.sandbox]   # every file graded (20-40 s each)
 
 BLIND = SUBMISSIONS / "blind"
 CHECKS = ("read_texture", "fetch_sweep", "arrows", "stability", "renders", "speed")
-MAPPING = {"u-flipped", "v-flipped", "uv-swapped", "wrong-face", "uv-mismatch", "face-order", "uv-rotated",
-           "opengl-table", "signed-major", "uv-inset", "uv-offset", "not-divided-by-m", "float-precision",
-           "tie-untouched-face", "fetch-not-returned", "asks-otherwise", "address-not-face-start", "kept-between-calls",
-           "coordinate-wraps", "uv-clamped-inward"}
-FILTERING = {"nearest-neighbor", "half-texel-offset", "weights-swapped", "wrapped-edge", "unclamped-edge",
-             "constant-weights", "not-a-blend", "rows-flipped", "columns-flipped", "texture-v-flipped",
-             "texture-u-flipped", "texture-uv-swapped", "scaled-by-size-minus-one", "scaled-by-size-plus-one",
-             "texel-offset", "truncation-of-negatives", "texel-index-transposed", "width-height-swapped",
-             "lattice-rounded", "fractions-exchanged", "edge-single-texel"}
 ALL_FULL = dict(needs=[], never=MAPPING | FILTERING | {"timing-faces-wrong", "render-mismatch"}, loses=(), keeps=CHECKS)
 TRUTH = {
     "correct_sign-mask-switch_twice-averaged": ALL_FULL,

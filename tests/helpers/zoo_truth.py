@@ -19,6 +19,17 @@ HANDOUT_READ = """Color EnvironmentMap::readTexture(const float* addr, double u,
     return (1 - b) * ((1 - a) * at(x0, y0) + a * at(x1, y0)) + b * ((1 - a) * at(x0, y1) + a * at(x1, y1));
 }
 """
+# The ids of fetchColor's mistakes (MAPPING) and of readTexture's (FILTERING) a
+# zoo's truth may need or forbid (the blind zoos).
+MAPPING = {"u-flipped", "v-flipped", "uv-swapped", "wrong-face", "uv-mismatch", "face-order", "uv-rotated",
+           "opengl-table", "signed-major", "uv-inset", "uv-offset", "not-divided-by-m", "float-precision",
+           "tie-untouched-face", "fetch-not-returned", "asks-otherwise", "address-not-face-start", "kept-between-calls",
+           "coordinate-wraps", "uv-clamped-inward"}
+FILTERING = {"nearest-neighbor", "half-texel-offset", "weights-swapped", "wrapped-edge", "unclamped-edge",
+             "constant-weights", "not-a-blend", "rows-flipped", "columns-flipped", "texture-v-flipped",
+             "texture-u-flipped", "texture-uv-swapped", "scaled-by-size-minus-one", "scaled-by-size-plus-one",
+             "texel-offset", "truncation-of-negatives", "texel-index-transposed", "width-height-swapped",
+             "lattice-rounded", "fractions-exchanged", "edge-single-texel"}
 READ_BLOCK = re.compile(r"// readTexture:begin\n.*?// readTexture:end\n", re.S)
 
 
