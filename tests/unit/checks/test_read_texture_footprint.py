@@ -167,58 +167,56 @@ class BlendLookups(FakeLookups):
         return values, np.zeros(len(uv), bool)
 
 
-def rounded_lattice(face, u, v):
-    """x0 = round(uW), alpha = uW - x0 (in [-0.5, 0.5)), the blend of x0 and x0 + 1; the same in y."""
+def _lattice(face, u, v, lower=np.floor):
+    """(p.x, p.y, x0, y0): p = (uW, vH) and its lattice point, `lower` of p."""
     h, w = face.shape[:2]
     px, py = u * w, v * h
-    x0, y0 = np.floor(px + 0.5).astype(int), np.floor(py + 0.5).astype(int)
+    return px, py, lower(px).astype(int), lower(py).astype(int)
+
+
+def rounded_lattice(face, u, v):
+    """x0 = round(uW) (half up), alpha = uW - x0 (in [-0.5, 0.5)), the blend of x0 and x0 + 1; the same in y."""
+    px, py, x0, y0 = _lattice(face, u, v, lambda p: np.floor(p + 0.5))
+    return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
+
+
+def rounded_half_to_even(face, u, v):
+    """As rounded_lattice, with nearbyint's ties: p exactly halfway goes to the even lattice point."""
+    px, py, x0, y0 = _lattice(face, u, v, np.rint)
     return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
 
 
 def fractions_exchanged(face, u, v):
     """The handout's lattice points, the columns weighed by beta and the rows by alpha (c01 and c10 exchanged)."""
-    h, w = face.shape[:2]
-    px, py = u * w, v * h
-    x0, y0 = np.floor(px).astype(int), np.floor(py).astype(int)
+    px, py, x0, y0 = _lattice(face, u, v)
     return _blend(face, x0, y0, x0 + 1, y0 + 1, py - y0, px - x0)
-
-
-def rounded_half_to_even(face, u, v):
-    """As rounded_lattice, with nearbyint's ties: p exactly halfway goes to the even lattice point."""
-    h, w = face.shape[:2]
-    px, py = u * w, v * h
-    x0, y0 = np.rint(px).astype(int), np.rint(py).astype(int)
-    return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
-
-
-def single_texel_on_the_last_column(face, u, v):
-    """The handout's blend, except texel (x0, y0) alone where x0 + 1 >= W (the last row blends)."""
-    h, w = face.shape[:2]
-    px, py = u * w, v * h
-    x0, y0 = np.minimum(np.floor(px), w - 1).astype(int), np.minimum(np.floor(py), h - 1).astype(int)
-    out = _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
-    edge = x0 + 1 >= w
-    out[edge] = face[y0[edge], x0[edge]]
-    return out
 
 
 def alpha_for_both_axes(face, u, v):
     """The handout's lattice points, both axes weighed by alpha (beta never computed)."""
-    h, w = face.shape[:2]
-    px, py = u * w, v * h
-    x0, y0 = np.floor(px).astype(int), np.floor(py).astype(int)
+    px, py, x0, y0 = _lattice(face, u, v)
     return _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, px - x0)
 
 
-def single_texel_at_edges(face, u, v):
-    """The handout's blend, except texel (x0, y0) alone on the last column and the last row."""
+def _single_texel_where(face, u, v, alone):
+    """The handout's blend, except texel (x0, y0) alone where alone(x0, y0, W, H)."""
     h, w = face.shape[:2]
-    px, py = u * w, v * h
-    x0, y0 = np.minimum(np.floor(px), w - 1).astype(int), np.minimum(np.floor(py), h - 1).astype(int)
+    px, py, x0, y0 = _lattice(face, u, v)
+    x0, y0 = np.minimum(x0, w - 1), np.minimum(y0, h - 1)
     out = _blend(face, x0, y0, x0 + 1, y0 + 1, px - x0, py - y0)
-    edge = (x0 == w - 1) | (y0 == h - 1)
+    edge = alone(x0, y0, w, h)
     out[edge] = face[y0[edge], x0[edge]]
     return out
+
+
+def single_texel_at_edges(face, u, v):
+    """Texel (x0, y0) alone on the last column and the last row."""
+    return _single_texel_where(face, u, v, lambda x0, y0, w, h: (x0 == w - 1) | (y0 == h - 1))
+
+
+def single_texel_on_the_last_column(face, u, v):
+    """Texel (x0, y0) alone where x0 + 1 >= W (the last row blends)."""
+    return _single_texel_where(face, u, v, lambda x0, y0, w, h: x0 + 1 >= w)
 
 
 @pytest.mark.parametrize("read, ids", [
