@@ -38,6 +38,7 @@ EVERY = sorted(SUBMISSIONS.rglob("*.cpp"))
 SUBSET = [SUBMISSIONS / name for name in (
     "attacks/calls_reference.cpp",
     "blind/hostile_recorded-by-own-blend_v-flipped-pos-z.cpp",
+    "blind2/uv-clamp-texel-centres_half-over-w.cpp",
     "build/syntax_error.cpp",
     "compound/float-args_wh-swapped.cpp",
     "correct/idiomatic.cpp",
