@@ -247,10 +247,12 @@ def border_diagnoses(parts) -> list[Diagnosis]:
     # (lo_u, lo_v, hi_u, hi_v), and which of those bounds a direction was moved
     # to (asked above the table's coordinate there, or below): the clamp's own
     # values, as the record shows them.
+    # Per set: the directions judged on a recorded call at a face, with a (u, v).
+    reads = [(verdict.case == fetch_record.READ) & (verdict.requested[0] >= 0)
+             & np.isfinite(verdict.requested[1]).all(axis=1) for *_, verdict in parts]
     ranges: dict[tuple, np.ndarray] = {}
-    for _name, _dirs, size, _rec, verdict in parts:
+    for (_name, _dirs, size, _rec, verdict), read in zip(parts, reads):
         faces, uv = verdict.requested
-        read = (verdict.case == fetch_record.READ) & (faces >= 0) & np.isfinite(uv).all(axis=1)
         if not read.any():
             continue
         same = (read & (faces == verdict.table[0]))[:, None]
@@ -265,9 +267,8 @@ def border_diagnoses(parts) -> list[Diagnosis]:
         ranges[tuple(size)] = here
     wrong_dirs, asked_faces, asked, table, bounds, sizes = [], [], [], [], [], []
     right_on = np.zeros(6, np.int64)        # directions that asked each face and are right
-    for _name, dirs, size, _rec, verdict in parts:
+    for (_name, dirs, size, _rec, verdict), read in zip(parts, reads):
         faces, uv = verdict.requested
-        read = (verdict.case == fetch_record.READ) & (faces >= 0) & np.isfinite(uv).all(axis=1)
         np.add.at(right_on, faces[read & verdict.ok], 1)
         rows = np.flatnonzero(read & ~verdict.ok)
         if not len(rows):

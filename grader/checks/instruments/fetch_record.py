@@ -201,14 +201,18 @@ class Judgement(Mismatches):
     case: np.ndarray          # (n,) cases()
     unreadable: np.ndarray    # (n,) always False: the student's readTexture is never asked
     requested: tuple          # (faces (n,), uv (n, 2)) the recorded request (-1, NaN: none)
-    table: tuple              # (faces (n,), uv (n, 2)) the reference's face and (u, v) (docs/assignment.md)
     own: np.ndarray           # (n, 3) what fetchColor returned
     own_rows: np.ndarray      # (n,) where that colour is the one credited (it read itself, or returned no answer it was given)
     texels: np.ndarray        # the faces it was recorded on
-    touching: tuple | None = None     # (faces (n, 4), uv (n, 4, 2)): the table's request on each face the
-                                      # direction touches (compare.tied_face_uv), the first as `table`
+    touching: tuple           # (faces (n, 4), uv (n, 4, 2)): the table's request on each face the
+                              # direction touches (compare.tied_face_uv), the first as `table`
     stray: np.ndarray | None = None   # (n, 3) address (floats from face 0's first texel), u, v of the call
                                       # returned where no face starts there (NO_FACE_START); NaN elsewhere
+
+    @property
+    def table(self) -> tuple:
+        """(faces (n,), uv (n, 2)): the reference's face and (u, v) (docs/assignment.md)."""
+        return self.touching[0][:, 0], self.touching[1][:, 0]
 
     @functools.cached_property
     def expected(self) -> np.ndarray:
@@ -306,8 +310,7 @@ def judge(tagged: Record, plain: Record, dirs: np.ndarray, texels: np.ndarray, t
         stray[astray, 0] = tagged.offsets[astray, k]
         stray[astray, 1:] = tagged.uv[astray, k]
     return Judgement(ok=ok, error=error, case=case, unreadable=np.zeros(n, bool), requested=(req_faces, req_uv),
-                     table=(faces[:, 0], uv[:, 0]), own=own, own_rows=own_rows, texels=texels, touching=(faces, uv),
-                     stray=stray)
+                     own=own, own_rows=own_rows, texels=texels, touching=(faces, uv), stray=stray)
 
 
 # The plain recording (answered by the student's own readTexture) is made
