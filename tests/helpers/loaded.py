@@ -15,7 +15,11 @@ cores, and harder still where the machine is busy too), while the machine's
 other users lose at most C cores. Without a cgroup it says so and loads the
 whole machine.
 
-Tests import `busy_on` for a wait for a core of their own, on one core.
+The command gets STRETCH_ENV: about how many times slower than alone a
+process of it runs (N + 1 over the cores it competes for). Tests import
+`stretch` to scale their own timeouts by it (a subprocess's wall-clock
+timeout is the test harness's, not a verdict), and `busy_on` for a wait for
+a core of their own, on one core.
 """
 from __future__ import annotations
 
@@ -30,6 +34,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from grader.worker import memory  # noqa: E402
 
+STRETCH_ENV = "ENVMAP_LOAD_STRETCH"
 BUSY = "import time\nend = time.monotonic() + 3600\nwhile time.monotonic() < end: pass"
 PERIOD_US = 100_000
 
@@ -50,6 +55,14 @@ def busy_on(core: int, count: int):
         for proc in spinners:
             proc.kill()
             proc.wait()
+
+
+def stretch() -> float:
+    """How many times slower than alone this process runs under loaded.py (1 elsewhere)."""
+    try:
+        return max(1.0, float(os.environ.get(STRETCH_ENV, "1")))
+    except ValueError:
+        return 1.0
 
 
 def capped_cgroup(cpus: float, processes: int) -> Path | None:
@@ -91,9 +104,11 @@ def main(argv: list[str]) -> int:
             for _ in range(count)]
     where = f"in a cgroup capped at {cpus:g} cores ({group})" if group else "on the whole machine"
     print(f"loaded.py: {count} busy processes {where}; load average now {os.getloadavg()[0]:.1f}", flush=True)
+    cores = cpus if group is not None else len(os.sched_getaffinity(0))
+    env = {**os.environ, STRETCH_ENV: f"{(count + cores) / cores:g}"}
     began = time.monotonic()
     try:
-        return subprocess.call(joined(command, group))
+        return subprocess.call(joined(command, group), env=env)
     finally:
         for proc in busy:
             try:

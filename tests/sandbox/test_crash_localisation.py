@@ -27,7 +27,7 @@ MODES = ["plain", pytest.param("sandbox", marks=pytest.mark.skipif(
 #   x == 5: switches its alternate signal stack off, then faults;
 #   x == 7: writes y into the grader's progress page (found in /proc/self/maps), then aborts;
 #   x == 8: aborts on the process's z-th call (state: only a fresh worker forgets it);
-#   x == 9: sleeps 0.3 s (no CPU time);
+#   x == 9: sleeps 0.3 s (no CPU time); x == 10: spins for y seconds of CPU time, then answers;
 #   x == 6: writes a forged reply ("bad argument") onto the reply pipe, then y into the
 #           progress page when y > 0 (how far a worker that went on may have got), and goes on.
 STAND_IN = r"""
@@ -67,6 +67,12 @@ static void forge_reply(void)
             if (write(fd, &h, sizeof h) < 0 || write(fd, "yours", 5) < 0) continue;
         }
 }
+static double cpu_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
 static long calls;
 int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, size_t s)
 {
@@ -83,6 +89,7 @@ int sub_fetch_batch(void *map, const double *d, size_t n, double *rgb, char *m, 
         if (x == 8 && calls == (long)z) abort();
         if (x == 6) { forge_reply(); if (y > 0) forge((uint64_t)y); }
         if (x == 9) { struct timespec t = { 0, 300000000 }; nanosleep(&t, NULL); }
+        if (x == 10) for (double t0 = cpu_s(); cpu_s() - t0 < y;) {}
         rgb[3*i] = x; rgb[3*i+1] = y; rgb[3*i+2] = z;
     }
     return SUB_OK;

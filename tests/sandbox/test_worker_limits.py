@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from grader.worker import SubmissionFailure, SubmissionRunner, Worker
-from grader.worker.process import WALL_STRETCH_MAX, run_queue_wait_ns, wall_bound
+from grader.worker.process import FIRST_INPUT_S, WALL_STRETCH_MAX, run_queue_wait_ns, wall_bound
 from loaded import busy_on
 from test_crash_localisation import directions, faces, stand_in  # noqa: F401  (the stand-in library fixture)
 
@@ -38,7 +38,7 @@ def test_a_call_that_gets_no_core_for_longer_than_its_limit_still_answers(stand_
 
 
 def test_a_spinning_call_is_stopped_at_its_cpu_limit_not_the_wall_bound(stand_in):
-    with Worker(stand_in, sandbox="plain") as worker:
+    with Worker(stand_in, sandbox="plain", first_input_s=0) as worker:
         worker.set_faces(faces())
         began = time.monotonic()
         with pytest.raises(SubmissionFailure) as caught:
@@ -49,15 +49,65 @@ def test_a_spinning_call_is_stopped_at_its_cpu_limit_not_the_wall_bound(stand_in
     assert took < wall_bound(0.3) * (1 + WALL_STRETCH_MAX)
 
 
+def test_a_worker_s_first_input_may_build_its_tables_beyond_the_call_s_limit(stand_in):
+    """Work a lookup does once per process on its first call (tables, a
+    cache: resources/memory_hog.cpp fills 1 GiB) is forgiven up to
+    FIRST_INPUT_S of CPU time, in every fresh worker; the same work in a
+    later input, or in a later call, is held to the call's limit."""
+    with Worker(stand_in, sandbox="plain") as worker:
+        worker.set_faces(faces())
+        answer = worker.fetch([[10, 0.6, 0], [0.5, 1, 1]], timeout_s=0.2)
+        np.testing.assert_array_equal(answer, [[10, 0.6, 0], [0.5, 1, 1]])
+        with pytest.raises(SubmissionFailure) as caught:
+            worker.fetch([[10, 0.6, 0]], timeout_s=0.2)
+    assert caught.value.kind == "timeout" and caught.value.detail == "cpu"
+    with Worker(stand_in, sandbox="plain") as worker:
+        worker.set_faces(faces())
+        with pytest.raises(SubmissionFailure) as caught:
+            worker.fetch([[0.5, 1, 1], [10, 0.6, 0]], timeout_s=0.2)
+    assert caught.value.kind == "timeout" and caught.value.detail == "cpu"
+    with Worker(stand_in, sandbox="plain", first_input_s=0) as worker:
+        worker.set_faces(faces())
+        with pytest.raises(SubmissionFailure):
+            worker.fetch([[10, 0.6, 0], [0.5, 1, 1]], timeout_s=0.2)
+    assert 0.6 < FIRST_INPUT_S
+
+
+def test_a_first_input_that_spins_is_stopped_at_the_limit_and_the_allowance(stand_in):
+    with Worker(stand_in, sandbox="plain") as worker:
+        worker.set_faces(faces())
+        cpu0 = worker.cpu_ns()
+        with pytest.raises(SubmissionFailure) as caught:
+            worker.fetch([[3, 0, 0]], timeout_s=0.1)
+        used = (worker._last_cpu - cpu0) / 1e9
+    assert caught.value.kind == "timeout" and caught.value.detail == "cpu"
+    assert FIRST_INPUT_S + 0.1 <= used < FIRST_INPUT_S + 0.1 + 0.2, used
+
+
+def test_once_a_first_input_spins_through_the_allowance_later_workers_get_none(stand_in):
+    """A lookup that hangs would pay the allowance in every fresh worker;
+    the runner stops granting it once a first input used it up."""
+    with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=0.1, per_input_s=0) as runner:
+        assert runner.fetch(directions(2, {0: (10, 0.6, 0)})).ok       # tables built on the first call
+        runner.restart()
+        assert runner.fetch(directions(2, {0: (10, 0.6, 0)})).ok       # and again in a fresh worker
+        runner.restart()
+        spun = runner.fetch(directions(1, {0: (3, 0, 0)}))
+        assert [f.kind for f in spun.failures] == ["timeout"] and runner.first_input_s == 0
+        later = runner.fetch(directions(2, {0: (10, 0.6, 0)}))
+    assert [f.kind for f in later.failures] == ["timeout"]
+
+
 @pytest.mark.skipif(run_queue_wait_ns(os.getpid()) is None, reason="this kernel does not say how long a thread "
                     "waited for a core (/proc/<pid>/task/<tid>/schedstat)")
 def test_a_call_kept_waiting_for_a_core_past_its_wall_bound_is_stopped_at_its_cpu_limit(stand_in, isolation_mode):
     """The worker's main thread shares one core with 39 spinning processes:
     a call spinning to its 0.05 s CPU limit then takes about 40 x 0.05 = 2 s,
     past its 1.2 s wall bound. The bound stretches by what the thread waited
-    for that core, so the CPU limit stops it ("cpu"), not the bound."""
+    for that core, so the CPU limit stops it ("cpu"), not the bound. (Without
+    the first input's allowance, which would spin 40 x 2 s here.)"""
     core = max(os.sched_getaffinity(0))
-    with Worker(stand_in) as worker, busy_on(core, 39):
+    with Worker(stand_in, first_input_s=0) as worker, busy_on(core, 39):
         os.sched_setaffinity(worker._worker_pid, {core})
         worker.set_faces(faces())
         began = time.monotonic()
@@ -78,7 +128,7 @@ def test_a_batch_asleep_past_the_wall_bound_is_tried_once_more_then_narrowed(sta
     smaller runs get every answer: sleeping is only slow."""
     dirs = directions(8, {i: (9, 0, 0) for i in range(8)})
     with SubmissionRunner(stand_in, faces(), sandbox="plain", timeout_s=0.1, per_input_s=0,
-                          max_timeouts=1) as runner:
+                          max_timeouts=1, first_input_s=0) as runner:
         outcome = runner.fetch(dirs)
         assert runner.retries >= 1 and runner.failed_runs >= 1
     assert outcome.ok and outcome.evaluated.all()
