@@ -17,6 +17,7 @@ class WaitingWorker:
 
     def __init__(self, waited_s: float):
         self.waited_s = waited_s
+        self.spun_first_input = False
 
     def close(self) -> None:
         pass
