@@ -26,8 +26,11 @@ each attack has a control, the same code without its trick):
    - fast_for_the_first_round, fast_for_three_rounds: a correct 20x lookup
      without its busy loop for the first 50,000 (330,000) calls of a
      process; the speed worker is fresh, and a side's figure is its fastest
-     pass, so one honest fast pass is full points. WORK (95 -> 100); not
-     the early stop: with no early stop (15 rounds) both still score 5 / 5.
+     pass, so one honest fast pass is full points. WORKED (95 -> 100); not
+     the early stop: with no early stop (15 rounds) both still scored 5 / 5.
+     Held since the timed rounds follow an untimed run of a drawn length
+     (400,000 to 1.2 million calls, speed.WARM_UP_PASSES) in every fresh
+     worker.
 3. readTexture in context is measured on public faces (IN_CONTEXT_SEED)
    and held to the grading's draw (compare.below_by_more_than_chance).
    - honest_on_the_public_in_context_faces: honest to fetchColor on the
@@ -130,12 +133,6 @@ def test_answers_kept_across_maps_cost_the_renders_after_the_first(tmp_path, mod
 
 # ---- 2. the speed check's early stop ----------------------------------------------
 
-@pytest.mark.xfail(strict=True, reason=(
-    "each side's figure is its fastest pass and the speed check's worker is a fresh process: a 20x "
-    "lookup honest and fast for its first 50,000 (or 330,000) calls gets 5 / 5 (100 against the "
-    "control's 95), with or without the early stop (15 rounds: the same). It should fail as slow, as "
-    "the control does (e.g. timed passes after an untimed run of a drawn length, or every round held "
-    "to the limit)"))
 @pytest.mark.parametrize("attack", ["fast_for_the_first_round", "fast_for_three_rounds"])
 def test_fast_only_for_the_first_calls_of_a_process_buys_nothing(tmp_path, mode, attack):
     c = by_name(quick("slow_control", tmp_path / "control", mode, only=("speed",)))["speed"]

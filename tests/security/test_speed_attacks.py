@@ -43,6 +43,7 @@ from pathlib import Path
 
 import pytest
 
+from grader.checks import speed as speed_check
 from grader.grading.grade import GradeOptions, grade
 from grader.grading.results import FAILED, GRADED
 from cases import cases
@@ -61,13 +62,25 @@ RED_TEAM = {"redteam": {"fast_when_timed"},
 mode = isolation_mode
 
 
-def speed_of(name: str, out: Path, mode: str):
-    result = grade(REDTEAM3 / f"{name}.cpp", out, GradeOptions(allow_stale=True, quick=True, only=("speed",)),
+def speed_of(name: str, out: Path, mode: str, folder: Path = REDTEAM3):
+    result = grade(folder / f"{name}.cpp", out, GradeOptions(allow_stale=True, quick=True, only=("speed",)),
                    write_reports=False)
     if result.status != GRADED or result.isolation != ISOLATION[mode]:
         pytest.fail(f"{name}: {result.status}, {result.isolation}")
     (speed,) = result.checks
     return speed
+
+
+def aimed(name: str, out: Path, mode: str, monkeypatch, folder: Path = REDTEAM3):
+    """The speed check with no warm-up, its timed passes where an attack that
+    counts a process's calls aims (the first rounds' passes, told by the
+    count): how those passes are judged. Graded first as in production,
+    where the trick lands in the untimed warm-up of a drawn length or the
+    passes after it, unknown to the attack: speed fails all the same."""
+    production = speed_of(name, out / "production", mode, folder)
+    assert production.status == FAILED and production.score == 0, production.output
+    monkeypatch.setattr(speed_check, "WARM_UP_PASSES", (0, 0))
+    return speed_of(name, out / "aimed", mode, folder)
 
 
 # ---- the timing faces told apart by their size -----------------------------------
@@ -105,19 +118,19 @@ def test_the_slow_control_is_slow(tmp_path, mode):
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode):
+def test_a_cheap_half_pass_does_not_buy_speed(tmp_path, mode, monkeypatch):
     """Worked before the verdict rework (the timed match was pooled over the
     passes, the time the fastest pass: 11x measured 6x); now each pass's
     timed answers are compared with the same code's untimed ones."""
-    (speed,) = graded(REDTEAM2 / "black_half_a_timed_pass.cpp", tmp_path, mode, only=("speed",)).checks
+    speed = aimed("black_half_a_timed_pass", tmp_path, mode, monkeypatch, REDTEAM2)
     assert speed.status == FAILED and speed.score == 0
     assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]     # caught, not merely slow
 
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode):
-    (speed,) = graded(REDTEAM2 / "unchecked_tail_of_timed_pass.cpp", tmp_path, mode, only=("speed",)).checks
+def test_the_unchecked_tail_of_a_timed_pass_does_not_buy_speed(tmp_path, mode, monkeypatch):
+    speed = aimed("unchecked_tail_of_timed_pass", tmp_path, mode, monkeypatch, REDTEAM2)
     assert speed.status == FAILED and speed.score == 0
     assert [d.id for d in speed.diagnoses] == ["timed-output-wrong"]     # caught, not merely slow
 
@@ -139,8 +152,8 @@ def test_the_controls_are_slow(tmp_path, mode, name):
 @pytest.mark.representative
 @pytest.mark.slow
 @pytest.mark.sandbox
-def test_one_cheap_pass_echoed_untimed_does_not_buy_speed(tmp_path, mode):
-    speed = speed_of("one_cheap_pass_echoed", tmp_path, mode)
+def test_one_cheap_pass_echoed_untimed_does_not_buy_speed(tmp_path, mode, monkeypatch):
+    speed = aimed("one_cheap_pass_echoed", tmp_path, mode, monkeypatch)
     assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["timing-faces-wrong"]
 
 
@@ -153,8 +166,8 @@ def test_a_readtexture_vouching_for_cheap_lookups_does_not_buy_speed(tmp_path, m
 
 @pytest.mark.slow
 @pytest.mark.sandbox
-def test_skipping_the_costly_few_while_timed_does_not_buy_speed(tmp_path, mode):
-    speed = speed_of("costly_few_skipped_when_timed", tmp_path, mode)
+def test_skipping_the_costly_few_while_timed_does_not_buy_speed(tmp_path, mode, monkeypatch):
+    speed = aimed("costly_few_skipped_when_timed", tmp_path, mode, monkeypatch)
     assert speed.status == FAILED and [d.id for d in speed.diagnoses] == ["timed-output-wrong"]
 
 
