@@ -31,6 +31,13 @@ A check is a function registered with @check, check50 style:
       right, a line rather than a threshold, so one direction more or less
       never moves many points (issue 30). score.apply multiplies it in.
   There are no default findings: a dependent never runs without its inputs.
+- `end_to_end=True` marks a check that looks up whole maps the way a program
+  does, after faces of another size (context.set_end_to_end_faces). Before
+  the first of them, run_checks asks fetchColor the same directions in that
+  state and in a process whose first faces they are
+  (instruments.process_state); where any answer differs, each end-to-end
+  check runs in both states and the lower score counts, with the
+  observation as a diagnosis.
 - Points, partial credit and visibility live in grader/grading/rubric.toml. The run
   order is the rubric's order (score.load_rubric refuses unknown or missing
   check names, and a check listed before one it requires). MODULES only says
@@ -104,6 +111,7 @@ class Check:
     title: str
     run: Callable[..., Any]
     requires: tuple[Needs, ...] = ()
+    end_to_end: bool = False
 
     @property
     def prerequisites(self) -> tuple[str, ...]:
@@ -117,7 +125,8 @@ class CheckDefinitionError(Exception):
     """A check is declared wrongly (the grader's own mistake, found at import)."""
 
 
-def check(requires: Iterable[Callable | Needs] = (), registry: dict[str, Check] | None = None):
+def check(requires: Iterable[Callable | Needs] = (), registry: dict[str, Check] | None = None,
+          end_to_end: bool = False):
     """Register a check; see the module docstring for the contract.
     `registry`: where to register (tests use their own; default REGISTRY)."""
     registry = REGISTRY if registry is None else registry
@@ -133,7 +142,7 @@ def check(requires: Iterable[Callable | Needs] = (), registry: dict[str, Check] 
                                            "which is not a @check function")
         if name in registry and registry[name].run is not fn:
             raise CheckDefinitionError(f"two checks are named {name}")
-        c = Check(name, fn.__doc__.strip().splitlines()[0], fn, needs)
+        c = Check(name, fn.__doc__.strip().splitlines()[0], fn, needs, end_to_end)
         fn.__check__ = c
         registry[name] = c
         return fn
@@ -231,6 +240,43 @@ def _apply_credit(c: Check, result: CheckResult, done: dict[str, Ran]) -> None:
                 result.output = need.credit.words(finding) + ("\n\n" + result.output if result.output else "")
 
 
+def _run_one(c: Check, ctx, inputs: list) -> Ran:
+    """One run of a check: its result, and its finding when it ran to the end."""
+    result = CheckResult(c.name, _(c.title))   # the title is the docstring's first line, a catalogue id
+    ran = Ran(result)
+    # Each check narrows failures down on its own budget: how many an
+    # earlier check's random inputs hit decides nothing here.
+    # (In-process stand-ins, which never fail a run, have no budget; tests
+    # of this runner pass no context.)
+    reset = getattr(getattr(ctx, "lookups", None), "reset_failure_budget", None)
+    if reset is not None:
+        reset()
+    try:
+        ran.finding = c.run(ctx, result, *inputs)
+        ran.finished = True
+    except Exception:  # the harness failed, not the student: no traceback for the student
+        result.status, result.fraction = ERROR, 0.0
+        result.output = _(HARNESS_ERROR_OUTPUT)
+        result.diagnoses = []
+        result.error_log = traceback.format_exc()
+        log.error("check %s failed:\n%s", c.name, result.error_log)
+    return ran
+
+
+def _depends_on_state(ctx, result: CheckResult) -> bool:
+    """Whether fetchColor answered otherwise in a process whose first faces
+    they were (CheckContext.states). A probe the harness could not run
+    leaves the check's one run standing, the traceback in its error log."""
+    if not hasattr(ctx, "states"):
+        return False
+    try:
+        return ctx.states().depends
+    except Exception:
+        result.error_log += "the process-state probe failed:\n" + traceback.format_exc()
+        log.error("the process-state probe failed:\n%s", traceback.format_exc())
+        return False
+
+
 def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) -> CheckRun:
     """Run `checks` in order, handing findings to dependents. `selected`
     (default: all) are reported; prerequisites they need run too, unreported."""
@@ -239,34 +285,33 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
     out = CheckRun()
     done: dict[str, Ran] = {}
     for c in _closure(checks, chosen):
-        result = CheckResult(c.name, _(c.title))   # the title is the docstring's first line, a catalogue id
         reason = _blocked(c, done)
-        ran = Ran(result)
         if reason:
-            result.status, result.fraction, result.output = SKIPPED, 0.0, reason
+            ran = Ran(CheckResult(c.name, _(c.title)))   # the title is the docstring's first line, a catalogue id
+            ran.result.status, ran.result.fraction, ran.result.output = SKIPPED, 0.0, reason
         else:
             inputs = [done[check_of(n.check).name].finding for n in c.requires]
-            # Each check narrows failures down on its own budget: how many an
-            # earlier check's random inputs hit decides nothing here.
-            # (In-process stand-ins, which never fail a run, have no budget; tests
-            # of this runner pass no context.)
-            reset = getattr(getattr(ctx, "lookups", None), "reset_failure_budget", None)
-            if reset is not None:
-                reset()
             t0 = time.monotonic()
-            try:
-                ran.finding = c.run(ctx, result, *inputs)
-                ran.finished = True
-            except Exception:  # the harness failed, not the student: no traceback for the student
-                result.status, result.fraction = ERROR, 0.0
-                result.output = _(HARNESS_ERROR_OUTPUT)
-                result.diagnoses = []
-                result.error_log = traceback.format_exc()
-                log.error("check %s failed:\n%s", c.name, result.error_log)
+            ran = _run_one(c, ctx, inputs)
+            if c.end_to_end and ran.finished and _depends_on_state(ctx, ran.result):
+                # fetchColor answered otherwise in a process whose first faces
+                # they were: the check again in that state, the lower score kept.
+                # Its pictures go to a folder of their own: those of the run
+                # not kept must not replace the kept run's.
+                artifacts, ctx.artifacts, ctx.first_faces = ctx.artifacts, ctx.artifacts / "first-faces", True
+                try:
+                    other = _run_one(c, ctx, inputs)
+                finally:
+                    ctx.artifacts, ctx.first_faces = artifacts, False
+                if other.finished and other.result.fraction < ran.result.fraction:
+                    other.result.diagnoses.append(ctx.states().diagnosis())
+                    ran = other
+            result = ran.result
             result.duration_s = time.monotonic() - t0
             _refuse_unknown_ids(c, result)
             if ran.finished:
                 _apply_credit(c, result, done)
+        result = ran.result
         done[c.name] = ran
         if c.name in chosen:
             out.results.append(result)

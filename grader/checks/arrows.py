@@ -16,7 +16,7 @@ from ..envmap import oracle
 from ..i18n import N_, _, and_list, language, languages
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
-from .context import CheckContext, failure_diagnoses, set_faces_after_another_size, unique_diagnoses
+from .context import CheckContext, failure_diagnoses, set_end_to_end_faces, unique_diagnoses
 from .instruments.directions import axes, fibonacci_sphere
 
 TEST_MAP = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
@@ -54,11 +54,11 @@ def disc_axes(classes: np.ndarray) -> list[list[int]]:
     return [[i for i in range(6) if np.mean(classes[i] == k) > 0.5] for k in range(3)]
 
 
-@check()
+@check(end_to_end=True)
 def arrows(ctx: CheckContext, result: CheckResult) -> None:
     """On test_environment_map.hdr the red, green and blue arrows point along +x, +y and +z."""
     texels = oracle.current().load_cross(TEST_MAP)
-    set_faces_after_another_size(ctx.lookups, texels)
+    set_end_to_end_faces(ctx, texels)
     caps = axis_caps()
     sphere = fibonacci_sphere(6000 if ctx.quick else 20_000)
     both = np.concatenate([caps.reshape(-1, 3), sphere])

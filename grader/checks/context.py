@@ -18,6 +18,8 @@ import numpy as np
 from ..i18n import _
 from ..grading.results import Diagnosis
 from ..worker.failures import KINDS, TIMEOUT
+from .instruments import process_state
+from .instruments.process_state import set_faces_after_another_size
 
 # failure_diagnoses' ids: a worker failure's kind is its diagnosis id.
 DIAGNOSIS_IDS = KINDS
@@ -43,27 +45,34 @@ class CheckContext:
     artifacts: Path                   # folder for this submission's pictures
     quick: bool = False               # smaller sets (tests of the harness itself)
     settings: dict[str, dict] = field(default_factory=dict)  # the rubric's entry per check
+    # run_checks sets it to run an end-to-end check again in the other state
+    # (instruments.process_state): each lookup in a fresh worker whose first faces they are.
+    first_faces: bool = False
+    _states: Any = None
+
+    def states(self):
+        """fetchColor asked the same directions on the same faces in a process
+        whose first faces they are and after faces of another size
+        (instruments.process_state.StateProbe), probed once per grading."""
+        if self._states is None:
+            self._states = process_state.probe(self.lookups, self.seed)
+        return self._states
 
     def artifact(self, name: str) -> Path:
         self.artifacts.mkdir(parents=True, exist_ok=True)
         return self.artifacts / name
 
 
-# A direction no check asks (the first call, on faces of another size).
-FIRST_CALL = np.array([[0.7071067811865476, 0.5772156649015329, -0.3141592653589793]])
-
-
-def set_faces_after_another_size(lookups: SubmissionLookups, faces: np.ndarray,
-                                 largest: tuple[int, int] | None = None) -> None:
-    """Set `faces` (6, H, W, 3) in a worker whose first lookup was on faces
-    8 texels larger each way than `largest` (default: `faces`' own size): a
-    size kept from the first call (a static, issue 29's pattern 12) shows in
-    what follows, as in the sweep's second size. Faces no larger than
-    `largest` can follow in the same worker (set_faces(..., same_process=True))."""
-    h, w = largest or faces.shape[1:3]
-    lookups.set_faces(np.ones((6, h + 8, w + 8, 3), np.float32))
-    lookups.fetch(FIRST_CALL)
-    lookups.set_faces(faces, same_process=True)
+def set_end_to_end_faces(ctx: CheckContext, faces: np.ndarray, largest: tuple[int, int] | None = None) -> None:
+    """The faces an end-to-end check looks up on: after faces of another
+    size (set_faces_after_another_size), or, when run_checks runs the check
+    in the other state (ctx.first_faces), in a fresh worker whose first
+    faces they are, as in a program that loads one map."""
+    if ctx.first_faces:
+        ctx.lookups.restart()
+        ctx.lookups.set_faces(faces)
+    else:
+        set_faces_after_another_size(ctx.lookups, faces, largest)
 
 
 def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:

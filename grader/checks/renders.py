@@ -12,7 +12,7 @@ from ..envmap import oracle
 from ..i18n import _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
-from .context import CheckContext, failure_diagnoses, set_faces_after_another_size, unique_diagnoses
+from .context import CheckContext, failure_diagnoses, set_end_to_end_faces, unique_diagnoses
 from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
 # Measured on the correct solutions (-O0, -O3, -ffast-math, float and double)
@@ -100,8 +100,8 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, l
     worker, as a student's program would look up one map after another."""
     escapes = _traced(_stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
     faces = _faces(_stamp(fixture.map))
-    if first:
-        set_faces_after_another_size(ctx.lookups, faces, largest)
+    if first or ctx.first_faces:
+        set_end_to_end_faces(ctx, faces, largest)
     else:
         ctx.lookups.set_faces(faces, same_process=True)
     outcome = ctx.lookups.fetch(escapes.dirs)
@@ -109,7 +109,7 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, l
     return oracle.current().resolve(escapes, rgb), outcome
 
 
-@check()
+@check(end_to_end=True)
 def renders(ctx: CheckContext, result: CheckResult) -> None:
     """Full renders of the mirror and glass spheres with your lookup look like the reference renders."""
     from ..envmap.imaging import write_image

@@ -8,7 +8,7 @@ from ..i18n import N_, _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import Needs, check, shown
 from .instruments.compare import describe_direction, format_vector, tolerance, worst_cases
-from .context import CheckContext, failure_diagnoses, set_faces_after_another_size, unique_diagnoses
+from .context import CheckContext, failure_diagnoses, set_end_to_end_faces, unique_diagnoses
 from .instruments.directions import corners, edges, fibonacci_sphere
 from .instruments import fetch_record
 from .read_texture import ReadTextureFinding, read_texture
@@ -161,7 +161,7 @@ def edge_pairs(k: int = 8, offset: float = 1e-7):
 # A lookup that returns black never crashes: robustness, like speed, counts
 # in proportion to how much of the sweep works (sweeps.WORKING). It always
 # runs, so the crashes and NaNs it finds are named.
-@check(requires=(read_texture, Needs(fetch_sweep, credit=WORKING_CREDIT)))
+@check(requires=(read_texture, Needs(fetch_sweep, credit=WORKING_CREDIT)), end_to_end=True)
 def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFinding, sweep: SweepFinding) -> None:
     """fetchColor survives zero, NaN, infinite, tiny and huge directions, and agrees with the reference at ties and across edges."""
     # Texels that encode their position; every answer judged on the record
@@ -169,7 +169,7 @@ def stability(ctx: CheckContext, result: CheckResult, texture: ReadTextureFindin
     # its readTexture were the handout's: the student's readTexture plays no part.
     size = (FACE_SIZE, FACE_SIZE)
     texels = coordinate_faces(FACE_SIZE, FACE_SIZE)
-    set_faces_after_another_size(ctx.lookups, texels)
+    set_end_to_end_faces(ctx, texels)
     tol = tolerance(FACE_SIZE, FACE_SIZE, FACE_SIZE + 1.0)
     parts, diagnoses = [], []
 

@@ -502,6 +502,20 @@ _ENTRIES = [
         "the cross continuous. The details name the edge; compare the two "
         "faces' formulas along it."),
     ),
+    DiagnosisInfo(
+        "fetch-depends-on-earlier-faces", "mapping", ("checks.instruments.process_state",),
+        N_("fetchColor answers otherwise after faces of another size"),
+        N_("The grader asked your fetchColor the same directions on the same faces "
+        "twice: in a program whose first faces they were, and in one that had "
+        "looked up on faces of another size before. Some answers differ (the "
+        "details give one direction and both colours), so something depends on "
+        "what happened earlier: a static variable, a cache, a size or a table "
+        "kept from an earlier call. The sweep's set on faces of a second size and "
+        "the checks that look at whole maps (arrows, stability, renders) were "
+        "judged both ways; the lower score counts."),
+        N_("Compute everything from the direction, `m_FaceWidth`, `m_FaceHeight` "
+        "and the texels on every call: no `static` variables, no caches."),
+    ),
     # ---- filtering (readTexture) -----------------------------------------
     DiagnosisInfo(
         "kept-between-calls", "filtering", ("checks.read_texture",),

@@ -313,6 +313,77 @@ def test_a_requirement_that_is_not_a_check_is_refused_at_definition():
             """Odd."""
 
 
+# ---- end-to-end checks in both process states --------------------------------
+
+class TwoStates:
+    """A context whose fetchColor answers otherwise (or not) in a process whose
+    first faces they are: what instruments.process_state observed, given."""
+
+    def __init__(self, tmp_path, depends: bool):
+        from grader.checks.instruments.process_state import StateProbe
+        dirs = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+        first, after = np.array([[0.2, 0.2, 0.2], [0.5, 0.5, 0.5]]), np.array([[0.8, 0.2, 0.2], [0.5, 0.5, 0.5]])
+        self.probe = StateProbe(dirs, first, after, np.array([True, True]), np.array([depends, False]))
+        self.lookups, self.seed, self.artifacts, self.first_faces = object(), 1, tmp_path, False
+        self.probed = 0
+
+    def states(self):
+        self.probed += 1
+        return self.probe
+
+
+def _state_registry(seen: list):
+    registry: dict = {}
+
+    @check(registry=registry, end_to_end=True)
+    def whole_map(ctx, result):
+        """Looks at a whole map."""
+        seen.append((ctx.first_faces, ctx.artifacts.name))
+        result.status = FAILED if ctx.first_faces else PASSED
+        result.fraction = 0.25 if ctx.first_faces else 1.0
+        return "first" if ctx.first_faces else "after"
+
+    @check(registry=registry)
+    def not_whole(ctx, result):
+        """Looks at directions alone."""
+        result.fraction = 1.0
+
+    return registry
+
+
+@pytest.mark.parametrize("depends", [True, False])
+def test_an_end_to_end_check_counts_the_lower_of_both_states_where_answers_differ(tmp_path, depends):
+    seen: list = []
+    ctx = TwoStates(tmp_path, depends)
+    results = {r.name: r for r in run_checks(list(_state_registry(seen).values()), ctx).results}
+    if depends:
+        # Run again with each lookup in a fresh worker, its pictures apart; the lower kept, the observation said.
+        assert seen == [(False, tmp_path.name), (True, "first-faces")]
+        assert results["whole_map"].fraction == 0.25 and results["whole_map"].status == FAILED
+        (said,) = results["whole_map"].diagnoses
+        assert said.id == "fetch-depends-on-earlier-faces" and "1 of 2 directions" in said.detail
+        assert "(0.2, 0.2, 0.2) first and (0.8, 0.2, 0.2) after" in said.detail
+    else:
+        assert seen == [(False, tmp_path.name)] and results["whole_map"].fraction == 1.0
+    assert results["not_whole"].diagnoses == [] and ctx.first_faces is False
+
+
+def test_the_state_an_end_to_end_check_scores_better_in_is_not_kept(tmp_path):
+    """A size kept from the first call (pattern 12) is wrong after the prelude
+    and right first: the prelude's lower score stays, with its own diagnoses."""
+    registry: dict = {}
+
+    @check(registry=registry, end_to_end=True)
+    def whole_map(ctx, result):
+        """Looks at a whole map."""
+        result.fraction = 1.0 if ctx.first_faces else 0.5
+        if not ctx.first_faces:
+            result.diagnoses.append(Diagnosis("address-not-face-start", "a size kept"))
+
+    (result,) = run_checks(list(registry.values()), TwoStates(tmp_path, True)).results
+    assert result.fraction == 0.5 and [d.id for d in result.diagnoses] == ["address-not-face-start"]
+
+
 # ---- worker failures and the whole pipeline on the fake ---------------------
 
 @pytest.mark.parametrize("kind", ["crash", "exited", "protocol", "load-error", "out-of-bounds-read", "timeout"])

@@ -33,7 +33,7 @@ def render_scores(source: Path, expected_displays, extra_flags=()) -> dict[str, 
     assert built.ok, built.log
     scores = {}
     with open_lookups(built.library) as lookups:
-        ctx = types.SimpleNamespace(lookups=lookups)
+        ctx = types.SimpleNamespace(lookups=lookups, first_faces=False)
         for fixture in fixtures.render_fixtures():
             image, _ = render_with_submission(ctx, fixture)
             expected, got = expected_displays[fixture.name], display(image)
