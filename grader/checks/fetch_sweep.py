@@ -91,14 +91,15 @@ def fetch_sweep(ctx: CheckContext, result: CheckResult, texture: ReadTextureFind
         faces = coordinate_faces(w, h)
         if same_process or not parts:
             ctx.lookups.set_faces(faces, same_process=same_process)
-        rec, verdict = fetch_record.observe(ctx.lookups, dirs, faces, tolerance(w, h, float(max(w, h) + 1)))
+        tol = tolerance(w, h, float(max(w, h) + 1))
+        rec, verdict = fetch_record.observe(ctx.lookups, dirs, faces, tol)
         if same_process and ctx.states().depends:
             # fetchColor answers otherwise in a process whose first faces
             # they are (instruments.process_state): this set in that state
             # too, the one with fewer right answers kept, as for the end-to-end checks.
             ctx.lookups.restart()
             ctx.lookups.set_faces(faces)
-            first = fetch_record.observe(ctx.lookups, dirs, faces, tolerance(w, h, float(max(w, h) + 1)))
+            first = fetch_record.observe(ctx.lookups, dirs, faces, tol)
             if first[1].ok.sum() < verdict.ok.sum():
                 (rec, verdict), name = first, SECOND_SIZE_FIRST_SET
                 diagnoses.append(ctx.states().diagnosis())
