@@ -38,6 +38,13 @@ A check is a function registered with @check, check50 style:
   (instruments.process_state); where any answer differs, each end-to-end
   check runs in both states and the lower score counts, with the
   observation as a diagnosis.
+- `public_maps=True` marks a check that looks up the public maps of
+  Cubemap/ (arrows, renders). Before the first of them, run_checks records
+  fetchColor on the same directions on each public map and on the sweep's
+  faces (instruments.map_probe); where it asks otherwise on a map, each such
+  check runs again with fetchColor's requests on faces of the sweep's size,
+  read from the public maps (map_probe.SweepFaceRequests), and the lower
+  score counts, with the observation as a diagnosis.
 - Points, partial credit and visibility live in grader/grading/rubric.toml. The run
   order is the rubric's order (score.load_rubric refuses unknown or missing
   check names, and a check listed before one it requires). MODULES only says
@@ -112,6 +119,7 @@ class Check:
     run: Callable[..., Any]
     requires: tuple[Needs, ...] = ()
     end_to_end: bool = False
+    public_maps: bool = False
 
     @property
     def prerequisites(self) -> tuple[str, ...]:
@@ -126,7 +134,7 @@ class CheckDefinitionError(Exception):
 
 
 def check(requires: Iterable[Callable | Needs] = (), registry: dict[str, Check] | None = None,
-          end_to_end: bool = False):
+          end_to_end: bool = False, public_maps: bool = False):
     """Register a check; see the module docstring for the contract.
     `registry`: where to register (tests use their own; default REGISTRY)."""
     registry = REGISTRY if registry is None else registry
@@ -142,7 +150,7 @@ def check(requires: Iterable[Callable | Needs] = (), registry: dict[str, Check] 
                                            "which is not a @check function")
         if name in registry and registry[name].run is not fn:
             raise CheckDefinitionError(f"two checks are named {name}")
-        c = Check(name, fn.__doc__.strip().splitlines()[0], fn, needs, end_to_end)
+        c = Check(name, fn.__doc__.strip().splitlines()[0], fn, needs, end_to_end, public_maps)
         fn.__check__ = c
         registry[name] = c
         return fn
@@ -263,18 +271,75 @@ def _run_one(c: Check, ctx, inputs: list) -> Ran:
     return ran
 
 
-def _depends_on_state(ctx, result: CheckResult) -> bool:
-    """Whether fetchColor answered otherwise in a process whose first faces
-    they were (CheckContext.states). A probe the harness could not run
-    leaves the check's one run standing, the traceback in its error log."""
-    if not hasattr(ctx, "states"):
-        return False
+@dataclass(frozen=True)
+class OtherState:
+    """A state a check is run again in when a probe observes that fetchColor
+    behaves otherwise there; the lower score counts."""
+    probe: str                      # the CheckContext method giving the observation (.depends, .diagnosis())
+    folder: str                     # its pictures' folder: the run not kept must not replace the kept run's
+    applies: Callable[[Check], bool]
+    flag: str | None = None         # a CheckContext attribute set while it runs
+    lookups: Callable[[Any], Any] | None = None    # the lookups the check sees while it runs, from the context
+
+
+def _sweep_face_requests(ctx):
+    from .instruments.map_probe import SweepFaceRequests
+    return SweepFaceRequests(ctx.lookups, ctx.seed)
+
+
+OTHER_STATES = (
+    # In a process whose first faces they are (instruments.process_state).
+    OtherState("states", "first-faces", lambda c: c.end_to_end, flag="first_faces"),
+    # fetchColor's requests on faces of the sweep's size, read from the public
+    # maps (instruments.map_probe).
+    OtherState("map_probe", "sweep-face-requests", lambda c: c.public_maps, lookups=_sweep_face_requests),
+)
+
+
+def _observed(ctx, state: OtherState, result: CheckResult):
+    """The probe's observation when it shows fetchColor behaving otherwise,
+    else None. A probe the harness could not run leaves the check's one run
+    standing, the traceback in its error log."""
+    probe = getattr(ctx, state.probe, None)
+    if probe is None:
+        return None
     try:
-        return ctx.states().depends
+        observed = probe()
+        return observed if observed.depends else None
     except Exception:
-        result.error_log += "the process-state probe failed:\n" + traceback.format_exc()
-        log.error("the process-state probe failed:\n%s", traceback.format_exc())
-        return False
+        result.error_log += f"the probe {state.probe} failed:\n" + traceback.format_exc()
+        log.error("the probe %s failed:\n%s", state.probe, traceback.format_exc())
+        return None
+
+
+def _run_in_other_states(c: Check, ctx, inputs: list, ran: Ran) -> Ran:
+    """The check again in each other state whose probe observed fetchColor
+    behaving otherwise; the lowest score kept, with its observations."""
+    said = []
+    for state in OTHER_STATES:
+        if not state.applies(c):
+            continue
+        observed = _observed(ctx, state, ran.result)
+        if observed is None:
+            continue
+        artifacts, lookups = ctx.artifacts, ctx.lookups
+        ctx.artifacts = artifacts / state.folder
+        if state.flag:
+            setattr(ctx, state.flag, True)
+        if state.lookups:
+            ctx.lookups = state.lookups(ctx)
+        try:
+            other = _run_one(c, ctx, inputs)
+        finally:
+            ctx.artifacts, ctx.lookups = artifacts, lookups
+            if state.flag:
+                setattr(ctx, state.flag, False)
+        if other.finished and other.result.fraction < ran.result.fraction:
+            said.append(observed.diagnosis())
+            other.result.error_log = ran.result.error_log + other.result.error_log
+            ran = other
+    ran.result.diagnoses += said
+    return ran
 
 
 def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) -> CheckRun:
@@ -293,19 +358,8 @@ def run_checks(checks: list[Check], ctx, selected: Iterable[str] | None = None) 
             inputs = [done[check_of(n.check).name].finding for n in c.requires]
             t0 = time.monotonic()
             ran = _run_one(c, ctx, inputs)
-            if c.end_to_end and ran.finished and _depends_on_state(ctx, ran.result):
-                # fetchColor answered otherwise in a process whose first faces
-                # they were: the check again in that state, the lower score kept.
-                # Its pictures go to a folder of their own: those of the run
-                # not kept must not replace the kept run's.
-                artifacts, ctx.artifacts, ctx.first_faces = ctx.artifacts, ctx.artifacts / "first-faces", True
-                try:
-                    other = _run_one(c, ctx, inputs)
-                finally:
-                    ctx.artifacts, ctx.first_faces = artifacts, False
-                if other.finished and other.result.fraction < ran.result.fraction:
-                    other.result.diagnoses.append(ctx.states().diagnosis())
-                    ran = other
+            if ran.finished:
+                ran = _run_in_other_states(c, ctx, inputs, ran)
             result = ran.result
             result.duration_s = time.monotonic() - t0
             _refuse_unknown_ids(c, result)

@@ -18,6 +18,7 @@ from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
 from .context import CheckContext, failure_diagnoses, set_end_to_end_faces, unique_diagnoses
 from .instruments.directions import axes, fibonacci_sphere
+from .instruments.map_probe import load_map
 
 TEST_MAP = PROJECT_ROOT / "Cubemap" / "test_environment_map.hdr"
 ARROW_SCENE = PROJECT_ROOT / "scenes" / "mirror_ball_test_map.cfg"
@@ -54,10 +55,10 @@ def disc_axes(classes: np.ndarray) -> list[list[int]]:
     return [[i for i in range(6) if np.mean(classes[i] == k) > 0.5] for k in range(3)]
 
 
-@check(end_to_end=True)
+@check(end_to_end=True, public_maps=True)
 def arrows(ctx: CheckContext, result: CheckResult) -> None:
     """On test_environment_map.hdr the red, green and blue arrows point along +x, +y and +z."""
-    texels = oracle.current().load_cross(TEST_MAP)
+    texels = load_map(TEST_MAP)
     set_end_to_end_faces(ctx, texels)
     caps = axis_caps()
     sphere = fibonacci_sphere(6000 if ctx.quick else 20_000)

@@ -18,7 +18,7 @@ import numpy as np
 from ..i18n import _
 from ..grading.results import Diagnosis
 from ..worker.failures import KINDS, TIMEOUT
-from .instruments import process_state
+from .instruments import map_probe, process_state
 from .instruments.process_state import set_faces_after_another_size
 
 # failure_diagnoses' ids: a worker failure's kind is its diagnosis id.
@@ -49,6 +49,7 @@ class CheckContext:
     # (instruments.process_state): each lookup in a fresh worker whose first faces they are.
     first_faces: bool = False
     _states: Any = None
+    _maps: Any = None
 
     def states(self):
         """fetchColor asked the same directions on the same faces in a process
@@ -57,6 +58,13 @@ class CheckContext:
         if self._states is None:
             self._states = process_state.probe(self.lookups, self.seed)
         return self._states
+
+    def map_probe(self):
+        """fetchColor recorded on the same directions on the sweep's faces and
+        on each public map (instruments.map_probe.MapProbe), probed once per grading."""
+        if self._maps is None:
+            self._maps = map_probe.probe(self.lookups, self.seed)
+        return self._maps
 
     def artifact(self, name: str) -> Path:
         self.artifacts.mkdir(parents=True, exist_ok=True)

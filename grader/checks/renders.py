@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import functools
-import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -13,6 +12,7 @@ from ..i18n import _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
 from .context import CheckContext, failure_diagnoses, set_end_to_end_faces, unique_diagnoses
+from .instruments.map_probe import load_map, stamp
 from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
 # Measured on the correct solutions (-O0, -O3, -ffast-math, float and double)
@@ -61,11 +61,6 @@ def matched_share(expected_display: np.ndarray, got_display: np.ndarray) -> floa
     return float((flip_pixels(expected_display, got_display) <= PIXEL_FLIP_MAX).mean())
 
 
-def _stamp(path) -> tuple:
-    st = os.stat(path)
-    return str(path), st.st_mtime_ns, st.st_size
-
-
 @functools.lru_cache(maxsize=16)
 def _traced(scene: tuple, size: tuple[int, int], spp: int):
     """The reference's camera paths of a scene (the same for every
@@ -75,13 +70,6 @@ def _traced(scene: tuple, size: tuple[int, int], spp: int):
     for a in (escapes.dirs, escapes.weights, escapes.pixels):
         a.setflags(write=False)
     return escapes
-
-
-@functools.lru_cache(maxsize=16)
-def _faces(cross: tuple) -> np.ndarray:
-    faces = oracle.current().load_cross(cross[0])
-    faces.setflags(write=False)
-    return faces
 
 
 @functools.lru_cache(maxsize=16)
@@ -98,8 +86,8 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, l
     of a check starts a worker whose first lookup was on faces larger than
     `largest` (the largest map the check uses); the others follow in that
     worker, as a student's program would look up one map after another."""
-    escapes = _traced(_stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
-    faces = _faces(_stamp(fixture.map))
+    escapes = _traced(stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
+    faces = load_map(fixture.map)
     if first or ctx.first_faces:
         set_end_to_end_faces(ctx, faces, largest)
     else:
@@ -109,7 +97,7 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, l
     return oracle.current().resolve(escapes, rgb), outcome
 
 
-@check(end_to_end=True)
+@check(end_to_end=True, public_maps=True)
 def renders(ctx: CheckContext, result: CheckResult) -> None:
     """Full renders of the mirror and glass spheres with your lookup look like the reference renders."""
     from ..envmap.imaging import write_image
@@ -119,7 +107,7 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         items = items[:1]
     worst = None
     crashed_in = None
-    sizes = [_faces(_stamp(fixture.map)).shape[1:3] for fixture in items]
+    sizes = [load_map(fixture.map).shape[1:3] for fixture in items]
     largest = (max(h for h, _ in sizes), max(w for _, w in sizes)) if sizes else None
     for number, fixture in enumerate(items):
         if crashed_in is not None:
@@ -131,7 +119,7 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
         diagnoses += failure_diagnoses(outcome.failures)
         if outcome.failures:
             crashed_in = fixture.name
-        expected = _expected(_stamp(fixture.path)).copy()   # fixture.load(), once per process; FLIP wants it writable
+        expected = _expected(stamp(fixture.path)).copy()   # fixture.load(), once per process; FLIP wants it writable
         got = display(image)
         scored = score_render(expected, got)
         s, f_mean, f_map, ok = scored.ssim, scored.flip_mean, scored.flip_map, scored.passed

@@ -503,6 +503,21 @@ _ENTRIES = [
         "faces' formulas along it."),
     ),
     DiagnosisInfo(
+        "fetch-depends-on-the-map", "mapping", ("checks.instruments.map_probe",),
+        N_("fetchColor asks otherwise on the public maps"),
+        N_("The grader recorded which face and (u, v) your fetchColor asks "
+        "readTexture for, for the same directions, on each map in Cubemap/ and "
+        "on random faces of the size the sweep uses. On a public map it asked "
+        "otherwise (the details give the map, one direction and both calls), so "
+        "what it asks depends on the map's size or texels, not on the direction "
+        "alone. The checks that look at the public maps (arrows, renders) were "
+        "judged again with what your fetchColor asks for on faces of the sweep's "
+        "size, read from the public maps as the handout's readTexture reads; the "
+        "lower score counts."),
+        N_("Compute the face and (u, v) from the direction alone: do not use "
+        "`m_FaceWidth`, `m_FaceHeight` or the texels in fetchColor."),
+    ),
+    DiagnosisInfo(
         "fetch-depends-on-earlier-faces", "mapping", ("checks.instruments.process_state",),
         N_("fetchColor answers otherwise after faces of another size"),
         N_("The grader asked your fetchColor the same directions on the same faces "

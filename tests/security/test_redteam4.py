@@ -19,9 +19,14 @@ each attack has a control, the same code without its trick):
    - right_on_the_public_maps: v flipped on +Z except on faces 128 wide or
      more (every map in Cubemap/): the seven renders are bit for bit the
      reference's (the shortcut scores them) and the arrows point right.
-     WORKS (88.17 -> 94.07); the shortcut adds nothing (a render within the
-     thresholds passes as well): the renders and the arrows are end to end
-     on public maps (docs/security.md, "Behaving differently when graded").
+     WORKED (88.17 -> 94.07); the shortcut adds nothing (a render within the
+     thresholds passes as well): the renders and the arrows were end to end
+     on public maps. Held since fetchColor is recorded on the same directions
+     on each public map and on the sweep's faces
+     (checks.instruments.map_probe): where it asks otherwise, the arrows and
+     renders are judged again on what it asks for on faces of the sweep's
+     size, read from the public maps, and the lower score counts (88.17
+     graded whole, as the control).
    - remembers_the_first_map: a cache of answers keyed by the direction
      alone. The shared worker now shows it: the renders after the first on
      envmap_test.cfg get grid_room's colours (3 of 7 fail; 1 of 7 when each
@@ -103,15 +108,14 @@ def test_wrong_until_the_faces_change_buys_nothing(tmp_path, mode):
     assert "fetch-depends-on-earlier-faces" in {d.id for d in by_name(a)["arrows"].diagnoses}
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the renders and the arrows are judged end to end on the public maps of Cubemap/ (128 and 256 "
-    "wide): a lookup right only on faces that wide renders them bit for bit (94.07 against 88.17 graded whole). "
-    "It should score no more than the control (e.g. a render or the arrows on a map resized to a "
-    "size drawn from the course secret)"))
 def test_right_only_on_the_public_maps_buys_nothing(tmp_path, mode):
     a = quick("right_on_the_public_maps", tmp_path / "attack", mode)
     c = quick("v_flipped_pos_z_control", tmp_path / "control", mode)
     assert by_name(a)["fetch_sweep"].status == FAILED
+    for name in ("arrows", "renders"):
+        assert by_name(a)[name].score <= by_name(c)[name].score + 1e-9, (name, by_name(a)[name].score,
+                                                                         by_name(c)[name].score)
+        assert "fetch-depends-on-the-map" in {d.id for d in by_name(a)[name].diagnoses}, name
     assert a.score <= c.score
 
 

@@ -384,6 +384,54 @@ def test_the_state_an_end_to_end_check_scores_better_in_is_not_kept(tmp_path):
     assert result.fraction == 0.5 and [d.id for d in result.diagnoses] == ["address-not-face-start"]
 
 
+class MapDependent:
+    """A context whose fetchColor asks otherwise on the public maps (or not):
+    what instruments.map_probe observed, given."""
+
+    def __init__(self, tmp_path, depends: bool):
+        self.depends = depends
+        self.lookups, self.seed, self.artifacts, self.first_faces = "the worker", 1, tmp_path, False
+        self.probed = 0
+
+    def map_probe(self):
+        self.probed += 1
+        return self
+
+    def diagnosis(self):
+        return Diagnosis("fetch-depends-on-the-map", "asked otherwise on a public map")
+
+
+@pytest.mark.parametrize("depends", [True, False])
+def test_a_check_on_the_public_maps_counts_the_lower_with_sweep_face_requests_where_they_differ(tmp_path, depends):
+    from grader.checks.instruments.map_probe import SweepFaceRequests
+    registry: dict = {}
+    seen: list = []
+
+    @check(registry=registry, end_to_end=True, public_maps=True)
+    def on_maps(ctx, result):
+        """Looks up the public maps."""
+        requests = isinstance(ctx.lookups, SweepFaceRequests)
+        seen.append((requests, ctx.artifacts.name))
+        result.fraction = 0.5 if requests else 0.75
+
+    @check(registry=registry, end_to_end=True)
+    def on_own_faces(ctx, result):
+        """Looks up faces of its own."""
+        seen.append((isinstance(ctx.lookups, SweepFaceRequests), ctx.artifacts.name))
+        result.fraction = 1.0
+
+    ctx = MapDependent(tmp_path, depends)
+    results = {r.name: r for r in run_checks(list(registry.values()), ctx).results}
+    assert ctx.probed == 1      # asked for the check on the public maps only
+    if depends:
+        assert seen == [(False, tmp_path.name), (True, "sweep-face-requests"), (False, tmp_path.name)]
+        assert results["on_maps"].fraction == 0.5
+        assert [d.id for d in results["on_maps"].diagnoses] == ["fetch-depends-on-the-map"]
+    else:
+        assert seen == [(False, tmp_path.name), (False, tmp_path.name)] and results["on_maps"].fraction == 0.75
+    assert results["on_own_faces"].diagnoses == [] and ctx.lookups == "the worker"
+
+
 # ---- worker failures and the whole pipeline on the fake ---------------------
 
 @pytest.mark.parametrize("kind", ["crash", "exited", "protocol", "load-error", "out-of-bounds-read", "timeout"])
