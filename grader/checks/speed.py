@@ -278,10 +278,12 @@ def _warm_up(lookups, seed: int, round: int, passes: int):
     safe = dirs[np.asarray(outcome.evaluated, bool)]
     if not len(safe):
         return TimedPasses(failure=outcome.failures[0] if outcome.failures else None)
-    block = np.tile(safe, (-(-PASS_LOOKUPS // len(safe)), 1))[:PASS_LOOKUPS]
+    # A pass: the safe directions over and over, about PASS_LOOKUPS calls in
+    # one request whose answers stay in the worker (nothing reads them).
+    repeats = -(-PASS_LOOKUPS // len(safe))
     used, timed = 0, TimedPasses()
     for _ in range(passes):
-        timed = lookups.time_fetch([block])
+        timed = lookups.time_fetch([safe], repeats=repeats)
         if timed.failure is not None:
             return timed
         used += sum(timed.cpu_ns)
@@ -302,7 +304,7 @@ def accuracy_point(ctx: CheckContext, ns: float) -> dict:
     from ..study.ground_truth import DEFAULT_ENVIRONMENT as env
     faces = bake(env, STUDY_FACE_SIZE)
     dirs = accuracy.uniform_directions(20_000)
-    ctx.lookups.set_faces(faces)
+    ctx.lookups.set_faces(faces, same_process=True)     # the timed worker's faces are larger: no new worker for a chart point
     rgb = ctx.lookups.fetch(dirs).values
     smooth = accuracy.smooth_mask(env, dirs, STUDY_FACE_SIZE)
     errors = accuracy.per_direction_error(rgb, env.radiance(dirs))

@@ -90,10 +90,10 @@ class BudgetedRunner(SubmissionRunner):
             return self._nothing(len(np.reshape(uv, (-1, 2))), "readTexture")
         return self._budgeted(lambda: SubmissionRunner.read_texture(self, face, uv, placement))
 
-    def time_fetch(self, passes: list[np.ndarray]) -> TimedPasses:
+    def time_fetch(self, passes: list[np.ndarray], repeats: int = 1) -> TimedPasses:
         if self._left() <= 0:
             return TimedPasses(failure=self._used_up("fetchColor"))
-        return self._budgeted(lambda: SubmissionRunner.time_fetch(self, passes))
+        return self._budgeted(lambda: SubmissionRunner.time_fetch(self, passes, repeats))
 
 
 @contextmanager

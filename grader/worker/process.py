@@ -727,6 +727,28 @@ class Worker:
             self._fail(EXITED, "the worker ended while it was being timed")
         return rgb, used
 
+    def fetch_repeated(self, dirs: np.ndarray, repeats: int, timeout_s: float = 10.0) -> int:
+        """fetchColor over `dirs`, `repeats` times in one request (TIME_FETCH:
+        only the worker's own times come back, and they are dropped), and the
+        CPU time (ns) the kernel charged to the worker for it, read from
+        outside as in fetch_timed: calls whose answers nobody reads (the speed
+        check's warm-up) without the reply of each."""
+        if self._worker_pid is None:
+            raise WorkerHarnessError("the worker's CPU time cannot be read here (/proc did not show its pid)")
+        try:
+            before = process_cpu_ns(self._worker_pid)
+        except OSError:
+            before = None
+        dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+        head = struct.pack("=II", repeats, 0)
+        self._call(protocol.TIME_FETCH, len(dirs), head + dirs.tobytes(), repeats, repeats * 8, timeout_s, "fetchColor")
+        try:
+            if before is None:
+                raise OSError
+            return process_cpu_ns(self._worker_pid) - before
+        except OSError:
+            self._fail(EXITED, "the worker ended while it was being timed")
+
     def freeze(self) -> None:
         """Stop every thread of the worker (SIGSTOP, from outside) and wait
         until they are, while other libraries are timed: a thread left
@@ -842,8 +864,9 @@ class Worker:
     def time_fetch_ns(self, dirs: np.ndarray, repeats: int = 5, timeout_s: float = 30.0) -> np.ndarray:
         """Nanoseconds each of `repeats` sub_fetch_batch calls over `dirs` took,
         measured INSIDE the worker by its own clock_gettime: the submission
-        can forge these, so grading does not use them (fetch_timed does);
-        kept for bench/bench_isolation.py's comparison with the old way."""
+        can forge these, so grading does not use them (fetch_timed and
+        fetch_repeated time from outside); kept for bench/bench_isolation.py's
+        comparison with the old way."""
         dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
         if not 1 <= repeats <= 100_000:
             raise ValueError(f"repeats must be 1..100000, not {repeats}")

@@ -254,25 +254,32 @@ class SubmissionRunner:
         return self._run_batch(len(uv), run, None, "readTexture",
                                lambda i: describe_read_texture(face, *uv[i]))
 
-    def time_fetch(self, passes: list[np.ndarray]) -> TimedPasses:
+    def time_fetch(self, passes: list[np.ndarray], repeats: int = 1) -> TimedPasses:
         """fetchColor over each batch of directions in `passes` (give every
         pass fresh ones, so nothing can be cached between passes), each timed
         by the worker process's CPU time read from outside, with the colours
-        returned for checking. Stops at the first failure (TimedPasses.failure)."""
+        returned for checking. Stops at the first failure (TimedPasses.failure).
+        repeats > 1: each pass is its directions `repeats` times over, in one
+        request, and no colours come back (the speed check's warm-up)."""
         timed = TimedPasses()
         for dirs in passes:
             dirs = np.ascontiguousarray(dirs, dtype=np.float64).reshape(-1, 3)
+
+            def run(worker: Worker):
+                if repeats == 1:
+                    return worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
+                return None, worker.fetch_repeated(dirs, repeats, timeout_s=self._timeout(len(dirs) * repeats))
             try:
                 try:
                     worker = self._ready_worker("end")
-                    rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
+                    rgb, ns = run(worker)
                 except SubmissionFailure as failure:
                     self._drop_worker()
                     if not failure.grader_limit:
                         raise
                     self.retries += 1      # once more: see attempt() in _run_batch
                     worker = self._ready_worker("end")
-                    rgb, ns = worker.fetch_timed(dirs, timeout_s=self._timeout(len(dirs)))
+                    rgb, ns = run(worker)
             except SubmissionFailure as failure:
                 self._drop_worker()
                 timed.failure = self._failure(failure, "fetchColor", None, _("timing fetchColor over a batch"))
@@ -289,8 +296,9 @@ class SubmissionRunner:
                                               % {"call": describe_fetch(dirs[index]), "more": len(worker.faults) - 1})
                 break
             timed.cpu_ns.append(ns)
-            timed.lookups.append(len(dirs))
-            timed.values.append(rgb)
+            timed.lookups.append(len(dirs) * repeats)
+            if rgb is not None:
+                timed.values.append(rgb)
         return timed
 
     @contextmanager

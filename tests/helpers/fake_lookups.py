@@ -148,12 +148,13 @@ class FakeLookups:
                     uv[rows] = UV_MISTAKES[mistake](uv[rows])
         return faces, np.clip(uv, 0, 1)
 
-    def time_fetch(self, passes: list[np.ndarray]):
-        """grader.worker.runner.TimedPasses at ns_per_lookup, with the fake's colours."""
+    def time_fetch(self, passes: list[np.ndarray], repeats: int = 1):
+        """grader.worker.runner.TimedPasses at ns_per_lookup, with the fake's
+        colours (none for repeated passes, as the runner gives none)."""
         from grader.worker.runner import TimedPasses
-        values = [self.fetch(p).values for p in passes]
-        return TimedPasses(cpu_ns=[int(self.ns_per_lookup * len(p)) for p in passes],
-                           lookups=[len(p) for p in passes], values=values)
+        values = [self.fetch(p).values for p in passes] if repeats == 1 else []
+        return TimedPasses(cpu_ns=[int(self.ns_per_lookup * len(p) * repeats) for p in passes],
+                           lookups=[len(p) * repeats for p in passes], values=values)
 
     # ---- the fake readTexture ---------------------------------------------
 

@@ -528,13 +528,13 @@ class FailsSomeRounds(FakeLookups):
         super().__init__()
         self.failing = failing
 
-    def time_fetch(self, passes):
+    def time_fetch(self, passes, repeats: int = 1):
         from grader.worker.runner import Failure, TimedPasses
         if self.failing > 0:
             self.failing -= 1
             return TimedPasses(failure=Failure("protocol", "fetchColor", 7, "fetchColor(Vector3(1, 0, 0))",
                                                "the reply broke the protocol", ""))
-        return super().time_fetch(passes)
+        return super().time_fetch(passes, repeats)
 
 
 def test_speed_draws_again_rounds_that_failed_at_a_rare_input(tmp_path):
