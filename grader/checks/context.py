@@ -35,7 +35,7 @@ class SubmissionLookups(Protocol):
     def restart(self) -> None: ...    # the next call in a fresh worker (no state carried over)
     # run_checks, before each check, where the lookups have it (grader.worker.runner)
     def reset_failure_budget(self) -> None: ...
-    def time_fetch(self, passes: list[np.ndarray]) -> Any: ...    # grader.worker.runner.TimedPasses
+    def time_fetch(self, passes: list[np.ndarray], repeats: int = 1) -> Any: ...    # grader.worker.runner.TimedPasses
 
 
 @dataclass
@@ -60,10 +60,10 @@ class CheckContext:
         return self._states
 
     def map_probe(self):
-        """fetchColor recorded on the same directions on the sweep's faces and
-        on each public map (instruments.map_probe.MapProbe), probed once per grading."""
+        """What the runs on public maps were seen to answer against what
+        fetchColor asks for on the sweep's faces (instruments.map_probe), so far."""
         if self._maps is None:
-            self._maps = map_probe.probe(self.lookups, self.seed)
+            self._maps = map_probe.MapObservations()
         return self._maps
 
     def artifact(self, name: str) -> Path:
@@ -81,6 +81,28 @@ def set_end_to_end_faces(ctx: CheckContext, faces: np.ndarray, largest: tuple[in
         ctx.lookups.set_faces(faces)
     else:
         set_faces_after_another_size(ctx.lookups, faces, largest)
+
+
+def look_up_public_map(ctx: CheckContext, faces: np.ndarray, dirs: np.ndarray, largest: tuple[int, int] | None = None,
+                       first: bool = True, sample=None):
+    """fetchColor for `dirs` on a public map (the arrows', a render's), as
+    a program looks it up: the first of a check's maps after faces of another
+    size (`largest`: the largest map the check uses; process_state.prelude),
+    the others in the same worker; held right after to `sample`
+    (instruments.map_probe.sample_runs, taken before the check's runs). In
+    the other state of run_checks (ctx.first_faces) each map goes to a fresh
+    worker as its first faces."""
+    if ctx.first_faces:
+        ctx.lookups.restart()
+        ctx.lookups.set_faces(faces)
+        return ctx.lookups.fetch(dirs)
+    if first:
+        process_state.prelude(ctx.lookups, largest or faces.shape[1:3])
+    ctx.lookups.set_faces(faces, same_process=True)
+    outcome = ctx.lookups.fetch(dirs)
+    if sample is not None:
+        map_probe.observe(ctx, sample, faces, outcome)
+    return outcome
 
 
 def failure_diagnoses(failures, limit: int = 3) -> list[Diagnosis]:

@@ -11,7 +11,8 @@ from ..envmap import oracle
 from ..i18n import _
 from ..grading.results import FAILED, CheckResult, Diagnosis
 from . import check, shown
-from .context import CheckContext, failure_diagnoses, set_end_to_end_faces, unique_diagnoses
+from .context import CheckContext, failure_diagnoses, look_up_public_map, unique_diagnoses
+from .instruments import map_probe
 from .instruments.map_probe import load_map, stamp
 from .instruments.image_metrics import difference_picture, display, flip, flip_pixels, ssim
 
@@ -80,7 +81,7 @@ def _expected(render: tuple) -> np.ndarray:
 
 
 def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, largest: tuple[int, int] | None = None,
-                           first: bool = True):
+                           first: bool = True, sample=None):
     """(image, outcome): the fixture's scene traced by the reference, the
     environment looked up by the submission in its worker. The first render
     of a check starts a worker whose first lookup was on faces larger than
@@ -88,11 +89,7 @@ def render_with_submission(ctx: CheckContext, fixture: fixtures.RenderFixture, l
     worker, as a student's program would look up one map after another."""
     escapes = _traced(stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP)
     faces = load_map(fixture.map)
-    if first or ctx.first_faces:
-        set_end_to_end_faces(ctx, faces, largest)
-    else:
-        ctx.lookups.set_faces(faces, same_process=True)
-    outcome = ctx.lookups.fetch(escapes.dirs)
+    outcome = look_up_public_map(ctx, faces, escapes.dirs, largest, first, sample)
     rgb = np.nan_to_num(outcome.values, nan=0.0, posinf=0.0, neginf=0.0)
     return oracle.current().resolve(escapes, rgb), outcome
 
@@ -109,13 +106,16 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
     crashed_in = None
     sizes = [load_map(fixture.map).shape[1:3] for fixture in items]
     largest = (max(h for h, _ in sizes), max(w for _, w in sizes)) if sizes else None
+    samples = map_probe.sample_runs(ctx, [
+        (fixture.name, _("the render of %(render)s") % {"render": render_name(fixture)},
+         _traced(stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP).dirs) for fixture in items])
     for number, fixture in enumerate(items):
         if crashed_in is not None:
             # Each crash costs a search for its input; one crashed render says enough.
             rows.append(f"| {render_name(fixture)} | | | | "
                         + _("not run: crashed in %(render)s") % {"render": crashed_in} + " |")
             continue
-        image, outcome = render_with_submission(ctx, fixture, largest, first=number == 0)
+        image, outcome = render_with_submission(ctx, fixture, largest, first=number == 0, sample=samples.get(fixture.name))
         diagnoses += failure_diagnoses(outcome.failures)
         if outcome.failures:
             crashed_in = fixture.name

@@ -504,18 +504,22 @@ _ENTRIES = [
     ),
     DiagnosisInfo(
         "fetch-depends-on-the-map", "mapping", ("checks.instruments.map_probe",),
-        N_("fetchColor asks otherwise on the public maps"),
-        N_("The grader recorded which face and (u, v) your fetchColor asks "
-        "readTexture for, for the same directions, on each map in Cubemap/ and "
-        "on random faces of the size the sweep uses. On a public map it asked "
-        "otherwise (the details give the map, one direction and both calls), so "
-        "what it asks depends on the map's size or texels, not on the direction "
-        "alone. The checks that look at the public maps (arrows, renders) were "
-        "judged again with what your fetchColor asks for on faces of the sweep's "
-        "size, read from the public maps as the handout's readTexture reads; the "
-        "lower score counts."),
-        N_("Compute the face and (u, v) from the direction alone: do not use "
-        "`m_FaceWidth`, `m_FaceHeight` or the texels in fetchColor."),
+        N_("fetchColor answers otherwise on the public maps"),
+        N_("The grader took directions from the arrows' and renders' lookups on "
+        "the maps in Cubemap/, asked your fetchColor the same directions on "
+        "random faces of the size the sweep uses, recording which face and (u, v) "
+        "it asks readTexture for there, and called your readTexture on the public "
+        "map at that face and (u, v). Honest code gives the same colour both ways. "
+        "Yours answered otherwise on a public map (the details give the lookup, "
+        "one direction and the numbers): what it does depends on the map (its "
+        "size or texels), on what readTexture answers or on earlier calls, not on "
+        "the direction alone. The checks that look at the public maps (arrows, "
+        "renders) were judged again with what your fetchColor asks for on faces of "
+        "the sweep's size, read from the public maps as the handout's readTexture "
+        "reads; the lower score counts."),
+        N_("Compute the face and (u, v) from the direction alone and return "
+        "readTexture's answer as it comes: do not use `m_FaceWidth`, "
+        "`m_FaceHeight`, the texels or earlier calls in fetchColor."),
     ),
     DiagnosisInfo(
         "fetch-depends-on-earlier-faces", "mapping", ("checks.instruments.process_state",),

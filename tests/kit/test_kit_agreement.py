@@ -53,6 +53,7 @@ SUBSET = [SUBMISSIONS / name for name in (
     "redteam2/believed_on_two_faces.cpp",
     "redteam3/readtexture_vouches_for_cheap_lookups.cpp",
     "redteam4/correct_control.cpp",
+    "redteam5/knows_the_tags.cpp",
     "resources/pipe_filler.cpp",
     "runtime_attacks/forged_reply.cpp",
     "wrong/u-flipped-pos-x.cpp",

@@ -1,50 +1,54 @@
-"""Whether fetchColor asks readTexture the same on the public maps as on
+"""Whether what fetchColor answered on a public map is what it asks for on
 the sweep's faces.
 
 The arrows and the renders look up on the maps of Cubemap/ (128 and 256
-texels wide, texels anyone can read). fetchColor is recorded
-(instruments.fetch_record: its calls logged and answered with tags, the
-student's readTexture never called) on the same directions on random faces
-of the sweep's size (32 x 32) and on each of those maps, in one worker. The
-handout's fetchColor asks for the face and (u, v) the direction alone
-decides; one that asks otherwise on a public map (it tells the maps by
-their size or their texels) is observed doing so, call for call. Where one
-does, run_checks runs each check that looks up the public maps again
-through `SweepFaceRequests`: fetchColor runs on random faces of the sweep's
-size, and each direction's colour is the handout's readTexture on the
-public map at the face and (u, v) it asked for there. The lower score
-counts: a lookup right only on faces 128 wide or more
-(redteam4/right_on_the_public_maps) earned the renders and the arrows while
-the sweep found +Z upside down, and now earns what the same mistake
-everywhere earns.
+texels wide, texels anyone can read), end to end. Each of those runs is
+observed on a sample of its own directions, drawn from the grading's seed
+(`sample_runs`, `observe`): before a check's runs, fetchColor is recorded
+on them on random faces of the sweep's size in a fresh worker, as the sweep
+records it (instruments.fetch_record: its calls answered with tags); right
+after each run, in its worker, the student's own readTexture is called
+directly on the public map at the face and (u, v) of the call whose answer
+came back there. Honest code
+computes the same thing whoever calls it and whatever the faces hold: the
+run's answer is that read, bit for bit. One that answers otherwise on the
+public map (it tells the maps by their size or texels, by what readTexture
+answers, by its history in the process) is observed doing so on the run
+that is scored. Where one does, run_checks runs each check that looks up
+the public maps again through `SweepFaceRequests` (fetchColor on faces of
+the sweep's size, each direction's colour the handout's readTexture on the
+public map at what it asked there) and keeps the lower score: a lookup
+right only on faces 128 wide or more (redteam4/right_on_the_public_maps,
+tests/submissions/redteam5/) earned the renders and the arrows while the
+sweep found +Z upside down, and now earns what the same mistake everywhere
+earns.
 
 What it cannot see: a fetchColor that makes no readTexture call (it reads
-the texels itself) records nothing to compare.
+the texels itself) asks for nothing to read again; it is judged end to end
+on the public maps as before (redteam5/reads_itself_on_every_map).
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import os
+import zlib
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from ...envmap import library, oracle
-from ...grading import fixtures
+from ...envmap import oracle
+from ...envmap.library import FACE_NAMES
 from ...grading.results import Diagnosis
 from ...i18n import _
 from . import fetch_record
-from .directions import random_directions
+from .compare import format_vector
 from .textures import SWEEP_FACE_SIZE, random_faces
 
-PROBE_DIRECTIONS = 2048
+SAMPLE = 256            # directions observed per run on a public map
+MARGIN = 2.0            # texels inside the face (as fetch_record.IN_CONTEXT_MARGIN: a read past the face
+                        # finds a neighbour in the six-face buffer and the window's edge when called alone)
 DIAGNOSIS_IDS = ("fetch-depends-on-the-map",)
-
-
-def public_maps() -> list[Path]:
-    """Every map the end-to-end checks look up (the renders' maps, the arrows' among them), once each."""
-    return sorted({f.map.resolve() for f in fixtures.render_fixtures()})
 
 
 def stamp(path) -> tuple:
@@ -54,8 +58,8 @@ def stamp(path) -> tuple:
 
 
 @functools.lru_cache(maxsize=16)
-def _loaded(stamp: tuple) -> np.ndarray:
-    faces = oracle.current().load_cross(stamp[0])
+def _loaded(key: tuple) -> np.ndarray:
+    faces = oracle.current().load_cross(key[0])
     faces.setflags(write=False)
     return faces
 
@@ -66,90 +70,124 @@ def load_map(path) -> np.ndarray:
     return _loaded(stamp(path))
 
 
-@dataclass(frozen=True)
-class MapProbe:
-    """fetchColor's record for the same directions on the sweep's faces and on each public map."""
-    directions: np.ndarray                  # (n, 3)
-    on_sweep_faces: fetch_record.Record     # on random faces of SWEEP_FACE_SIZE
-    on_maps: tuple                          # ((path, (W, H), Record), ...)
+def _sweep_faces(seed: int) -> np.ndarray:
+    w, h = SWEEP_FACE_SIZE
+    return random_faces(w, h, int(np.random.SeedSequence([seed, 0x3A95, 2]).generate_state(1)[0]))
 
-    def _differ(self, rec: fetch_record.Record) -> np.ndarray:
-        return differ(self.on_sweep_faces, rec)
+
+@dataclass(frozen=True)
+class Sample:
+    """fetchColor recorded on the sweep's faces, for some of a run's directions."""
+    where: str                  # the run: "<check>: <map>"
+    rows: np.ndarray            # (k,) indices into the run's directions
+    directions: np.ndarray      # (k, 3)
+    record: fetch_record.Record
+
+
+@dataclass(frozen=True)
+class Seen:
+    """One run's sample, read again on its public map."""
+    where: str
+    compared: int               # sampled directions whose answer on the sweep's faces came back, well inside a face
+    differ: int                 # of those, answered on the public map otherwise than readTexture reads there
+    example: tuple | None       # (direction, answer in the run, face, u, v, readTexture's read there)
+
+
+@dataclass
+class MapObservations:
+    """Every run observed in a grading (CheckContext.map_probe)."""
+    seen: list = dataclasses.field(default_factory=list)
 
     @property
     def depends(self) -> bool:
-        return any(self._differ(rec).any() for _path, _size, rec in self.on_maps)
+        return any(s.differ for s in self.seen)
 
     def diagnosis(self) -> Diagnosis:
-        """The observation in numbers: on which map, how many, and one direction's calls both ways."""
-        path, (w, h), rec = next(m for m in self.on_maps if self._differ(m[2]).any())
-        rows = self._differ(rec)
-        i = int(np.flatnonzero(rows)[0])
-        d = self.directions[i]
+        """The observation in numbers: the run, how many, and one direction in full."""
+        first = next(s for s in self.seen if s.differ)
+        d, answered, face, u, v, read = first.example
         sw, sh = SWEEP_FACE_SIZE
         return Diagnosis(DIAGNOSIS_IDS[0], _(
-            "On %(map)s (%(w)d x %(h)d faces) fetchColor asked readTexture otherwise than on random %(sw)d x %(sh)d "
-            "faces for %(n)d of %(total)d directions; e.g. fetchColor(Vector3(%(x).4f, %(y).4f, %(z).4f)) asked for "
-            "%(there)s there and %(here)s on the random faces. The arrows and renders checks were judged again with "
-            "what fetchColor asks for on %(sw)d x %(sh)d faces, read from the public maps as the handout reads; the "
-            "lower score counts.")
-            % {"map": Path(path).name, "w": w, "h": h, "sw": sw, "sh": sh, "n": int(rows.sum()),
-               "total": int(compared(self.on_sweep_faces, rec).sum()), "x": d[0], "y": d[1], "z": d[2],
-               "there": calls_in_words(rec, i), "here": calls_in_words(self.on_sweep_faces, i)})
+            "In %(where)s, fetchColor(Vector3(%(x).4f, %(y).4f, %(z).4f)) answered %(answered)s. On random "
+            "%(sw)d x %(sh)d faces the same direction asks readTexture for face %(face)s at (u, v) = (%(u)r, %(v)r), "
+            "and your readTexture reads %(read)s there on this map: fetchColor answered otherwise than it asks. "
+            "%(n)d of %(total)d directions sampled from the lookups on public maps differ this way. The arrows and "
+            "renders checks were judged again with what fetchColor asks for on %(sw)d x %(sh)d faces, read from the "
+            "public maps as the handout reads; the lower score counts.") % {
+            "where": first.where, "x": d[0], "y": d[1], "z": d[2], "answered": format_vector(answered),
+            "sw": sw, "sh": sh, "face": FACE_NAMES[face], "u": u, "v": v, "read": format_vector(read),
+            "n": sum(s.differ for s in self.seen), "total": sum(s.compared for s in self.seen)})
 
 
-def compared(a: fetch_record.Record, b: fetch_record.Record) -> np.ndarray:
-    """(n,) bool: fetchColor finished in both records (a crash or a hang
-    on one map is the end-to-end checks' to see, not a difference here)."""
-    return (a.calls >= 0) & (b.calls >= 0)
+def observing(ctx) -> bool:
+    """Whether a run on a public map is observed: not while run_checks runs
+    a check again in another state (a worker whose first faces they are,
+    where a recording first would change that; or through SweepFaceRequests)."""
+    return not getattr(ctx, "first_faces", False) and not isinstance(ctx.lookups, SweepFaceRequests) \
+        and hasattr(ctx, "map_probe")
 
 
-def differ(a: fetch_record.Record, b: fetch_record.Record) -> np.ndarray:
-    """(n,) bool: directions whose calls differ between two records of the
-    same directions: how many, the face of each, its (u, v) beyond float
-    rounding (fetch_record.UV_TOLERANCE), or which answer came back."""
-    n = fetch_record.RECORDED_CALLS
-    made = np.arange(n)[None, :] < np.minimum(a.calls, n)[:, None]
-    with np.errstate(invalid="ignore"):
-        uv = (np.abs(a.uv - b.uv) <= fetch_record.UV_TOLERANCE) | (np.isnan(a.uv) & np.isnan(b.uv))
-    same_calls = ((a.faces == b.faces) & uv.all(axis=2)) | ~made
-    same = (a.calls == b.calls) & (a.returned == b.returned) & same_calls.all(axis=1)
-    return compared(a, b) & ~same
-
-
-def calls_in_words(rec: fetch_record.Record, i: int) -> str:
-    """One direction's readTexture calls as a student reads them."""
-    calls = int(rec.calls[i])
-    if calls == 0:
-        return _("no readTexture call")
-    shown = []
-    for k in range(min(calls, fetch_record.RECORDED_CALLS)):
-        face = int(rec.faces[i, k])
-        where = library.FACE_NAMES[face] if face >= 0 else _("an address that is no face's start")
-        shown.append(_("%(face)s at (u, v) = (%(u)r, %(v)r)") % {"face": where, "u": float(rec.uv[i, k, 0]),
-                                                                  "v": float(rec.uv[i, k, 1])})
-    more = "" if calls <= fetch_record.RECORDED_CALLS else _(", and %(n)d more calls") % {
-        "n": calls - fetch_record.RECORDED_CALLS}
-    return "; ".join(shown) + more
-
-
-def probe(lookups, seed: int) -> MapProbe:
-    """fetchColor recorded on the same directions on each public map
-    (largest first, in one worker, as the renders look them up) and then on
-    random faces of the sweep's size."""
-    dirs = random_directions(PROBE_DIRECTIONS, int(np.random.SeedSequence([seed, 0x3A95]).generate_state(1)[0]))
-    maps = sorted(((path, load_map(path)) for path in public_maps()), key=lambda m: -m[1].nbytes)
-    on_maps = []
-    restart = getattr(lookups, "restart", None)     # in-process stand-ins have no process to restart
+def sample_runs(ctx, runs) -> dict:
+    """{key: Sample} for a check's runs on public maps, `runs` as (key,
+    where, directions): SAMPLE of each run's directions (drawn from the
+    grading's seed and the run's key), fetchColor recorded on them on random
+    faces of the sweep's size in a fresh worker, as the sweep records it:
+    no state of the runs (or of the grader's sampling) reaches either. {}
+    where the runs are not observed (`observing`)."""
+    if not observing(ctx):
+        return {}
+    taken = []
+    for key, where, dirs in runs:
+        dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
+        rng = np.random.default_rng(np.random.SeedSequence([ctx.seed, 0x3A95, zlib.crc32(key.encode())]))
+        taken.append((key, where, np.sort(rng.choice(len(dirs), min(SAMPLE, len(dirs)), replace=False)), dirs))
+    restart = getattr(ctx.lookups, "restart", None)     # in-process stand-ins have no process to restart
     if restart is not None:
         restart()
-    for k, (path, faces) in enumerate(maps):
-        lookups.set_faces(faces, same_process=k > 0)
-        on_maps.append((str(path), (faces.shape[2], faces.shape[1]), fetch_record.record(lookups, dirs)))
-    w, h = SWEEP_FACE_SIZE
-    faces = random_faces(w, h, int(np.random.SeedSequence([seed, 0x3A95, 1]).generate_state(1)[0]))
-    lookups.set_faces(faces, same_process=bool(maps))
-    return MapProbe(dirs, fetch_record.record(lookups, dirs), tuple(on_maps))
+    ctx.lookups.set_faces(_sweep_faces(ctx.seed))
+    asked = np.concatenate([dirs[rows] for _key, _where, rows, dirs in taken])
+    # One recording, no second one in a fresh worker: a direction it answers
+    # from memory makes no call, and is not compared.
+    rec = fetch_record.record(ctx.lookups, asked, fresh=False)
+    out, start = {}, 0
+    for key, where, rows, dirs in taken:
+        part = slice(start, start + len(rows))
+        start += len(rows)
+        out[key] = Sample(where, rows, dirs[rows], dataclasses.replace(
+            rec, **{name: getattr(rec, name)[part] for name in ("values", "calls", "returned", "faces", "offsets", "uv")}))
+    return out
+
+
+def observe(ctx, taken: Sample, faces: np.ndarray, outcome) -> None:
+    """Right after a run on `faces`, in its worker: the run's answers to the
+    sampled directions against the student's readTexture called directly
+    on the same faces at what fetchColor asked for on the sweep's faces,
+    bit for bit, where the tag came back there and (u, v) lies MARGIN
+    texels or more inside the face."""
+    face, uv = taken.record.request()
+    h, w = faces.shape[1:3]
+    answers = np.asarray(outcome.values, np.float64)[taken.rows]
+    evaluated = np.asarray(outcome.evaluated, bool)[taken.rows]
+    with np.errstate(invalid="ignore"):
+        p = uv * np.array([w, h], np.float64)
+        inside = ((p >= MARGIN) & (p <= np.array([w, h]) - MARGIN)).all(axis=1)
+    usable = np.flatnonzero((face >= 0) & inside & evaluated)
+    differ, example = 0, None
+    for f in range(6):
+        rows = usable[face[usable] == f]
+        if not len(rows):
+            continue
+        direct = ctx.lookups.read_texture(f, uv[rows])
+        read = np.asarray(direct.values, np.float64)
+        with np.errstate(invalid="ignore"):
+            same = ((read == answers[rows]) | (np.isnan(read) & np.isnan(answers[rows]))).all(axis=1)
+        same &= np.asarray(direct.evaluated, bool)
+        differ += int((~same).sum())
+        if example is None and (~same).any():
+            j = int(np.flatnonzero(~same)[0])
+            i = rows[j]
+            example = (taken.directions[i], answers[i], f, float(uv[i, 0]), float(uv[i, 1]), read[j])
+    ctx.map_probe().seen.append(Seen(taken.where, len(usable), differ, example))
 
 
 class SweepFaceRequests:
@@ -164,9 +202,8 @@ class SweepFaceRequests:
     nothing about the map. fetchColor never sees a public map here."""
 
     def __init__(self, lookups, seed: int):
-        w, h = SWEEP_FACE_SIZE
         self.inner = lookups
-        self.sweep_faces = random_faces(w, h, int(np.random.SeedSequence([seed, 0x3A95, 2]).generate_state(1)[0]))
+        self.sweep_faces = _sweep_faces(seed)
         self.faces = self.sweep_faces
 
     def set_faces(self, faces, same_process: bool = False) -> None:
@@ -182,14 +219,11 @@ class SweepFaceRequests:
             reset()
 
     def fetch(self, dirs: np.ndarray, placement: str = "end"):
-        import dataclasses
         rec = fetch_record.record(self.inner, dirs)
         n = len(rec.calls)
-        k = np.where(rec.returned >= 0, rec.returned, 0)
-        asked = (rec.calls >= 1) & (k < fetch_record.RECORDED_CALLS)
-        face = np.where(asked, rec.faces[np.arange(n), np.minimum(k, fetch_record.RECORDED_CALLS - 1)], -1)
-        uv = rec.uv[np.arange(n), np.minimum(k, fetch_record.RECORDED_CALLS - 1)]
-        values = fetch_record.handout_read(self.faces, face, uv)
+        k = np.minimum(np.where(rec.returned >= 0, rec.returned, 0), fetch_record.RECORDED_CALLS - 1)
+        face = np.where(rec.calls >= 1, rec.faces[np.arange(n), k], -1)
+        values = fetch_record.handout_read(self.faces, face, rec.uv[np.arange(n), k])
         values[(rec.calls >= 0) & (face < 0)] = 0.0
         outcome = rec.outcome
         return dataclasses.replace(outcome, values=values, evaluated=np.asarray(outcome.evaluated, bool) & (rec.calls >= 0))

@@ -68,10 +68,16 @@ def set_faces_after_another_size(lookups, faces: np.ndarray,
     size kept from the first call (a static, issue 29's pattern 12) shows in
     what follows, as in the sweep's second size. Faces no larger than
     `largest` can follow in the same worker (set_faces(..., same_process=True))."""
-    h, w = largest or faces.shape[1:3]
+    prelude(lookups, largest or faces.shape[1:3])
+    lookups.set_faces(faces, same_process=True)
+
+
+def prelude(lookups, largest: tuple[int, int]) -> None:
+    """A fresh worker whose first lookup was on faces 8 texels larger each
+    way than `largest` (H, W): faces no larger follow in it."""
+    h, w = largest
     lookups.set_faces(np.ones((6, h + 8, w + 8, 3), np.float32))
     lookups.fetch(FIRST_CALL)
-    lookups.set_faces(faces, same_process=True)
 
 
 def _rgb(c: np.ndarray) -> str:

@@ -1,16 +1,21 @@
 """instruments/map_probe.py on in-process fakes (tests/helpers/fake_lookups.py):
-fetchColor's requests on the public maps compared with those on the
-sweep's faces, and the lookups that judge a check on the latter."""
+a run on a public map held, on a sample of its directions, to what
+fetchColor asks for on the sweep's faces, and the lookups that judge a check
+on the latter."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from fake_lookups import FakeLookups
+from grader import PROJECT_ROOT
+from grader.checks.context import CheckContext, look_up_public_map
 from grader.checks.instruments import map_probe
 from grader.checks.instruments.textures import SWEEP_FACE_SIZE
 from grader.envmap import library
 
 POS_Z = library.FACE_NAMES.index("+Z")
+GRID_ROOM = PROJECT_ROOT / "Cubemap" / "grid_room_cross.hdr"
 
 
 class RightOnlyOnLargeFaces(FakeLookups):
@@ -25,57 +30,71 @@ class RightOnlyOnLargeFaces(FakeLookups):
         return faces, uv
 
 
-def test_the_probe_looks_at_every_public_map_once():
-    maps = map_probe.public_maps()
-    names = {p.name for p in maps}
-    assert len(maps) == len(names) and "test_environment_map.hdr" in names and "grid_room_cross.hdr" in names
+def run(lookups, tmp_path, n: int = 4000):
+    """One observed run on grid_room_cross.hdr: (ctx, the run's outcome)."""
+    ctx = CheckContext(lookups=lookups, seed=5, artifacts=tmp_path)
+    dirs = np.random.default_rng(3).normal(size=(n, 3))
+    samples = map_probe.sample_runs(ctx, [("renders", "the render", dirs)])
+    outcome = look_up_public_map(ctx, map_probe.load_map(GRID_ROOM), dirs, sample=samples["renders"])
+    return ctx, outcome
 
 
-def test_a_correct_fetch_color_asks_the_same_everywhere():
-    probe = map_probe.probe(FakeLookups(), seed=5)
-    assert not probe.depends
-    assert len(probe.on_maps) == len(map_probe.public_maps())
-    assert all((rec.calls == 1).all() for _p, _s, rec in probe.on_maps)
+@pytest.mark.parametrize("lookups", [FakeLookups(), FakeLookups(fetch={"+Z": "v-flipped"}),
+                                     FakeLookups(texture="nearest"), FakeLookups(fetch="clamped-inward",
+                                                                                 texture="half-texel")],
+                         ids=["correct", "v-flipped", "nearest-readtexture", "two-mistakes"])
+def test_code_that_behaves_alike_everywhere_is_seen_alike(tmp_path, lookups):
+    """Right or wrong, the same code on the sweep's faces and on the map: no difference."""
+    ctx, _ = run(lookups, tmp_path)
+    (seen,) = ctx.map_probe().seen
+    assert seen.compared > 0.8 * map_probe.SAMPLE and seen.differ == 0 and not ctx.map_probe().depends
+    # The run itself looked up the public map.
+    assert lookups.faces.shape[1:3] == map_probe.load_map(GRID_ROOM).shape[1:3]
 
 
-def test_a_mistake_the_same_on_every_map_is_no_dependence():
-    assert not map_probe.probe(FakeLookups(fetch={"+Z": "v-flipped"}), seed=5).depends
+def test_right_only_on_large_faces_is_observed_in_the_run_with_its_numbers(tmp_path):
+    ctx, outcome = run(RightOnlyOnLargeFaces(), tmp_path)
+    observations = ctx.map_probe()
+    (seen,) = observations.seen
+    assert observations.depends and 0 < seen.differ < seen.compared      # the +Z directions only
+    said = observations.diagnosis()
+    assert said.id == "fetch-depends-on-the-map" and said.detail.startswith("In the render, fetchColor(Vector3(")
+    d, answered, face, u, v, read = seen.example
+    assert face == POS_Z
+    # What the table asks and what the flip asks, both (u, v) numbers the fake computes.
+    faces, uv = library.direction_to_face(d[None, :])
+    assert (u, v) == (float(uv[0, 0]), float(1 - uv[0, 1]))
+    control = FakeLookups()
+    control.set_faces(map_probe.load_map(GRID_ROOM))
+    np.testing.assert_array_equal(answered, control.fetch(d[None, :]).values[0])     # right in the run
+    assert f"face +Z at (u, v) = ({u!r}, {v!r})" in said.detail
 
 
-def test_right_only_on_large_faces_is_observed_call_for_call():
-    probe = map_probe.probe(RightOnlyOnLargeFaces(), seed=5)
-    assert probe.depends
-    said = probe.diagnosis()
-    assert said.id == "fetch-depends-on-the-map"
-    # The +Z directions of the probe, on the map the diagnosis names, and both calls in numbers.
-    faces, uv = library.direction_to_face(probe.directions)
-    on_z = int((faces == POS_Z).sum())
-    assert f"for {on_z} of {len(probe.directions)} directions" in said.detail
-    i = int(np.flatnonzero(faces == POS_Z)[0])
-    u, v = (float(x) for x in uv[i])
-    assert f"+Z at (u, v) = ({u!r}, {v!r}) there and +Z at (u, v) = ({u!r}, {1 - v!r})" in said.detail
+def test_no_sample_is_taken_in_the_other_states(tmp_path):
+    ctx = CheckContext(lookups=RightOnlyOnLargeFaces(), seed=5, artifacts=tmp_path, first_faces=True)
+    assert not map_probe.observing(ctx)
+    ctx = CheckContext(lookups=map_probe.SweepFaceRequests(FakeLookups(), 5), seed=5, artifacts=tmp_path)
+    assert not map_probe.observing(ctx)
 
 
-def test_a_request_that_uses_the_face_size_is_observed_too():
-    """Honest code can depend on the size (half a texel in u): what it asks
-    differs from map to map, and the diagnosis says so (true, if not a trick)."""
-    assert map_probe.probe(FakeLookups(fetch="half-texel-u"), seed=5).depends
-
-
-def test_differences_below_float_rounding_are_not_a_dependence():
-    probe = map_probe.probe(FakeLookups(), seed=5)
-    path, size, rec = probe.on_maps[0]
-    import dataclasses
-    nudged = dataclasses.replace(rec, uv=rec.uv + 2.0 ** -24)
-    assert not map_probe.differ(probe.on_sweep_faces, nudged).any()
-    moved = dataclasses.replace(rec, uv=rec.uv + 1e-6)
-    assert map_probe.differ(probe.on_sweep_faces, moved).all()
+def test_the_sample_is_drawn_from_the_seed_and_the_runs_key_on_the_sweeps_faces():
+    lookups = FakeLookups()
+    ctx = CheckContext(lookups=lookups, seed=5, artifacts=PROJECT_ROOT)
+    dirs = np.random.default_rng(3).normal(size=(4000, 3))
+    got = map_probe.sample_runs(ctx, [("renders", "x", dirs), ("renders again", "y", dirs[:100]), ("arrows", "x", dirs)])
+    a, short, c = got["renders"], got["renders again"], got["arrows"]
+    assert len(a.rows) == map_probe.SAMPLE and len(short.rows) == 100 and not (a.rows == c.rows).all()
+    assert (map_probe.sample_runs(ctx, [("renders", "y", dirs)])["renders"].rows == a.rows).all()
+    assert lookups.faces.shape[1:3] == SWEEP_FACE_SIZE[::-1]
+    # Each run's part of the one recording: its own directions' calls.
+    faces, uv = library.direction_to_face(c.directions)
+    assert (c.record.faces[:, 0] == faces).all() and (c.record.uv[:, 0] == uv).all()
 
 
 def test_judged_on_sweep_face_requests_the_trick_renders_as_the_mistake_everywhere():
     """Through SweepFaceRequests, the lookup right only on large faces gives,
     on a public map, the colours the same mistake on every face gives there."""
-    faces = map_probe.load_map(map_probe.public_maps()[0])
+    faces = map_probe.load_map(GRID_ROOM)
     dirs = np.random.default_rng(3).normal(size=(3000, 3))
     seen = map_probe.SweepFaceRequests(RightOnlyOnLargeFaces(), seed=5)
     seen.set_faces(faces)
@@ -93,6 +112,6 @@ def test_judged_on_sweep_face_requests_the_trick_renders_as_the_mistake_everywhe
 
 def test_a_direction_with_no_readtexture_call_is_black_there():
     seen = map_probe.SweepFaceRequests(FakeLookups(fetch="black"), seed=5)
-    seen.set_faces(map_probe.load_map(map_probe.public_maps()[0]))
+    seen.set_faces(map_probe.load_map(GRID_ROOM))
     got = seen.fetch(np.array([[0.3, 0.2, 1.0], [1.0, 0.1, 0.1]]))
     assert (got.values == 0).all() and got.evaluated.all()

@@ -1,0 +1,79 @@
+// v_flipped_pos_z_control.cpp's lookup except on faces 128 wide or more in a process whose first lookup was on faces whose texels are all alike: the warm-up the end-to-end checks give a fresh worker (process_state.set_faces_after_another_size: all-ones faces, 8 texels larger) before the arrows' and renders' maps. The map probe restarts its worker straight onto a public map, so there every map is looked up flipped, as the 32x32 faces are, and it sees no difference; the states probe uses 24x24 faces, where the lookup is always flipped, so it sees none either. Its truth is the control's. Verdict (secure): no more points than right_after_the_prelude_control.cpp.
+#include "EnvironmentMap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using std::max;
+using std::min;
+
+namespace {
+
+// The handout's face and (u, v); vFlipped is the control's mistake on +Z.
+void pick(const Vector3& d, int& face, double& u, double& v, double& vFlipped)
+{
+    const double x = d.x, y = d.y, z = d.z;
+    const double ax = std::fabs(x), ay = std::fabs(y), az = std::fabs(z);
+    if (ax >= ay && ax >= az) {
+        const double m = ax;
+        if (x > 0) { face = FACE_POS_X; u = (1 + z / m) / 2; v = (1 + y / m) / 2; }
+        else       { face = FACE_NEG_X; u = (1 - z / m) / 2; v = (1 + y / m) / 2; }
+        vFlipped = v;
+    } else if (ay >= az) {
+        const double m = ay;
+        if (y > 0) { face = FACE_POS_Y; u = (1 + x / m) / 2; v = (1 + z / m) / 2; }
+        else       { face = FACE_NEG_Y; u = (1 + x / m) / 2; v = (1 - z / m) / 2; }
+        vFlipped = v;
+    } else {
+        const double m = az;
+        if (z > 0) { face = FACE_POS_Z; u = (1 + x / m) / 2; v = (1 - y / m) / 2; vFlipped = (1 + y / m) / 2; }
+        else       { face = FACE_NEG_Z; u = (1 + x / m) / 2; v = (1 + y / m) / 2; vFlipped = v; }
+    }
+}
+
+} // namespace
+
+static const bool kTrick = true;
+
+namespace {
+// -1: no lookup yet in this process; 1: the process's first lookup was on
+// faces whose texels are all alike (the end-to-end checks' warm-up faces:
+// grader/checks/instruments/process_state.py set_faces_after_another_size).
+int g_startedOnUniformFaces = -1;
+}
+
+Color EnvironmentMap::fetchColor(const Vector3& direction) const
+{
+    if (g_startedOnUniformFaces < 0) {
+        const std::size_t n = static_cast<std::size_t>(m_FaceWidth) * m_FaceHeight * 3 * 6;
+        bool uniform = n >= 3;
+        for (std::size_t i = 3; uniform && i < n; ++i)
+            uniform = m_Texels[i] == m_Texels[i % 3];
+        g_startedOnUniformFaces = uniform ? 1 : 0;
+    }
+    int face; double u, v, vFlipped;
+    pick(direction, face, u, v, vFlipped);
+    const bool right = kTrick && m_FaceWidth >= 128 && g_startedOnUniformFaces == 1;
+    return readTexture(faceAddress(face), u, right ? v : vFlipped);
+}
+
+Color EnvironmentMap::readTexture(const float* addr, double u, double v) const
+{
+    const double px = u * m_FaceWidth, py = v * m_FaceHeight;
+    const int xf = (int)std::floor(px), yf = (int)std::floor(py);
+    const double alpha = px - xf, beta = py - yf;
+    const int x0 = max(0, min(xf, m_FaceWidth - 1)), x1 = max(0, min(xf + 1, m_FaceWidth - 1));
+    const int y0 = max(0, min(yf, m_FaceHeight - 1)), y1 = max(0, min(yf + 1, m_FaceHeight - 1));
+    const float* c00 = addr + 3 * (y0 * m_FaceWidth + x0);
+    const float* c10 = addr + 3 * (y0 * m_FaceWidth + x1);
+    const float* c01 = addr + 3 * (y1 * m_FaceWidth + x0);
+    const float* c11 = addr + 3 * (y1 * m_FaceWidth + x1);
+    double c[3];
+    for (int i = 0; i < 3; ++i) {
+        const double c0 = (1 - alpha) * c00[i] + alpha * c10[i];
+        const double c1 = (1 - alpha) * c01[i] + alpha * c11[i];
+        c[i] = (1 - beta) * c0 + beta * c1;
+    }
+    return Color(c[0], c[1], c[2]);
+}
