@@ -279,12 +279,7 @@ class OtherState:
     folder: str                     # its pictures' folder: the run not kept must not replace the kept run's
     applies: Callable[[Check], bool]
     flag: str | None = None         # a CheckContext attribute set while it runs
-    lookups: Callable[[Any], Any] | None = None    # the lookups the check sees while it runs, from the context
-
-
-def _sweep_face_requests(ctx):
-    from .instruments.map_probe import SweepFaceRequests
-    return SweepFaceRequests(ctx.lookups, ctx.seed)
+    lookups: str | None = None      # the CheckContext method giving the lookups the check sees while it runs
 
 
 OTHER_STATES = (
@@ -292,7 +287,7 @@ OTHER_STATES = (
     OtherState("states", "first-faces", lambda c: c.end_to_end, flag="first_faces"),
     # fetchColor's requests on faces of the sweep's size, read from the public
     # maps (instruments.map_probe).
-    OtherState("map_probe", "sweep-face-requests", lambda c: c.public_maps, lookups=_sweep_face_requests),
+    OtherState("map_probe", "sweep-face-requests", lambda c: c.public_maps, lookups="sweep_face_requests"),
 )
 
 
@@ -327,7 +322,7 @@ def _run_in_other_states(c: Check, ctx, inputs: list, ran: Ran) -> Ran:
         if state.flag:
             setattr(ctx, state.flag, True)
         if state.lookups:
-            ctx.lookups = state.lookups(ctx)
+            ctx.lookups = getattr(ctx, state.lookups)()
         try:
             other = _run_one(c, ctx, inputs)
         finally:

@@ -66,6 +66,12 @@ class CheckContext:
             self._maps = map_probe.MapObservations()
         return self._maps
 
+    def sweep_face_requests(self):
+        """The lookups a check on the public maps sees when run_checks runs it
+        again on what fetchColor asks for on the sweep's faces
+        (instruments.map_probe.SweepFaceRequests)."""
+        return map_probe.SweepFaceRequests(self.lookups, self.seed)
+
     def artifact(self, name: str) -> Path:
         self.artifacts.mkdir(parents=True, exist_ok=True)
         return self.artifacts / name

@@ -400,6 +400,10 @@ class MapDependent:
     def diagnosis(self):
         return Diagnosis("fetch-depends-on-the-map", "asked otherwise on a public map")
 
+    def sweep_face_requests(self):
+        from grader.checks.instruments.map_probe import SweepFaceRequests
+        return SweepFaceRequests(self.lookups, self.seed)
+
 
 @pytest.mark.parametrize("depends", [True, False])
 def test_a_check_on_the_public_maps_counts_the_lower_with_sweep_face_requests_where_they_differ(tmp_path, depends):

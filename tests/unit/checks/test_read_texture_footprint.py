@@ -103,9 +103,14 @@ class SizeKept(FakeLookups):
         super().__init__()
         self.kept = None
 
-    def set_faces(self, faces):
+    def set_faces(self, faces, same_process: bool = False):
+        # A new texel count: a new worker process, a fresh static. (The
+        # runner keeps a worker for smaller faces asked with same_process,
+        # as readTexture in context is; the fake's fetchColor reads without
+        # this readTexture, so there a kept size would tell the two apart,
+        # which the real code, one readTexture for both, never does.)
         if self.kept is None or faces.shape[1] * faces.shape[2] != self.faces.shape[1] * self.faces.shape[2]:
-            self.kept = faces.shape[1:3]      # a new texel count: a new worker process, a fresh static
+            self.kept = faces.shape[1:3]
         super().set_faces(faces)
 
     def read_texture(self, face, uv, placement="end"):

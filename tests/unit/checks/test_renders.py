@@ -19,7 +19,7 @@ from grader.grading.results import CheckResult
 
 def images() -> list[np.ndarray]:
     rng = np.random.default_rng(5)
-    expected = renders._expected(renders._stamp(fixtures.render_fixtures()[0].path)).copy()
+    expected = renders._expected(renders.stamp(fixtures.render_fixtures()[0].path)).copy()
     return [expected, rng.random((48, 64, 3)).astype(np.float32),
             np.zeros((40, 40, 3), np.float32), np.ones((40, 40, 3), np.float32)]
 
