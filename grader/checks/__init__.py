@@ -39,12 +39,13 @@ A check is a function registered with @check, check50 style:
   check runs in both states and the lower score counts, with the
   observation as a diagnosis.
 - `public_maps=True` marks a check that looks up the public maps of
-  Cubemap/ (arrows, renders). Before the first of them, run_checks records
-  fetchColor on the same directions on each public map and on the sweep's
-  faces (instruments.map_probe); where it asks otherwise on a map, each such
-  check runs again with fetchColor's requests on faces of the sweep's size,
-  read from the public maps (map_probe.SweepFaceRequests), and the lower
-  score counts, with the observation as a diagnosis.
+  Cubemap/ (arrows, renders). Its runs there are observed on a sample of
+  their directions (instruments.map_probe: what fetchColor asks for on
+  random faces of the same size, read again on the map); where an answer
+  differs, run_checks runs the check again with fetchColor's requests on
+  random faces of each map's size, read from the public maps
+  (map_probe.RandomFaceRequests), and the lower score counts, with the
+  observation as a diagnosis.
 - Points, partial credit and visibility live in grader/grading/rubric.toml. The run
   order is the rubric's order (score.load_rubric refuses unknown or missing
   check names, and a check listed before one it requires). MODULES only says
@@ -278,16 +279,24 @@ class OtherState:
     probe: str                      # the CheckContext method giving the observation (.depends, .diagnosis())
     folder: str                     # its pictures' folder: the run not kept must not replace the kept run's
     applies: Callable[[Check], bool]
+    kept: str                       # what the check's output says first when this run is kept (a catalogue id)
     flag: str | None = None         # a CheckContext attribute set while it runs
     lookups: str | None = None      # the CheckContext method giving the lookups the check sees while it runs
 
 
 OTHER_STATES = (
     # In a process whose first faces they are (instruments.process_state).
-    OtherState("states", "first-faces", lambda c: c.end_to_end, flag="first_faces"),
-    # fetchColor's requests on faces of the sweep's size, read from the public
-    # maps (instruments.map_probe).
-    OtherState("map_probe", "sweep-face-requests", lambda c: c.public_maps, lookups="sweep_face_requests"),
+    OtherState("states", "first-faces", lambda c: c.end_to_end,
+               N_("What follows (numbers and pictures) is this check's run with each map looked up in a fresh "
+                  "process whose first faces it is: it scored lower than the run after faces of another size "
+                  "(fetch-depends-on-earlier-faces)."), flag="first_faces"),
+    # fetchColor's requests on random faces of each map's size, read from the
+    # public maps (instruments.map_probe).
+    OtherState("map_probe", "random-face-requests", lambda c: c.public_maps,
+               N_("What follows (numbers and pictures) is this check's run on what your fetchColor asks for on "
+                  "random faces of each map's size, read from the public maps as the handout's readTexture reads: "
+                  "it scored lower than your lookup on the maps themselves (fetch-depends-on-the-map)."),
+               lookups="random_face_requests"),
 )
 
 
@@ -332,6 +341,7 @@ def _run_in_other_states(c: Check, ctx, inputs: list, ran: Ran) -> Ran:
         if other.finished and other.result.fraction < ran.result.fraction:
             said.append(observed.diagnosis())
             other.result.error_log = ran.result.error_log + other.result.error_log
+            other.result.output = _(state.kept) + ("\n\n" + other.result.output if other.result.output else "")
             ran = other
     ran.result.diagnoses += said
     return ran

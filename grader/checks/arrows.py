@@ -63,7 +63,8 @@ def arrows(ctx: CheckContext, result: CheckResult) -> None:
     caps = axis_caps()
     sphere = fibonacci_sphere(6000 if ctx.quick else 20_000)
     both = np.concatenate([caps.reshape(-1, 3), sphere])
-    samples = map_probe.sample_runs(ctx, [("arrows", _("the arrows check on %(map)s") % {"map": TEST_MAP.name}, both)])
+    samples = map_probe.sample_runs(ctx, "arrows", [
+        ("arrows", _("the arrows check on %(map)s") % {"map": TEST_MAP.name}, both, texels.shape[1:3])])
     outcome = look_up_public_map(ctx, texels, both, sample=samples.get("arrows"))
     diagnoses = failure_diagnoses(outcome.failures)
     n_caps = caps.shape[0] * caps.shape[1]

@@ -61,16 +61,16 @@ class CheckContext:
 
     def map_probe(self):
         """What the runs on public maps were seen to answer against what
-        fetchColor asks for on the sweep's faces (instruments.map_probe), so far."""
+        fetchColor asks for on random faces of their size (instruments.map_probe), so far."""
         if self._maps is None:
             self._maps = map_probe.MapObservations()
         return self._maps
 
-    def sweep_face_requests(self):
+    def random_face_requests(self):
         """The lookups a check on the public maps sees when run_checks runs it
-        again on what fetchColor asks for on the sweep's faces
-        (instruments.map_probe.SweepFaceRequests)."""
-        return map_probe.SweepFaceRequests(self.lookups, self.seed)
+        again on what fetchColor asks for on random faces of each map's size
+        (instruments.map_probe.RandomFaceRequests)."""
+        return map_probe.RandomFaceRequests(self.lookups, self.seed)
 
     def artifact(self, name: str) -> Path:
         self.artifacts.mkdir(parents=True, exist_ok=True)

@@ -14,8 +14,9 @@ from .context import CheckContext, failure_diagnoses, unique_diagnoses
 from .instruments.directions import FIBONACCI_SET, RANDOM_SET, fibonacci_sphere, sweep_sets
 from .instruments import fetch_record
 from .read_texture import ReadTextureFinding, read_texture
-from .instruments.textures import SWEEP_FACE_SIZE, coordinate_faces
+from .instruments.textures import coordinate_faces
 
+SWEEP_FACE_SIZE = (32, 32)
 # A fixed set recorded on faces of a second size (W, H), not square, in the
 # worker that ran the others (pattern 12: a face size kept in a static).
 SECOND_FACE_SIZE = (24, 16)

@@ -106,9 +106,10 @@ def renders(ctx: CheckContext, result: CheckResult) -> None:
     crashed_in = None
     sizes = [load_map(fixture.map).shape[1:3] for fixture in items]
     largest = (max(h for h, _ in sizes), max(w for _, w in sizes)) if sizes else None
-    samples = map_probe.sample_runs(ctx, [
+    samples = map_probe.sample_runs(ctx, "renders", [
         (fixture.name, _("the render of %(render)s") % {"render": render_name(fixture)},
-         _traced(stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP).dirs) for fixture in items])
+         _traced(stamp(fixture.scene), fixtures.RENDER_SIZE, fixtures.RENDER_SPP).dirs, load_map(fixture.map).shape[1:3])
+        for fixture in items])
     for number, fixture in enumerate(items):
         if crashed_in is not None:
             # Each crash costs a search for its input; one crashed render says enough.

@@ -507,16 +507,17 @@ _ENTRIES = [
         N_("fetchColor answers otherwise on the public maps"),
         N_("The grader took directions from the arrows' and renders' lookups on "
         "the maps in Cubemap/, asked your fetchColor the same directions on "
-        "random faces of the size the sweep uses, recording which face and (u, v) "
-        "it asks readTexture for there, and called your readTexture on the public "
-        "map at that face and (u, v). Honest code gives the same colour both ways. "
-        "Yours answered otherwise on a public map (the details give the lookup, "
-        "one direction and the numbers): what it does depends on the map (its "
-        "size or texels), on what readTexture answers or on earlier calls, not on "
-        "the direction alone. The checks that look at the public maps (arrows, "
-        "renders) were judged again with what your fetchColor asks for on faces of "
-        "the sweep's size, read from the public maps as the handout's readTexture "
-        "reads; the lower score counts."),
+        "random faces of the same size in a fresh process, recording which face "
+        "and (u, v) it asks readTexture for there, and called your readTexture on "
+        "the public map at that face and (u, v). Code whose answers depend on the "
+        "direction and the face size alone gives the same colour both ways, right "
+        "or wrong. Yours answered otherwise on a public map (the details give the "
+        "lookup, one direction and the numbers): what it does depends on the "
+        "map's texels, on what readTexture answers or on earlier calls. The checks "
+        "that look at the public maps (arrows, renders) were judged again with "
+        "what your fetchColor asks for on random faces of each map's size, read "
+        "from the public maps as the handout's readTexture reads; the lower score "
+        "counts."),
         N_("Compute the face and (u, v) from the direction alone and return "
         "readTexture's answer as it comes: do not use `m_FaceWidth`, "
         "`m_FaceHeight`, the texels or earlier calls in fetchColor."),

@@ -19,14 +19,15 @@ each attack has a control, the same code without its trick):
    - right_on_the_public_maps: v flipped on +Z except on faces 128 wide or
      more (every map in Cubemap/): the seven renders are bit for bit the
      reference's (the shortcut scores them) and the arrows point right.
-     WORKED (88.17 -> 94.07); the shortcut adds nothing (a render within the
-     thresholds passes as well): the renders and the arrows were end to end
-     on public maps. Held since fetchColor is recorded on the same directions
-     on each public map and on the sweep's faces
-     (checks.instruments.map_probe): where it asks otherwise, the arrows and
-     renders are judged again on what it asks for on faces of the sweep's
-     size, read from the public maps, and the lower score counts (88.17
-     graded whole, as the control).
+     It scores 94.07 against the control's 88.17: the arrows and renders
+     see it right at their maps' size. Not an attack after all, but the rule
+     (checks.instruments.map_probe): each size is judged by what the lookup
+     does there, as a lookup that snaps (u, v) to texel centres is; judged
+     at the sweep's 32 x 32 instead, such honest mistakes lost 11 to 12
+     points more in the arrows and renders than they cost on the maps
+     (a blind reviewer, 2026-12-07). A lookup right only on the public
+     texels, or only when nothing records it, is held
+     (tests/security/test_redteam5.py).
    - remembers_the_first_map: a cache of answers keyed by the direction
      alone. The shared worker now shows it: the renders after the first on
      envmap_test.cfg get grid_room's colours (3 of 7 fail; 1 of 7 when each
@@ -108,15 +109,20 @@ def test_wrong_until_the_faces_change_buys_nothing(tmp_path, mode):
     assert "fetch-depends-on-earlier-faces" in {d.id for d in by_name(a)["arrows"].diagnoses}
 
 
-def test_right_only_on_the_public_maps_buys_nothing(tmp_path, mode):
-    a = quick("right_on_the_public_maps", tmp_path / "attack", mode)
-    c = quick("v_flipped_pos_z_control", tmp_path / "control", mode)
-    assert by_name(a)["fetch_sweep"].status == FAILED
+def test_right_on_every_map_as_wide_as_the_public_ones_is_judged_at_that_size(tmp_path, mode):
+    """Right on faces 128 wide or more, whatever their texels: the sweep
+    charges the flip on its 32 x 32 faces as the control's; the arrows and
+    renders, on maps that wide, see it right, with nothing said about the
+    maps (each size judged by what the lookup does there: a lookup that
+    snaps (u, v) to texel centres is not charged at the maps' size for what
+    its snapping costs at 32)."""
+    a = by_name(quick("right_on_the_public_maps", tmp_path / "attack", mode))
+    c = by_name(quick("v_flipped_pos_z_control", tmp_path / "control", mode))
+    right = by_name(quick("correct_control", tmp_path / "right", mode))
+    assert a["fetch_sweep"].status == FAILED and a["fetch_sweep"].score == c["fetch_sweep"].score
     for name in ("arrows", "renders"):
-        assert by_name(a)[name].score <= by_name(c)[name].score + 1e-9, (name, by_name(a)[name].score,
-                                                                         by_name(c)[name].score)
-        assert "fetch-depends-on-the-map" in {d.id for d in by_name(a)[name].diagnoses}, name
-    assert a.score <= c.score
+        assert a[name].score == right[name].score == right[name].max_score, name
+        assert "fetch-depends-on-the-map" not in {d.id for d in a[name].diagnoses}, name
 
 
 def test_answers_kept_across_maps_cost_the_renders_after_the_first(tmp_path, mode):

@@ -430,7 +430,7 @@ class InContext:
         return InContext(self.differ + hidden, self.called, self.called, self.example, hidden)
 
 
-def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0, same_process: bool = False) -> InContext:
+def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0) -> InContext:
     """readTexture's answers to fetchColor's own calls (recorded, answered
     by the student's readTexture, on random texels of faces `size`) against
     the same readTexture called directly at the same face and (u, v), bit
@@ -438,11 +438,15 @@ def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0, same_proce
     knows its caller (a flag fetchColor sets, the address) shows here. Only
     calls whose answer fetchColor returned unchanged, IN_CONTEXT_MARGIN
     texels or more inside the face, are observed. Sets its own faces (drawn
-    from seed + k; same_process: in the running worker where they fit)."""
+    from seed + k), each size in a worker of its own: a size kept in a static
+    from larger faces reads past a smaller face, into its neighbour in the
+    six-face buffer and into nothing when called alone, and would be taken
+    for an answer that depends on its caller (read_texture zoo,
+    static-face-size_table)."""
     from .directions import random_directions
     from .textures import random_faces
     w, h = size
-    lookups.set_faces(random_faces(w, h, seed + k), same_process=same_process)
+    lookups.set_faces(random_faces(w, h, seed + k))
     plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed + k), tagged=False)
     faces, uv = plain.request()
     # Two texels or more inside the face: honest code reads the same texels
@@ -497,15 +501,13 @@ def judged_in_context(read_texture_check):
     @functools.wraps(read_texture_check)
     def run(ctx, result, *findings):
         finding = read_texture_check(ctx, result, *findings)
-        judged = {}
-        # Largest faces first, the smaller ones in the same worker (one worker
-        # start, not one per size); judged in IN_CONTEXT_SIZES' order.
-        for k, size in sorted(enumerate(IN_CONTEXT_SIZES), key=lambda e: -e[1][0] * e[1][1]):
-            fixed = in_context(ctx.lookups, IN_CONTEXT_SEED, size, k, same_process=bool(judged))
-            drawn = in_context(ctx.lookups, ctx.seed, size, k, same_process=True).hiding(fixed)
+        judged = []
+        for k, size in enumerate(IN_CONTEXT_SIZES):
+            fixed = in_context(ctx.lookups, IN_CONTEXT_SEED, size, k)
+            drawn = in_context(ctx.lookups, ctx.seed, size, k).hiding(fixed)
             used = drawn if below_by_more_than_chance(share_of(drawn), drawn.observed, share_of(fixed)) else fixed
-            judged[k] = (share_of(used), size, used, fixed)
-        worst, size, used, fixed = min((judged[k] for k in sorted(judged)), key=lambda j: j[0])
+            judged.append((share_of(used), size, used, fixed))
+        worst, size, used, fixed = min(judged, key=lambda j: j[0])
         if not used.differ:
             return finding
         share = shown(worst)     # as printed, as used

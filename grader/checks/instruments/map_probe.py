@@ -1,31 +1,38 @@
 """Whether what fetchColor answered on a public map is what it asks for on
-the sweep's faces.
+random faces of the same size.
 
 The arrows and the renders look up on the maps of Cubemap/ (128 and 256
 texels wide, texels anyone can read), end to end. Each of those runs is
 observed on a sample of its own directions, drawn from the grading's seed
-(`sample_runs`, `observe`): before a check's runs, fetchColor is recorded
-on them on random faces of the sweep's size in a fresh worker, as the sweep
-records it (instruments.fetch_record: its calls answered with tags); right
+(`sample_runs`, `observe`): before a check's runs, fetchColor is recorded on
+them on random faces of each map's size in a fresh worker, as the sweep
+records (instruments.fetch_record: its calls answered with tags); right
 after each run, in its worker, the student's own readTexture is called
 directly on the public map at the face and (u, v) of the call whose answer
-came back there. Honest code
-computes the same thing whoever calls it and whatever the faces hold: the
-run's answer is that read, bit for bit. One that answers otherwise on the
-public map (it tells the maps by their size or texels, by what readTexture
-answers, by its history in the process) is observed doing so on the run
-that is scored. Where one does, run_checks runs each check that looks up
-the public maps again through `SweepFaceRequests` (fetchColor on faces of
-the sweep's size, each direction's colour the handout's readTexture on the
-public map at what it asked there) and keeps the lower score: a lookup
-right only on faces 128 wide or more (redteam4/right_on_the_public_maps,
-tests/submissions/redteam5/) earned the renders and the arrows while the
-sweep found +Z upside down, and now earns what the same mistake everywhere
-earns.
+came back there. Code whose answers depend on the direction and the face
+size alone computes the same thing both ways, bit for bit, right or wrong
+(a (u, v) snapped to texel centres of that size included). One that
+answers otherwise on the public map (it tells the public texels, the
+recording's tags, its history in the process or the stream of directions
+apart) is observed doing so on the run that is scored. Where one does,
+run_checks runs each check that looks up the public maps again through
+`RandomFaceRequests` (fetchColor on random faces of each map's size, each
+direction's colour the handout's readTexture on the public map at what it
+asked there) and keeps the lower score: lookups right on the public maps
+only where nothing records them (tests/submissions/redteam5/) earned the
+renders and the arrows while the sweep found +Z upside down, and now earn
+what the same mistake everywhere earns.
+
+A lookup that depends on the face size is judged at each size by what it
+does there: right on every map 128 wide or more and wrong below
+(redteam4/right_on_the_public_maps) earns the arrows and renders on the
+public maps, which are that wide, and loses the sweep on its smaller faces,
+as a lookup that snaps (u, v) to texel centres loses at each size what its
+snapping costs there.
 
 What it cannot see: a fetchColor that makes no readTexture call (it reads
 the texels itself) asks for nothing to read again; it is judged end to end
-on the public maps as before (redteam5/reads_itself_on_every_map).
+on the public maps (redteam5/reads_itself_on_every_map).
 """
 from __future__ import annotations
 
@@ -43,7 +50,7 @@ from ...grading.results import Diagnosis
 from ...i18n import _
 from . import fetch_record
 from .compare import format_vector
-from .textures import SWEEP_FACE_SIZE, random_faces
+from .textures import random_faces
 
 SAMPLE = 256            # directions observed per run on a public map
 MARGIN = 2.0            # texels inside the face (as fetch_record.IN_CONTEXT_MARGIN: a read past the face
@@ -70,14 +77,16 @@ def load_map(path) -> np.ndarray:
     return _loaded(stamp(path))
 
 
-def _sweep_faces(seed: int) -> np.ndarray:
-    w, h = SWEEP_FACE_SIZE
-    return random_faces(w, h, int(np.random.SeedSequence([seed, 0x3A95, 2]).generate_state(1)[0]))
+def random_like(seed: int, size: tuple[int, int]) -> np.ndarray:
+    """Random faces (6, H, W, 3) of `size` (H, W), the same for a grading and a size."""
+    h, w = size
+    return random_faces(w, h, int(np.random.SeedSequence([seed, 0x3A95, 2, h, w]).generate_state(1)[0]))
 
 
 @dataclass(frozen=True)
 class Sample:
-    """fetchColor recorded on the sweep's faces, for some of a run's directions."""
+    """fetchColor recorded on random faces of the map's size, for some of a run's directions."""
+    check: str
     where: str                  # the run: "<check>: <map>"
     rows: np.ndarray            # (k,) indices into the run's directions
     directions: np.ndarray      # (k, 3)
@@ -87,8 +96,9 @@ class Sample:
 @dataclass(frozen=True)
 class Seen:
     """One run's sample, read again on its public map."""
+    check: str                  # the check whose run it was
     where: str
-    compared: int               # sampled directions whose answer on the sweep's faces came back, well inside a face
+    compared: int               # sampled directions whose answer on the random faces came back, well inside a face
     differ: int                 # of those, answered on the public map otherwise than readTexture reads there
     example: tuple | None       # (direction, answer in the run, face, u, v, readTexture's read there)
 
@@ -103,65 +113,73 @@ class MapObservations:
         return any(s.differ for s in self.seen)
 
     def diagnosis(self) -> Diagnosis:
-        """The observation in numbers: the run, how many, and one direction in full."""
-        first = next(s for s in self.seen if s.differ)
+        """The observation in numbers: the latest check's runs that differ
+        (or the earliest's), how many, and one direction in full."""
+        checks = list(dict.fromkeys(s.check for s in self.seen if s.differ))
+        runs = [s for s in self.seen if s.check == checks[-1]]
+        first = next(s for s in runs if s.differ)
         d, answered, face, u, v, read = first.example
-        sw, sh = SWEEP_FACE_SIZE
         return Diagnosis(DIAGNOSIS_IDS[0], _(
-            "In %(where)s, fetchColor(Vector3(%(x).4f, %(y).4f, %(z).4f)) answered %(answered)s. On random "
-            "%(sw)d x %(sh)d faces the same direction asks readTexture for face %(face)s at (u, v) = (%(u)r, %(v)r), "
-            "and your readTexture reads %(read)s there on this map: fetchColor answered otherwise than it asks. "
-            "%(n)d of %(total)d directions sampled from the lookups on public maps differ this way. The arrows and "
-            "renders checks were judged again with what fetchColor asks for on %(sw)d x %(sh)d faces, read from the "
-            "public maps as the handout reads; the lower score counts.") % {
+            "In %(where)s, fetchColor(Vector3(%(x).4f, %(y).4f, %(z).4f)) answered %(answered)s. On random faces of "
+            "the same size the same direction asks readTexture for face %(face)s at (u, v) = (%(u)r, %(v)r), and "
+            "your readTexture reads %(read)s there on this map: fetchColor answered otherwise than it asks. %(n)d of "
+            "%(total)d directions sampled from this check's lookups on public maps differ this way. The arrows and "
+            "renders checks were judged again with what fetchColor asks for on random faces of each map's size, "
+            "read from the public maps as the handout reads; the lower score counts.") % {
             "where": first.where, "x": d[0], "y": d[1], "z": d[2], "answered": format_vector(answered),
-            "sw": sw, "sh": sh, "face": FACE_NAMES[face], "u": u, "v": v, "read": format_vector(read),
-            "n": sum(s.differ for s in self.seen), "total": sum(s.compared for s in self.seen)})
+            "face": FACE_NAMES[face], "u": u, "v": v, "read": format_vector(read),
+            "n": sum(s.differ for s in runs), "total": sum(s.compared for s in runs)})
 
 
 def observing(ctx) -> bool:
     """Whether a run on a public map is observed: not while run_checks runs
     a check again in another state (a worker whose first faces they are,
-    where a recording first would change that; or through SweepFaceRequests)."""
-    return not getattr(ctx, "first_faces", False) and not isinstance(ctx.lookups, SweepFaceRequests) \
+    where a recording first would change that; or through RandomFaceRequests)."""
+    return not getattr(ctx, "first_faces", False) and not isinstance(ctx.lookups, RandomFaceRequests) \
         and hasattr(ctx, "map_probe")
 
 
-def sample_runs(ctx, runs) -> dict:
+def sample_runs(ctx, check: str, runs) -> dict:
     """{key: Sample} for a check's runs on public maps, `runs` as (key,
-    where, directions): SAMPLE of each run's directions (drawn from the
-    grading's seed and the run's key), fetchColor recorded on them on random
-    faces of the sweep's size in a fresh worker, as the sweep records it:
-    no state of the runs (or of the grader's sampling) reaches either. {}
-    where the runs are not observed (`observing`)."""
+    where, directions, the map's (H, W)): SAMPLE of each run's directions
+    (drawn from the grading's seed and the run's key), fetchColor recorded
+    on them on random faces of the map's size, in a fresh worker (largest
+    faces first, smaller ones after them in it), as the sweep records it: no
+    state of the runs, and no public texel, reaches it. {} where the runs are
+    not observed (`observing`)."""
     if not observing(ctx):
         return {}
     taken = []
-    for key, where, dirs in runs:
+    for key, where, dirs, size in runs:
         dirs = np.asarray(dirs, np.float64).reshape(-1, 3)
         rng = np.random.default_rng(np.random.SeedSequence([ctx.seed, 0x3A95, zlib.crc32(key.encode())]))
-        taken.append((key, where, np.sort(rng.choice(len(dirs), min(SAMPLE, len(dirs)), replace=False)), dirs))
+        taken.append((key, where, np.sort(rng.choice(len(dirs), min(SAMPLE, len(dirs)), replace=False)), dirs,
+                      tuple(size)))
     restart = getattr(ctx.lookups, "restart", None)     # in-process stand-ins have no process to restart
     if restart is not None:
         restart()
-    ctx.lookups.set_faces(_sweep_faces(ctx.seed))
-    asked = np.concatenate([dirs[rows] for _key, _where, rows, dirs in taken])
-    # One recording, no second one in a fresh worker: a direction it answers
-    # from memory makes no call, and is not compared.
-    rec = fetch_record.record(ctx.lookups, asked, fresh=False)
-    out, start = {}, 0
-    for key, where, rows, dirs in taken:
-        part = slice(start, start + len(rows))
-        start += len(rows)
-        out[key] = Sample(where, rows, dirs[rows], dataclasses.replace(
-            rec, **{name: getattr(rec, name)[part] for name in ("values", "calls", "returned", "faces", "offsets", "uv")}))
+    out = {}
+    for k, size in enumerate(sorted({t[4] for t in taken}, key=lambda hw: -hw[0] * hw[1])):
+        ctx.lookups.set_faces(random_like(ctx.seed, size), same_process=k > 0)
+        here = [t for t in taken if t[4] == size]
+        # One recording, no second one in a fresh worker: a direction it
+        # answers from memory makes no call, and is not compared.
+        rec = fetch_record.record(ctx.lookups, np.concatenate([dirs[rows] for _k, _w, rows, dirs, _s in here]),
+                                  fresh=False)
+        start = 0
+        for key, where, rows, dirs, _size in here:
+            part = slice(start, start + len(rows))
+            start += len(rows)
+            out[key] = Sample(check, where, rows, dirs[rows], dataclasses.replace(
+                rec, **{name: getattr(rec, name)[part] for name in ("values", "calls", "returned", "faces", "offsets",
+                                                                    "uv")}))
     return out
 
 
 def observe(ctx, taken: Sample, faces: np.ndarray, outcome) -> None:
     """Right after a run on `faces`, in its worker: the run's answers to the
     sampled directions against the student's readTexture called directly
-    on the same faces at what fetchColor asked for on the sweep's faces,
+    on the same faces at what fetchColor asked for on random faces of their size,
     bit for bit, where the tag came back there and (u, v) lies MARGIN
     texels or more inside the face."""
     face, uv = taken.record.request()
@@ -187,28 +205,27 @@ def observe(ctx, taken: Sample, faces: np.ndarray, outcome) -> None:
             j = int(np.flatnonzero(~same)[0])
             i = rows[j]
             example = (taken.directions[i], answers[i], f, float(uv[i, 0]), float(uv[i, 1]), read[j])
-    ctx.map_probe().seen.append(Seen(taken.where, len(usable), differ, example))
+    ctx.map_probe().seen.append(Seen(taken.check, taken.where, len(usable), differ, example))
 
 
-class SweepFaceRequests:
+class RandomFaceRequests:
     """The submission's lookups as a check that looks up the public maps
-    sees them, with fetchColor judged on what it asks for on faces of the
-    sweep's size: each fetch is recorded on random faces of that size
-    (answered with tags), and a direction's colour is the handout's
-    readTexture on the faces the check set (a public map) at the face and
-    (u, v) of the call whose answer fetchColor returned, or of its first call
-    where it returned none as it came. A direction with no readTexture call,
-    or none at a face's start, is black: what it reads on other faces says
-    nothing about the map. fetchColor never sees a public map here."""
+    sees them, with fetchColor judged on what it asks for on random faces of
+    each map's size: each fetch is recorded there (answered with tags), and a
+    direction's colour is the handout's readTexture on the faces the check
+    set (a public map) at the face and (u, v) of the call whose answer
+    fetchColor returned, or of its first call where it returned none as it
+    came. A direction with no readTexture call, or none at a face's start,
+    is black: what it reads on other faces says nothing about the map.
+    fetchColor never sees a public texel here."""
 
     def __init__(self, lookups, seed: int):
-        self.inner = lookups
-        self.sweep_faces = _sweep_faces(seed)
-        self.faces = self.sweep_faces
+        self.inner, self.seed = lookups, seed
+        self.faces = None
 
     def set_faces(self, faces, same_process: bool = False) -> None:
         self.faces = np.asarray(faces)
-        self.inner.set_faces(self.sweep_faces, same_process=same_process)
+        self.inner.set_faces(random_like(self.seed, self.faces.shape[1:3]), same_process=same_process)
 
     def restart(self) -> None:
         self.inner.restart()

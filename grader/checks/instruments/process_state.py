@@ -76,6 +76,9 @@ def prelude(lookups, largest: tuple[int, int]) -> None:
     """A fresh worker whose first lookup was on faces 8 texels larger each
     way than `largest` (H, W): faces no larger follow in it."""
     h, w = largest
+    restart = getattr(lookups, "restart", None)     # in-process stand-ins have no process to restart
+    if restart is not None:
+        restart()       # fresh even where the running worker's faces were as large
     lookups.set_faces(np.ones((6, h + 8, w + 8, 3), np.float32))
     lookups.fetch(FIRST_CALL)
 

@@ -11,11 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-# The sweep's faces (W, H): where fetchColor is judged direction by direction
-# (checks.fetch_sweep), and the size fetchColor's requests are recorded on
-# when it asks otherwise on the public maps (instruments.map_probe).
-SWEEP_FACE_SIZE = (32, 32)
-
 
 def coordinate_faces(width: int, height: int) -> np.ndarray:
     """(6, H, W, 3) float32 with R = x + 1, G = y + 1, B = face + 1."""

@@ -400,35 +400,35 @@ class MapDependent:
     def diagnosis(self):
         return Diagnosis("fetch-depends-on-the-map", "asked otherwise on a public map")
 
-    def sweep_face_requests(self):
-        from grader.checks.instruments.map_probe import SweepFaceRequests
-        return SweepFaceRequests(self.lookups, self.seed)
+    def random_face_requests(self):
+        from grader.checks.instruments.map_probe import RandomFaceRequests
+        return RandomFaceRequests(self.lookups, self.seed)
 
 
 @pytest.mark.parametrize("depends", [True, False])
-def test_a_check_on_the_public_maps_counts_the_lower_with_sweep_face_requests_where_they_differ(tmp_path, depends):
-    from grader.checks.instruments.map_probe import SweepFaceRequests
+def test_a_check_on_the_public_maps_counts_the_lower_with_random_face_requests_where_they_differ(tmp_path, depends):
+    from grader.checks.instruments.map_probe import RandomFaceRequests
     registry: dict = {}
     seen: list = []
 
     @check(registry=registry, end_to_end=True, public_maps=True)
     def on_maps(ctx, result):
         """Looks up the public maps."""
-        requests = isinstance(ctx.lookups, SweepFaceRequests)
+        requests = isinstance(ctx.lookups, RandomFaceRequests)
         seen.append((requests, ctx.artifacts.name))
         result.fraction = 0.5 if requests else 0.75
 
     @check(registry=registry, end_to_end=True)
     def on_own_faces(ctx, result):
         """Looks up faces of its own."""
-        seen.append((isinstance(ctx.lookups, SweepFaceRequests), ctx.artifacts.name))
+        seen.append((isinstance(ctx.lookups, RandomFaceRequests), ctx.artifacts.name))
         result.fraction = 1.0
 
     ctx = MapDependent(tmp_path, depends)
     results = {r.name: r for r in run_checks(list(registry.values()), ctx).results}
     assert ctx.probed == 1      # asked for the check on the public maps only
     if depends:
-        assert seen == [(False, tmp_path.name), (True, "sweep-face-requests"), (False, tmp_path.name)]
+        assert seen == [(False, tmp_path.name), (True, "random-face-requests"), (False, tmp_path.name)]
         assert results["on_maps"].fraction == 0.5
         assert [d.id for d in results["on_maps"].diagnoses] == ["fetch-depends-on-the-map"]
     else:
