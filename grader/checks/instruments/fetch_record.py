@@ -90,6 +90,19 @@ def not_finite(rec: Record) -> tuple[np.ndarray, list[str]]:
     return rows, words
 
 
+def returned_as(answer: np.ndarray, got: np.ndarray) -> np.ndarray:
+    """(n,) whether each colour `got` is the answer `answer` as fetchColor
+    may return it: each channel bit for bit (NaN for NaN), or the answer
+    rounded to float, as the shim counts an answer returned
+    (grader/build/shim/shim.cpp, ObservedMap::returned): a fetchColor that
+    keeps colours in float returns what it was given."""
+    answer, got = np.asarray(answer, np.float64), np.asarray(got, np.float64)
+    with np.errstate(invalid="ignore", over="ignore"):
+        through_float = answer.astype(np.float32).astype(np.float64)
+        same = (got == answer) | (got == through_float) | (np.isnan(got) & np.isnan(answer))
+    return same.all(axis=-1)
+
+
 def concatenate(records: list[Record]) -> Record:
     """Several records as one, in order (their outcomes as a list)."""
     return Record(**{name: np.concatenate([getattr(r, name) for r in records])
@@ -434,9 +447,10 @@ def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0) -> InConte
     """readTexture's answers to fetchColor's own calls (recorded, answered
     by the student's readTexture, on random texels of faces `size`) against
     the same readTexture called directly at the same face and (u, v), bit
-    for bit. Honest code computes the same thing whoever calls it; one that
-    knows its caller (a flag fetchColor sets, the address) shows here. Only
-    calls whose answer fetchColor returned unchanged, IN_CONTEXT_MARGIN
+    for bit (or through float: returned_as). Honest code computes the same
+    thing whoever calls it; one that knows its caller (a flag fetchColor
+    sets, the address) shows here. Only calls whose answer fetchColor
+    returned (as it came, or through float), IN_CONTEXT_MARGIN
     texels or more inside the face, are observed. Sets its own faces (drawn
     from seed + k), each size in a worker of its own: a size kept in a static
     from larger faces reads past a smaller face, into its neighbour in the
@@ -469,9 +483,7 @@ def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0) -> InConte
             continue
         direct = lookups.read_texture(face, uv[rows])
         values = np.asarray(direct.values, np.float64)
-        with np.errstate(invalid="ignore"):
-            same = ((values == plain.values[rows]) | (np.isnan(values) & np.isnan(plain.values[rows]))).all(axis=1)
-        same &= np.asarray(direct.evaluated, bool)
+        same = returned_as(values, plain.values[rows]) & np.asarray(direct.evaluated, bool)
         differ += int((~same).sum())
         if example is None and (~same).any():
             j = np.flatnonzero(~same)[0]

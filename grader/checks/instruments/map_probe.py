@@ -10,7 +10,8 @@ records (instruments.fetch_record: its calls answered with tags); right
 after each run, in its worker, the student's own readTexture is called
 directly on the public map at the face and (u, v) of the call whose answer
 came back there. Code whose answers depend on the direction and the face
-size alone computes the same thing both ways, bit for bit, right or wrong
+size alone computes the same thing both ways (bit for bit, or through
+float), right or wrong
 (a (u, v) snapped to texel centres of that size included). One that
 answers otherwise on the public map (it tells the public texels, the
 recording's tags, its history in the process or the stream of directions
@@ -179,9 +180,10 @@ def sample_runs(ctx, check: str, runs) -> dict:
 def observe(ctx, taken: Sample, faces: np.ndarray, outcome) -> None:
     """Right after a run on `faces`, in its worker: the run's answers to the
     sampled directions against the student's readTexture called directly
-    on the same faces at what fetchColor asked for on random faces of their size,
-    bit for bit, where the tag came back there and (u, v) lies MARGIN
-    texels or more inside the face."""
+    on the same faces at what fetchColor asked for on random faces of
+    their size, bit for bit or through float (fetch_record.returned_as),
+    where the tag came back there and (u, v) lies MARGIN texels or more
+    inside the face."""
     face, uv = taken.record.request()
     h, w = faces.shape[1:3]
     answers = np.asarray(outcome.values, np.float64)[taken.rows]
@@ -197,9 +199,7 @@ def observe(ctx, taken: Sample, faces: np.ndarray, outcome) -> None:
             continue
         direct = ctx.lookups.read_texture(f, uv[rows])
         read = np.asarray(direct.values, np.float64)
-        with np.errstate(invalid="ignore"):
-            same = ((read == answers[rows]) | (np.isnan(read) & np.isnan(answers[rows]))).all(axis=1)
-        same &= np.asarray(direct.evaluated, bool)
+        same = fetch_record.returned_as(read, answers[rows]) & np.asarray(direct.evaluated, bool)
         differ += int((~same).sum())
         if example is None and (~same).any():
             j = int(np.flatnonzero(~same)[0])

@@ -237,3 +237,15 @@ def test_a_draw_whose_answers_are_not_returned_where_the_public_ones_are_counts_
     # A fetchColor that returns no answer anywhere (its own mistake, judged by the sweep) hides nothing here.
     nowhere = fetch_record.InContext(differ=0, observed=0, called=2800, example=None)
     assert nowhere.hiding(fetch_record.InContext(0, 0, 2900, None)) == nowhere
+
+
+def test_an_answer_returned_through_float_is_the_answer_returned():
+    """As the shim counts it (ObservedMap::returned): each channel bit for bit,
+    or the answer rounded to float; anything else is not the answer."""
+    answer = np.array([[0.1, 1 / 3, 2.0 ** -30], [np.nan, 0.5, 7.0]])
+    through_float = answer.astype(np.float32).astype(np.float64)
+    assert fetch_record.returned_as(answer, answer).all() and fetch_record.returned_as(answer, through_float).all()
+    nudged = answer.copy()
+    nudged[0, 1] = np.nextafter(nudged[0, 1], 1.0)
+    assert list(fetch_record.returned_as(answer, nudged)) == [False, True]
+    assert not fetch_record.returned_as(answer[:1], answer[:1] * (1 + 1e-6)).any()
