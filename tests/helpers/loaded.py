@@ -1,6 +1,6 @@
 """Run a command on a machine loaded with N busy processes (make test-load).
 
-    python tests/helpers/loaded.py N [--cpus C] -- command ...
+    python tests/helpers/loaded.py N [--cpus C | --nice K] -- command ...
 
 Each busy process spins at normal priority for at most an hour (a safety
 net should this script be killed); all of them are ended when the command
@@ -14,6 +14,13 @@ cores, as on a C-core machine at load N (C=1: harder than load N on 2
 cores, and harder still where the machine is busy too), while the machine's
 other users lose at most C cores. Without a cgroup it says so and loads the
 whole machine.
+
+With --nice K, the busy processes run at niceness K, each in a session of
+its own whose autogroup is set to K too (/proc/PID/autogroup, where the
+kernel groups sessions): the load average reads N and more, as on a shared
+machine whose other users run long jobs at low priority, and the command
+gets most of the cores (at K = 19 each busy process weighs 15 against an
+ordinary process's 1024).
 
 The command gets STRETCH_ENV: about how many times slower than alone a
 process of it runs (N + 1 over the cores it competes for). Tests import
@@ -91,21 +98,45 @@ def joined(cmd: list[str], group: Path | None) -> list[str]:
     return ["/bin/sh", "-c", 'echo $$ >"$0" && exec "$@"', str(group / "cgroup.procs"), *cmd]
 
 
+def weight(nice: int) -> float:
+    """The scheduler's weight of a process at niceness `nice` (1024 at 0,
+    about 1.25 times less for each step: sched_prio_to_weight)."""
+    return 1024 / 1.25 ** nice
+
+
+def niced(nice: int):
+    """A preexec_fn: this process and its session's autogroup at `nice`."""
+    def run():
+        os.nice(nice)
+        try:
+            Path(f"/proc/{os.getpid()}/autogroup").write_text(str(nice))
+        except OSError:       # no autogroups here: the niceness alone
+            pass
+    return run
+
+
 def main(argv: list[str]) -> int:
-    cpus = None
+    cpus = nice = None
     if len(argv) > 2 and argv[1] == "--cpus":
         cpus, argv = float(argv[2]), [argv[0], *argv[3:]]
+    elif len(argv) > 2 and argv[1] == "--nice":
+        nice, argv = int(argv[2]), [argv[0], *argv[3:]]
     if len(argv) < 3 or argv[1] != "--" or not argv[0].isdigit():
         print(__doc__, file=sys.stderr)
         return 2
     count, command = int(argv[0]), argv[2:]
     group = capped_cgroup(cpus, count + 1) if cpus else None
-    busy = [subprocess.Popen(joined([sys.executable, "-c", BUSY], group), start_new_session=True)
+    busy = [subprocess.Popen(joined([sys.executable, "-c", BUSY], group), start_new_session=True,
+                             preexec_fn=niced(nice) if nice else None)
             for _ in range(count)]
     where = f"in a cgroup capped at {cpus:g} cores ({group})" if group else "on the whole machine"
+    if nice:
+        where += f" at nice {nice}"
+    time.sleep(1)       # started: the load average begins to count them
     print(f"loaded.py: {count} busy processes {where}; load average now {os.getloadavg()[0]:.1f}", flush=True)
     cores = cpus if group is not None else len(os.sched_getaffinity(0))
-    env = {**os.environ, STRETCH_ENV: f"{(count + cores) / cores:g}"}
+    others = count * weight(nice or 0) / 1024
+    env = {**os.environ, STRETCH_ENV: f"{(others + cores) / cores:g}"}
     began = time.monotonic()
     try:
         return subprocess.call(joined(command, group), env=env)
