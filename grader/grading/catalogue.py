@@ -503,26 +503,6 @@ _ENTRIES = [
         "faces' formulas along it."),
     ),
     DiagnosisInfo(
-        "fetch-depends-on-the-map", "mapping", ("checks.instruments.map_probe",),
-        N_("fetchColor answers otherwise on the public maps"),
-        N_("The grader took directions from the arrows' and renders' lookups on "
-        "the maps in Cubemap/, asked your fetchColor the same directions on "
-        "random faces of the same size in a fresh process, recording which face "
-        "and (u, v) it asks readTexture for there, and called your readTexture on "
-        "the public map at that face and (u, v). Code whose answers depend on the "
-        "direction and the face size alone gives the same colour both ways, right "
-        "or wrong. Yours answered otherwise on a public map (the details give the "
-        "lookup, one direction and the numbers): what it does depends on the "
-        "map's texels, on what readTexture answers or on earlier calls. The checks "
-        "that look at the public maps (arrows, renders) were judged again with "
-        "what your fetchColor asks for on random faces of each map's size, read "
-        "from the public maps as the handout's readTexture reads; the lower score "
-        "counts."),
-        N_("Compute the face and (u, v) from the direction alone and return "
-        "readTexture's answer as it comes: do not use `m_FaceWidth`, "
-        "`m_FaceHeight`, the texels or earlier calls in fetchColor."),
-    ),
-    DiagnosisInfo(
         "fetch-depends-on-earlier-faces", "mapping", ("checks.instruments.process_state",),
         N_("fetchColor answers otherwise after faces of another size"),
         N_("The grader asked your fetchColor the same directions on the same faces "
@@ -857,6 +837,26 @@ _ENTRIES = [
         "address inside a face, or outside the buffer."),
         N_("Pass faceAddress(face) (or m_Texels + face * m_FaceWidth * m_FaceHeight * 3): "
         "the face's first texel, nothing added for u or v."),
+    ),
+    DiagnosisInfo(
+        "fetch-depends-on-the-map", "mapping", ("checks.instruments.map_probe",),
+        N_("fetchColor answers otherwise on the public maps"),
+        N_("The grader took directions from the arrows' and renders' lookups on "
+        "the maps in Cubemap/, asked your fetchColor the same directions on "
+        "random faces of the same size in a fresh process, recording which face "
+        "and (u, v) it asks readTexture for there, and called your readTexture on "
+        "the public map at that face and (u, v). Code whose answers depend on the "
+        "direction and the face size alone gives the same colour both ways, right "
+        "or wrong. Yours answered otherwise on a public map (the details give the "
+        "lookup, one direction and the numbers): what it does depends on the "
+        "map's texels, on what readTexture answers or on earlier calls. The checks "
+        "that look at the public maps (arrows, renders) were judged again with "
+        "what your fetchColor asks for on random faces of each map's size, read "
+        "from the public maps as the handout's readTexture reads; the lower score "
+        "counts."),
+        N_("Compute the face and (u, v) from the direction alone and return "
+        "readTexture's answer as it comes: do not use `m_FaceWidth`, "
+        "`m_FaceHeight`, the texels or earlier calls in fetchColor."),
     ),
     DiagnosisInfo(
         "texture-context-dependent", "filtering", ("checks.instruments.fetch_record",),
