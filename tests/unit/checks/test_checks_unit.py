@@ -431,6 +431,8 @@ def test_a_check_on_the_public_maps_counts_the_lower_with_random_face_requests_w
         assert seen == [(False, tmp_path.name), (True, "random-face-requests"), (False, tmp_path.name)]
         assert results["on_maps"].fraction == 0.5
         assert [d.id for d in results["on_maps"].diagnoses] == ["fetch-depends-on-the-map"]
+        # The run kept says first what it is: its numbers and pictures are not the lookup on the maps.
+        assert results["on_maps"].output.startswith("What follows (numbers and pictures) is this check's run on what")
     else:
         assert seen == [(False, tmp_path.name), (False, tmp_path.name)] and results["on_maps"].fraction == 0.75
     assert results["on_own_faces"].diagnoses == [] and ctx.lookups == "the worker"
