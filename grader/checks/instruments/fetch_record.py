@@ -98,7 +98,10 @@ def returned_as(answer: np.ndarray, got: np.ndarray) -> np.ndarray:
     keeps colours in float returns what it was given."""
     answer, got = np.asarray(answer, np.float64), np.asarray(got, np.float64)
     with np.errstate(invalid="ignore", over="ignore"):
-        through_float = answer.astype(np.float32).astype(np.float64)
+        # Beyond float's range there is no float to round to (the shim's C++
+        # conversion would be undefined): only the answer itself counts.
+        fits = np.abs(answer) <= np.finfo(np.float32).max
+        through_float = np.where(fits, answer.astype(np.float32).astype(np.float64), np.nan)
         same = (got == answer) | (got == through_float) | (np.isnan(got) & np.isnan(answer))
     return same.all(axis=-1)
 
@@ -411,7 +414,7 @@ def hits(judgement: Judgement, i: int, size: tuple[int, int]) -> tuple[TexelHit 
 # renders on large ones (redteam4/honest_on_small_faces).
 IN_CONTEXT_SIZES = ((16, 16), (128, 128), (256, 256))
 IN_CONTEXT_DIRECTIONS = 1_000      # per size
-IN_CONTEXT_MARGIN = 2.0     # texels from the border (in_context)
+IN_CONTEXT_MARGIN = 2.0     # texels from the border where a read is read again (inside_face)
 # The share the check keeps is measured on public directions and texels (this
 # seed, the same in every grading and in the kit), and held to a draw from
 # the grading's own seed (compare.below_by_more_than_chance): a share from
@@ -463,32 +466,49 @@ def in_context(lookups, seed: int, size: tuple[int, int], k: int = 0) -> InConte
     lookups.set_faces(random_faces(w, h, seed + k))
     plain = record(lookups, random_directions(IN_CONTEXT_DIRECTIONS, seed + k), tagged=False)
     faces, uv = plain.request()
-    # Two texels or more inside the face: honest code reads the same texels
-    # there whether the face sits in the six-face buffer (fetchColor's calls)
-    # or alone in a window of its own (direct calls); at the border a read
-    # past the face finds a neighbour in one and the window's edge in the other.
-    extent = np.array([w, h], np.float64)
+    seen = np.flatnonzero((faces >= 0) & inside_face(uv, size))
+    called = int(((plain.calls >= 1) & (plain.faces[:, 0] >= 0) & inside_face(plain.uv[:, 0], size)).sum())
+    same, read = read_again(lookups, faces[seen], uv[seen], plain.values[seen])
+    example = None
+    if not same.all():
+        i = first_differing(faces[seen], same)
+        j = seen[i]
+        example = (int(faces[j]), float(uv[j, 0]), float(uv[j, 1]), plain.values[j], read[i])
+    return InContext(int((~same).sum()), len(seen), called, example)
 
-    def inside(at):
-        with np.errstate(invalid="ignore"):
-            p = at * extent
-            return ((p >= IN_CONTEXT_MARGIN) & (p <= extent - IN_CONTEXT_MARGIN)).all(axis=1)
 
-    seen = np.flatnonzero((faces >= 0) & inside(uv))
-    called = int(((plain.calls >= 1) & (plain.faces[:, 0] >= 0) & inside(plain.uv[:, 0])).sum())
-    differ, example = 0, None
+def inside_face(uv: np.ndarray, size: tuple[int, int], margin: float = IN_CONTEXT_MARGIN) -> np.ndarray:
+    """(n,) whether each (u, v) lies `margin` texels or more inside a face
+    of `size` (W, H). There honest code reads the same texels whether the
+    face sits in the six-face buffer (fetchColor's calls) or alone in a
+    window of its own (direct calls); at the border a read past the face
+    finds a neighbour in one and the window's edge in the other."""
+    extent = np.asarray(size, np.float64)
+    with np.errstate(invalid="ignore"):
+        p = np.asarray(uv, np.float64) * extent
+        return ((p >= margin) & (p <= extent - margin)).all(axis=1)
+
+
+def read_again(lookups, faces: np.ndarray, uv: np.ndarray, answers: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(same (n,), read (n, 3)): the student's readTexture called directly at
+    each row's face and (u, v) (one call per face) on the faces currently
+    set, and whether `answers` are its reads as fetchColor may return them
+    (returned_as); a read that failed differs."""
+    same, read = np.ones(len(faces), bool), np.full((len(faces), 3), np.nan)
     for face in range(6):
-        rows = seen[faces[seen] == face]
+        rows = np.flatnonzero(faces == face)
         if not len(rows):
             continue
         direct = lookups.read_texture(face, uv[rows])
-        values = np.asarray(direct.values, np.float64)
-        same = returned_as(values, plain.values[rows]) & np.asarray(direct.evaluated, bool)
-        differ += int((~same).sum())
-        if example is None and (~same).any():
-            j = np.flatnonzero(~same)[0]
-            example = (face, float(uv[rows[j], 0]), float(uv[rows[j], 1]), plain.values[rows[j]], values[j])
-    return InContext(differ, len(seen), called, example)
+        read[rows] = np.asarray(direct.values, np.float64)
+        same[rows] = returned_as(read[rows], answers[rows]) & np.asarray(direct.evaluated, bool)
+    return same, read
+
+
+def first_differing(faces: np.ndarray, same: np.ndarray) -> int:
+    """The row read_again shows first where any differs: by face, then by row."""
+    order = np.argsort(faces, kind="stable")
+    return int(order[~same[order]][0])
 
 
 def judged_in_context(read_texture_check):

@@ -54,8 +54,6 @@ from .compare import format_vector
 from .textures import random_faces
 
 SAMPLE = 256            # directions observed per run on a public map
-MARGIN = 2.0            # texels inside the face (as fetch_record.IN_CONTEXT_MARGIN: a read past the face
-                        # finds a neighbour in the six-face buffer and the window's edge when called alone)
 DIAGNOSIS_IDS = ("fetch-depends-on-the-map",)
 
 
@@ -88,7 +86,7 @@ def random_like(seed: int, size: tuple[int, int]) -> np.ndarray:
 class Sample:
     """fetchColor recorded on random faces of the map's size, for some of a run's directions."""
     check: str
-    where: str                  # the run: "<check>: <map>"
+    where: str                  # the run in the student's language ("the render of ... with ...")
     rows: np.ndarray            # (k,) indices into the run's directions
     directions: np.ndarray      # (k, 3)
     record: fetch_record.Record
@@ -114,8 +112,8 @@ class MapObservations:
         return any(s.differ for s in self.seen)
 
     def diagnosis(self) -> Diagnosis:
-        """The observation in numbers: the latest check's runs that differ
-        (or the earliest's), how many, and one direction in full."""
+        """The observation in numbers, from the latest check whose runs
+        differ: how many of its sampled directions, and one in full."""
         checks = list(dict.fromkeys(s.check for s in self.seen if s.differ))
         runs = [s for s in self.seen if s.check == checks[-1]]
         first = next(s for s in runs if s.differ)
@@ -182,30 +180,19 @@ def observe(ctx, taken: Sample, faces: np.ndarray, outcome) -> None:
     sampled directions against the student's readTexture called directly
     on the same faces at what fetchColor asked for on random faces of
     their size, bit for bit or through float (fetch_record.returned_as),
-    where the tag came back there and (u, v) lies MARGIN texels or more
-    inside the face."""
+    where the tag came back there and (u, v) lies well inside the face
+    (fetch_record.inside_face, read_again)."""
     face, uv = taken.record.request()
-    h, w = faces.shape[1:3]
     answers = np.asarray(outcome.values, np.float64)[taken.rows]
     evaluated = np.asarray(outcome.evaluated, bool)[taken.rows]
-    with np.errstate(invalid="ignore"):
-        p = uv * np.array([w, h], np.float64)
-        inside = ((p >= MARGIN) & (p <= np.array([w, h]) - MARGIN)).all(axis=1)
-    usable = np.flatnonzero((face >= 0) & inside & evaluated)
-    differ, example = 0, None
-    for f in range(6):
-        rows = usable[face[usable] == f]
-        if not len(rows):
-            continue
-        direct = ctx.lookups.read_texture(f, uv[rows])
-        read = np.asarray(direct.values, np.float64)
-        same = fetch_record.returned_as(read, answers[rows]) & np.asarray(direct.evaluated, bool)
-        differ += int((~same).sum())
-        if example is None and (~same).any():
-            j = int(np.flatnonzero(~same)[0])
-            i = rows[j]
-            example = (taken.directions[i], answers[i], f, float(uv[i, 0]), float(uv[i, 1]), read[j])
-    ctx.map_probe().seen.append(Seen(taken.check, taken.where, len(usable), differ, example))
+    usable = np.flatnonzero((face >= 0) & fetch_record.inside_face(uv, faces.shape[2:0:-1]) & evaluated)
+    same, read = fetch_record.read_again(ctx.lookups, face[usable], uv[usable], answers[usable])
+    example = None
+    if not same.all():
+        k = fetch_record.first_differing(face[usable], same)
+        i = usable[k]
+        example = (taken.directions[i], answers[i], int(face[i]), float(uv[i, 0]), float(uv[i, 1]), read[k])
+    ctx.map_probe().seen.append(Seen(taken.check, taken.where, len(usable), int((~same).sum()), example))
 
 
 class RandomFaceRequests:

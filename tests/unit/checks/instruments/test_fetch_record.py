@@ -249,3 +249,5 @@ def test_an_answer_returned_through_float_is_the_answer_returned():
     nudged[0, 1] = np.nextafter(nudged[0, 1], 1.0)
     assert list(fetch_record.returned_as(answer, nudged)) == [False, True]
     assert not fetch_record.returned_as(answer[:1], answer[:1] * (1 + 1e-6)).any()
+    # Beyond float's range nothing rounds to float: infinity is not 1e300 returned.
+    assert not fetch_record.returned_as(np.array([[1e300, 1.0, 1.0]]), np.array([[np.inf, 1.0, 1.0]])).any()
