@@ -69,6 +69,8 @@ WALL_STRETCH_MAX = 8.0
 # the first input's own time is forgiven, as the progress page shows it: a
 # lookup that hangs later in the call gets the usual limit.
 FIRST_INPUT_S = 2.0
+# The worker's --texture-bytes argument until start() gives the size (memory.charged's slot).
+TEXTURE_BYTES_SLOT = "@texture-bytes@"
 _LOOKUPS = (protocol.FETCH, protocol.FETCH_WHOLE, protocol.READ_TEXTURE, protocol.RECORD_FETCH, protocol.TIME_FETCH)
 
 
@@ -359,14 +361,6 @@ class Worker:
                  texture_shape: tuple[int, int] | None = None, first_input_s: float = FIRST_INPUT_S):
         self.library = Path(library)
         self.first_input_s = first_input_s
-        # (H, W) of the faces this worker is for: its six-face window is sized
-        # to them exactly, so a read before the first texel faults in either
-        # placement. None: the largest window (Limits.texture_mb).
-        self.texture_bytes = (texture_shape[0] * texture_shape[1] * 72 if texture_shape
-                              else limits.texture_mb << 20)
-        if not 0 < self.texture_bytes <= limits.texture_mb << 20:
-            raise WorkerHarnessError(f"faces of {texture_shape} do not fit the {limits.texture_mb} MiB texture "
-                                     "window (Limits.texture_mb)")
         self.limits = limits
         self.mode, self.warning = resolve_mode(sandbox, allow_unsafe)
         self._preload = preload
@@ -376,6 +370,8 @@ class Worker:
         self._output: CappedOutput | None = None
         self._tmp: Path | None = None
         self._request_fd = self._response_fd = -1
+        self._gate = -1          # prepared: the write end of the shell's gate (prepare, start)
+        self._binary: Path | None = None
         self._worker_pid: int | None = None
         self._progress: mmap.mmap | None = None
         # (progress value, when first seen, the worker's CPU ns then), watched
@@ -408,6 +404,21 @@ class Worker:
         self._idle_cgroup: memory.GradingCgroup | None = None    # where its demoted threads go (memory.idle_cgroup)
         self._oom_before = 0
         self.pid_namespace = False                  # privilege-drop: whether its own pid namespace held
+        self.size_for(texture_shape)                # (H, W) of the faces this worker is for
+
+    def size_for(self, texture_shape: tuple[int, int] | None) -> None:
+        """The six-face window for faces of `texture_shape` (H, W), sized to
+        them exactly, so a read before the first texel faults in either
+        placement; None: the largest window (Limits.texture_mb). Before
+        start() only (a prepared worker takes the size it is started for)."""
+        if self._proc is not None and not self.prepared:
+            raise WorkerHarnessError("a started worker's window keeps its size")
+        limits = self.limits
+        texture_bytes = (texture_shape[0] * texture_shape[1] * 72 if texture_shape else limits.texture_mb << 20)
+        if not 0 < texture_bytes <= limits.texture_mb << 20:
+            raise WorkerHarnessError(f"faces of {texture_shape} do not fit the {limits.texture_mb} MiB texture "
+                                     "window (Limits.texture_mb)")
+        self.texture_bytes = texture_bytes
 
     @property
     def isolation(self) -> str:
@@ -437,12 +448,17 @@ class Worker:
     def alive(self) -> bool:
         return self._proc is not None and self._proc.poll() is None
 
-    def start(self) -> None:
-        """Start the worker and load the submission (its static initialisers
-        run now). Raises SubmissionFailure when loading fails."""
+    def prepare(self) -> None:
+        """Everything of start() before the worker runs: its files, pipes and
+        uid, and the shell that gives itself the grading's cgroups and
+        oom_score_adj (memory.charged), then waits at a gate (its stdin) for
+        start() to let it exec the worker. Joining a cgroup waits for an RCU
+        grace period when none has passed lately (about 10 ms on an idle
+        machine, and a grading starts a worker every 50 ms or so): a worker
+        prepared ahead (SubmissionRunner's spare) has paid it while the
+        grading did other work. No student code runs before start()."""
         if self._proc is not None:
-            raise WorkerHarnessError("worker already started")
-        began = time.monotonic()
+            raise WorkerHarnessError("worker already prepared")
         binary = worker_binary()
         self._tmp = Path(tempfile.mkdtemp(prefix="envmap-worker-"))
         input_dir, cwd = self._tmp / "input", self._tmp / "cwd"
@@ -489,23 +505,51 @@ class Worker:
         # oom_score_adj 1000 and the grading's memory and cpu cgroups, before anything runs.
         self._cgroup = memory.current()
         self._idle_cgroup = memory.idle_cgroup()
-        self._oom_before = self._oom_kills()
-        cmd = memory.charged(cmd)
-        # Begun before the worker is: all its main thread ever waits for a core is inside it.
-        deadline = WallBound(wall_bound(self._start_timeout_s))
+        cmd = memory.charged(cmd, slot=TEXTURE_BYTES_SLOT)
+        gate_r, gate_w = os.pipe()
         try:
-            self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
+            self._proc = subprocess.Popen(cmd, stdin=gate_r, stdout=output_w, stderr=output_w,
                                           pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
                                           env=env, cwd=cwd, close_fds=True)
         except OSError as exc:
-            for fd in (request_r, request_w, response_r, response_w, output_r, output_w, progress_fd):
+            for fd in (request_r, request_w, response_r, response_w, output_r, output_w, progress_fd, gate_r, gate_w):
                 os.close(fd)
             raise WorkerHarnessError(f"cannot start the worker: {exc}") from exc
-        for fd in (request_r, response_w, output_w, progress_fd):
+        for fd in (request_r, response_w, output_w, progress_fd, gate_r):
             os.close(fd)
+        self._gate = gate_w
+        self._binary = binary
         self._request_fd, self._response_fd = request_w, response_r
         os.set_blocking(self._request_fd, False)
         self._output = CappedOutput(output_r, *self._cap)
+
+    @property
+    def prepared(self) -> bool:
+        """Prepared and not yet started."""
+        return self._gate >= 0
+
+    def start(self) -> None:
+        """Start the worker (preparing it first where prepare() was not
+        called) and load the submission (its static initialisers run now).
+        Raises SubmissionFailure when loading fails."""
+        if self._proc is None:
+            self.prepare()
+        elif not self.prepared:
+            raise WorkerHarnessError("worker already started")
+        began = time.monotonic()
+        binary = self._binary
+        # Counted from here, not from prepare(): OOM kills of an earlier worker are not this one's.
+        self._oom_before = self._oom_kills()
+        # Begun before the worker is: all its main thread ever waits for a core is inside it.
+        deadline = WallBound(wall_bound(self._start_timeout_s))
+        gate, self._gate = self._gate, -1
+        try:
+            os.write(gate, b"%d\n" % self.texture_bytes)
+        except OSError as exc:      # the shell is gone (killed meanwhile): not the student's doing
+            os.close(gate)
+            self.close()
+            raise WorkerHarnessError(f"the prepared worker's shell had ended: {exc}") from exc
+        os.close(gate)
         try:
             self._setup(binary, deadline)
             self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work
@@ -553,7 +597,7 @@ class Worker:
             args += ["--nofile", str(lim.open_files)]
         if lim.pending_signals:
             args += ["--sigpending", str(lim.pending_signals)]
-        args += ["--texture-bytes", str(self.texture_bytes)]
+        args += ["--texture-bytes", TEXTURE_BYTES_SLOT]    # filled in at start (prepare, memory.charged)
         if not lim.seccomp:
             args.append("--no-seccomp")
         return args
@@ -571,6 +615,11 @@ class Worker:
     def close(self) -> None:
         """Stop the worker (politely, then by force) and remove its files."""
         self._note_wait()
+        if self.prepared:
+            # Never started: its shell waits at the gate and ends at its end of file.
+            os.close(self._gate)
+            self._gate = -1
+            self._kill()
         if self._proc is not None:
             with self._threads_awake():
                 if self._proc.poll() is None:

@@ -167,6 +167,9 @@ class SubmissionRunner:
         self.failed_runs = 0     # worker runs that ended in a failure, over this runner's life
         self.retries = 0         # runs tried again after a grader's limit stopped them (grader_limit)
         self._worker: Worker | None = None
+        # A worker prepared (Worker.prepare) for the next fresh one of the same
+        # size: its cgroups joined while the grading did other work.
+        self._spare: Worker | None = None
         self._placement: str | None = None
         self._load_failure: Failure | None = None
         self._last_output = ""
@@ -180,6 +183,7 @@ class SubmissionRunner:
 
     def close(self) -> None:
         self._drop_worker()
+        self._drop_spare()
 
     @property
     def isolation(self) -> str:
@@ -476,8 +480,9 @@ class SubmissionRunner:
             self._drop_worker()
             # The mode was settled (and allowed) in __init__.
             for tries in (1, 2):
-                worker = Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload,
-                                texture_shape=self.faces.shape[1:3], first_input_s=self.first_input_s)
+                worker = self._take_spare() if tries == 1 else None
+                if worker is None:
+                    worker = self._new_worker()
                 self.worker_starts += 1
                 try:
                     worker.start()
@@ -500,10 +505,46 @@ class SubmissionRunner:
                         failure, "loading", None, "loading the submission (static initialisers and the constructor)")
                     raise _LoadFailed() from None
             self._worker, self._placement = worker, placement or "end"
+            self._prepare_spare()
         elif placement is not None and placement != self._placement:
             self._worker.set_faces(self.faces, placement, timeout_s=self._timeout(0))
             self._placement = placement
         return self._worker
+
+    def _new_worker(self) -> Worker:
+        return Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload,
+                      texture_shape=self.faces.shape[1:3], first_input_s=self.first_input_s)
+
+    def _prepare_spare(self) -> None:
+        """A worker prepared for the next fresh start (a check's restart, a
+        probe's fresh process, faces of another size). Where it cannot be
+        prepared, the next start prepares its own."""
+        self._drop_spare()
+        spare = self._new_worker()
+        try:
+            spare.prepare()
+        except (WorkerHarnessError, OSError):
+            spare.close()
+            return
+        self._spare = spare
+
+    def _take_spare(self) -> Worker | None:
+        """The spare, sized for the current faces; None where there is none
+        or its shell has ended (then closed)."""
+        spare, self._spare = self._spare, None
+        if spare is None:
+            return None
+        if not spare.alive:
+            spare.close()
+            return None
+        spare.size_for(self.faces.shape[1:3])
+        spare.first_input_s = self.first_input_s     # 0 once a first input spun through its allowance
+        return spare
+
+    def _drop_spare(self) -> None:
+        if self._spare is not None:
+            self._spare.close()
+            self._spare = None
 
     def _drop_worker(self) -> None:
         if self._worker is not None:
