@@ -11,6 +11,8 @@ with x = 5 writes into the texture, and otherwise returns (x, y, z).
 """
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 from pathlib import Path
 
@@ -394,3 +396,62 @@ def test_without_a_grading_cgroup_the_machines_oom_count_is_read_once_per_worker
         for _ in range(5):
             worker.fetch([[0.5, 7, 1]])
     assert len(reads) == 1
+
+
+# ---- prepared workers (Worker.prepare, the runner's spare) --------------------
+
+@pytest.mark.parametrize("mode", MODES)
+def test_a_prepared_worker_runs_nothing_until_it_is_started(stand_in, mode):
+    worker = Worker(stand_in, sandbox=mode, texture_shape=(8, 8))
+    try:
+        worker.prepare()
+        pid = worker._proc.pid
+        assert worker.prepared and worker.alive
+        # Still the shell at its gate: neither the sandbox nor the worker binary has run.
+        assert Path(os.readlink(f"/proc/{pid}/exe")).name in ("dash", "sh", "bash")
+        worker.size_for((5, 16))
+        worker.start()
+        assert not worker.prepared and worker.texture_bytes == 5 * 16 * 72
+        worker.set_faces(faces(16, 5), "end", timeout_s=5)
+        values = worker.fetch([[1, 6 * 16 * 5 * 3 - 1, 0]])      # the last float of the window
+        assert values[0, 0] == faces(16, 5)[5].reshape(-1)[-1]
+        with pytest.raises(WorkerHarnessError, match="keeps its size"):
+            worker.size_for((8, 8))
+    finally:
+        worker.close()
+
+
+def test_a_prepared_worker_closed_unstarted_leaves_no_process(stand_in):
+    worker = Worker(stand_in, sandbox="plain", texture_shape=(8, 8))
+    worker.prepare()
+    proc = worker._proc
+    worker.close()
+    assert proc.poll() is not None and not worker.prepared and worker._tmp is None
+
+
+def test_a_prepared_worker_whose_shell_ended_is_the_graders_problem(stand_in):
+    worker = Worker(stand_in, sandbox="plain", texture_shape=(8, 8))
+    worker.prepare()
+    os.killpg(worker._proc.pid, signal.SIGKILL)
+    worker._proc.wait()
+    with pytest.raises(WorkerHarnessError, match="shell had ended"):
+        worker.start()
+    assert worker._tmp is None
+
+
+def test_the_runner_starts_its_next_worker_from_a_spare_of_any_size(stand_in):
+    with SubmissionRunner(stand_in, faces(8, 8), sandbox="plain") as runner:
+        runner.fetch([[0, 0, 1]])
+        spare = runner._spare
+        assert spare is not None and spare.prepared
+        runner.set_faces(faces(16, 5))
+        outcome = runner.fetch([[1, 6 * 16 * 5 * 3 - 1, 0]])
+        assert runner._worker is spare and spare.texture_bytes == 16 * 5 * 72
+        assert outcome.ok and outcome.values[0, 0] == faces(16, 5)[5].reshape(-1)[-1]
+        # A spare whose shell is gone is passed over for a fresh worker.
+        os.killpg(runner._spare._proc.pid, signal.SIGKILL)
+        runner._spare._proc.wait()
+        runner.restart()
+        assert runner.fetch([[1, 0, 0]]).ok
+        assert runner.worker_starts == 3
+    assert runner._spare is None
