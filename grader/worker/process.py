@@ -1064,9 +1064,11 @@ class Worker:
                     return      # the worker is gone: its reply (or EOF) says why
                 view = view[n:]
 
-    def _read_exact(self, size: int, deadline: WallBound, what: str) -> bytes | None:
-        """`size` bytes, or None at end of file (the worker exited)."""
-        chunks, got = [], 0
+    def _read_exact(self, size: int, deadline: WallBound, what: str) -> bytearray | None:
+        """`size` bytes, or None at end of file (the worker exited), read
+        straight into one buffer (a reply of tens of MB is copied once)."""
+        buffer = bytearray(size)
+        view, got = memoryview(buffer), 0
         while got < size:
             left = deadline.left()
             # Short waits while a call runs, to watch which input it is on.
@@ -1078,14 +1080,13 @@ class Worker:
                 self._observe()
                 self._demote_threads()
                 continue
-            chunk = os.read(self._response_fd, min(size - got, 1 << 20))
-            if not chunk:
+            n = os.readv(self._response_fd, [view[got:]])
+            if not n:
                 if got:
                     self._fail(PROTOCOL, f"reply cut off after {got} of {size} bytes")
                 return None
-            chunks.append(chunk)
-            got += len(chunk)
-        return b"".join(chunks)
+            got += n
+        return buffer
 
     def _receive(self, expected_count, expected_bytes, deadline, what) -> tuple[int, int, bytes]:
         head = self._read_exact(protocol.HEADER.size, deadline, what)

@@ -162,4 +162,6 @@ def record_payload(tags: np.ndarray | None, dirs: np.ndarray) -> bytes:
 def decode_doubles(payload: bytes, rows: int, width: int = 3) -> np.ndarray:
     """(rows, 3) float64. NaN and infinities are the student's answers, not
     protocol errors: the checks judge them."""
-    return np.frombuffer(payload, dtype=np.float64).reshape(rows, width).copy()
+    values = np.frombuffer(payload, dtype=np.float64).reshape(rows, width)
+    # A reply read into its own buffer (process.Worker._read_exact) is used as it is.
+    return values if values.flags.writeable else values.copy()
