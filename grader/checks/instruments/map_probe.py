@@ -33,7 +33,14 @@ snapping costs there.
 
 What it cannot see: a fetchColor that makes no readTexture call (it reads
 the texels itself) asks for nothing to read again; it is judged end to end
-on the public maps (redteam5/reads_itself_on_every_map).
+on the public maps (redteam5/reads_itself_on_every_map). And one that is
+right only in a long or bunched stream of lookups (after thousands on one
+map, or for camera rays) is observed answering otherwise in the sample (a
+fresh worker, 256 directions), but judged again on the run's whole stream,
+recorded in order, where the stream makes it right again
+(redteam5/right_after_many_lookups, right_on_dense_or_swept_rays): what a
+lookup asks in a stream can be recorded only in that stream, and a fresh
+worker per direction would cost a process per ray.
 """
 from __future__ import annotations
 
