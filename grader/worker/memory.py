@@ -296,23 +296,14 @@ def allow_uid(uid: int) -> None:
         group.allow_uid(uid)
 
 
-def charged(cmd: list[str], slot: str | None = None) -> list[str]:
+def charged(cmd: list[str]) -> list[str]:
     """`cmd` started by a shell that first gives itself oom_score_adj 1000
     and joins the current grading's cgroups; exec keeps both for everything
     it starts. Failing to join is not fatal: the cgroups are a defence where
-    available, never a reason not to grade. With a `slot`, the shell then
-    waits at a gate (its stdin, process.Worker.prepare) for a line of digits,
-    puts it in place of each argument equal to `slot`, and execs `cmd` with
-    stdin from /dev/null; at the gate's end of file, or another line, it
-    exits instead."""
+    available, never a reason not to grade."""
     procs = " ".join(dict.fromkeys(shlex.quote(str(g.procs)) for g in _groups()))
     join = f'for g in {procs}; do echo $$ >"$g" 2>/dev/null; done; ' if procs else ""
-    run = 'exec "$@"'
-    if slot is not None:
-        run = ('read -r n || exit 75; case $n in ""|*[!0-9]*) exit 75;; esac; '
-               f'for a; do shift; if [ "$a" = {shlex.quote(slot)} ]; then set -- "$@" "$n"; '
-               'else set -- "$@" "$a"; fi; done; exec "$@" </dev/null')
-    return ["/bin/sh", "-c", f'echo {STUDENT_OOM_SCORE_ADJ} >/proc/self/oom_score_adj 2>/dev/null; {join}{run}',
+    return ["/bin/sh", "-c", f'echo {STUDENT_OOM_SCORE_ADJ} >/proc/self/oom_score_adj 2>/dev/null; {join}exec "$@"',
             "sh", *cmd]
 
 

@@ -69,8 +69,6 @@ WALL_STRETCH_MAX = 8.0
 # the first input's own time is forgiven, as the progress page shows it: a
 # lookup that hangs later in the call gets the usual limit.
 FIRST_INPUT_S = 2.0
-# The worker's --texture-bytes argument until start() gives the size (memory.charged's slot).
-TEXTURE_BYTES_SLOT = "@texture-bytes@"
 _LOOKUPS = (protocol.FETCH, protocol.FETCH_WHOLE, protocol.READ_TEXTURE, protocol.RECORD_FETCH, protocol.TIME_FETCH)
 
 
@@ -449,14 +447,15 @@ class Worker:
         return self._proc is not None and self._proc.poll() is None
 
     def prepare(self) -> None:
-        """Everything of start() before the worker runs: its files, pipes and
-        uid, and the shell that gives itself the grading's cgroups and
-        oom_score_adj (memory.charged), then waits at a gate (its stdin) for
-        start() to let it exec the worker. Joining a cgroup waits for an RCU
-        grace period when none has passed lately (about 10 ms on an idle
-        machine, and a grading starts a worker every 50 ms or so): a worker
-        prepared ahead (SubmissionRunner's spare) has paid it while the
-        grading did other work. No student code runs before start()."""
+        """Everything of start() that does not depend on the faces' size or
+        run student code: the worker's files, pipes and uid, the shell that
+        joins the grading's cgroups (memory.charged), the sandbox, and the
+        worker's own set-up up to its gate (--texture-bytes-fd), where it
+        waits for start() to give the size. A worker prepared ahead
+        (SubmissionRunner's spare) has done all that while the grading did
+        other work: joining a cgroup alone waits for an RCU grace period when
+        none has passed lately (about 10 ms on an idle machine), bubblewrap's
+        namespaces and the worker's exec take about 4 ms more."""
         if self._proc is not None:
             raise WorkerHarnessError("worker already prepared")
         binary = worker_binary()
@@ -481,7 +480,9 @@ class Worker:
         progress_fd = os.memfd_create("envmap-progress", os.MFD_CLOEXEC)
         os.ftruncate(progress_fd, mmap.PAGESIZE)
         self._progress = mmap.mmap(progress_fd, mmap.PAGESIZE)
-        args = self._limit_args() + ["--progress-fd", str(progress_fd), str(request_r), str(response_w)]
+        gate_r, gate_w = os.pipe()
+        args = self._limit_args() + ["--texture-bytes-fd", str(gate_r), "--progress-fd", str(progress_fd),
+                                     str(request_r), str(response_w)]
         env = {"PATH": "/usr/bin:/bin", "LANG": "C"}
         if self._preload:
             env["LD_PRELOAD"] = ":".join(self._preload)
@@ -505,11 +506,10 @@ class Worker:
         # oom_score_adj 1000 and the grading's memory and cpu cgroups, before anything runs.
         self._cgroup = memory.current()
         self._idle_cgroup = memory.idle_cgroup()
-        cmd = memory.charged(cmd, slot=TEXTURE_BYTES_SLOT)
-        gate_r, gate_w = os.pipe()
+        cmd = memory.charged(cmd)
         try:
-            self._proc = subprocess.Popen(cmd, stdin=gate_r, stdout=output_w, stderr=output_w,
-                                          pass_fds=(request_r, response_w, progress_fd), start_new_session=True,
+            self._proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=output_w, stderr=output_w,
+                                          pass_fds=(request_r, response_w, progress_fd, gate_r), start_new_session=True,
                                           env=env, cwd=cwd, close_fds=True)
         except OSError as exc:
             for fd in (request_r, request_w, response_r, response_w, output_r, output_w, progress_fd, gate_r, gate_w):
@@ -545,10 +545,10 @@ class Worker:
         gate, self._gate = self._gate, -1
         try:
             os.write(gate, b"%d\n" % self.texture_bytes)
-        except OSError as exc:      # the shell is gone (killed meanwhile): not the student's doing
+        except OSError as exc:      # ended (killed meanwhile) before any student code: not the student's doing
             os.close(gate)
             self.close()
-            raise WorkerHarnessError(f"the prepared worker's shell had ended: {exc}") from exc
+            raise WorkerHarnessError(f"the prepared worker had ended: {exc}") from exc
         os.close(gate)
         try:
             self._setup(binary, deadline)
@@ -597,7 +597,6 @@ class Worker:
             args += ["--nofile", str(lim.open_files)]
         if lim.pending_signals:
             args += ["--sigpending", str(lim.pending_signals)]
-        args += ["--texture-bytes", TEXTURE_BYTES_SLOT]    # filled in at start (prepare, memory.charged)
         if not lim.seccomp:
             args.append("--no-seccomp")
         return args
@@ -616,7 +615,7 @@ class Worker:
         """Stop the worker (politely, then by force) and remove its files."""
         self._note_wait()
         if self.prepared:
-            # Never started: its shell waits at the gate and ends at its end of file.
+            # Never started: it waits at the gate and ends at its end of file.
             os.close(self._gate)
             self._gate = -1
             self._kill()

@@ -505,7 +505,8 @@ class SubmissionRunner:
                         failure, "loading", None, "loading the submission (static initialisers and the constructor)")
                     raise _LoadFailed() from None
             self._worker, self._placement = worker, placement or "end"
-            self._prepare_spare()
+            if self.worker_starts > 1:      # a runner that starts workers again will again
+                self._prepare_spare()
         elif placement is not None and placement != self._placement:
             self._worker.set_faces(self.faces, placement, timeout_s=self._timeout(0))
             self._placement = placement

@@ -400,17 +400,38 @@ def test_without_a_grading_cgroup_the_machines_oom_count_is_read_once_per_worker
 
 # ---- prepared workers (Worker.prepare, the runner's spare) --------------------
 
+def _maps_of_tree(top: int) -> str:
+    """/proc/PID/maps of `top` and every process below it, joined."""
+    from grader.worker.process import _children
+    text, todo = "", [top]
+    while todo:
+        pid = todo.pop()
+        try:
+            text += Path(f"/proc/{pid}/maps").read_text()
+        except OSError:
+            pass
+        todo += _children(pid)
+    return text
+
+
 @pytest.mark.parametrize("mode", MODES)
-def test_a_prepared_worker_runs_nothing_until_it_is_started(stand_in, mode):
+def test_a_prepared_worker_loads_nothing_of_the_submission_until_started(stand_in, mode):
+    import time
+    from grader.worker.process import LIBRARY_NAME
     worker = Worker(stand_in, sandbox=mode, texture_shape=(8, 8))
     try:
         worker.prepare()
-        pid = worker._proc.pid
         assert worker.prepared and worker.alive
-        # Still the shell at its gate: neither the sandbox nor the worker binary has run.
-        assert Path(os.readlink(f"/proc/{pid}/exe")).name in ("dash", "sh", "bash")
+        # Wait until the worker has preloaded the C++ runtime: it is at its gate, just after that.
+        deadline = time.monotonic() + 10
+        while "libstdc++" not in _maps_of_tree(worker._proc.pid) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        time.sleep(0.2)
+        maps = _maps_of_tree(worker._proc.pid)
+        assert "libstdc++" in maps and LIBRARY_NAME not in maps
         worker.size_for((5, 16))
         worker.start()
+        assert LIBRARY_NAME in _maps_of_tree(worker._proc.pid)
         assert not worker.prepared and worker.texture_bytes == 5 * 16 * 72
         worker.set_faces(faces(16, 5), "end", timeout_s=5)
         values = worker.fetch([[1, 6 * 16 * 5 * 3 - 1, 0]])      # the last float of the window
@@ -421,6 +442,15 @@ def test_a_prepared_worker_runs_nothing_until_it_is_started(stand_in, mode):
         worker.close()
 
 
+def test_a_prepared_worker_takes_only_a_size_at_its_gate(stand_in):
+    worker = Worker(stand_in, sandbox="plain", texture_shape=(8, 8))
+    worker.prepare()
+    os.write(worker._gate, b"12; 3\n")
+    with pytest.raises(WorkerHarnessError, match="no face size at the gate"):
+        worker.start()
+    assert worker._tmp is None
+
+
 def test_a_prepared_worker_closed_unstarted_leaves_no_process(stand_in):
     worker = Worker(stand_in, sandbox="plain", texture_shape=(8, 8))
     worker.prepare()
@@ -429,12 +459,12 @@ def test_a_prepared_worker_closed_unstarted_leaves_no_process(stand_in):
     assert proc.poll() is not None and not worker.prepared and worker._tmp is None
 
 
-def test_a_prepared_worker_whose_shell_ended_is_the_graders_problem(stand_in):
+def test_a_prepared_worker_that_ended_is_the_graders_problem(stand_in):
     worker = Worker(stand_in, sandbox="plain", texture_shape=(8, 8))
     worker.prepare()
     os.killpg(worker._proc.pid, signal.SIGKILL)
     worker._proc.wait()
-    with pytest.raises(WorkerHarnessError, match="shell had ended"):
+    with pytest.raises(WorkerHarnessError, match="prepared worker had ended"):
         worker.start()
     assert worker._tmp is None
 
@@ -442,16 +472,19 @@ def test_a_prepared_worker_whose_shell_ended_is_the_graders_problem(stand_in):
 def test_the_runner_starts_its_next_worker_from_a_spare_of_any_size(stand_in):
     with SubmissionRunner(stand_in, faces(8, 8), sandbox="plain") as runner:
         runner.fetch([[0, 0, 1]])
+        assert runner._spare is None         # one start so far: it may never start another
+        runner.restart()
+        runner.fetch([[0, 0, 1]])
         spare = runner._spare
         assert spare is not None and spare.prepared
         runner.set_faces(faces(16, 5))
         outcome = runner.fetch([[1, 6 * 16 * 5 * 3 - 1, 0]])
         assert runner._worker is spare and spare.texture_bytes == 16 * 5 * 72
         assert outcome.ok and outcome.values[0, 0] == faces(16, 5)[5].reshape(-1)[-1]
-        # A spare whose shell is gone is passed over for a fresh worker.
+        # A spare that ended is passed over for a fresh worker.
         os.killpg(runner._spare._proc.pid, signal.SIGKILL)
         runner._spare._proc.wait()
         runner.restart()
         assert runner.fetch([[1, 0, 0]]).ok
-        assert runner.worker_starts == 3
+        assert runner.worker_starts == 4
     assert runner._spare is None
