@@ -583,8 +583,10 @@ int main(int argc, char **argv)
     if (size_fd >= 0) {
         texture_bytes = size_from_gate(size_fd);
         close(size_fd);
-        if (texture_bytes <= 0 || texture_bytes > (4096ll << 20))
+        if (texture_bytes < 0)
             return setup_failed("no face size at the gate");
+        if (texture_bytes == 0 || texture_bytes > (4096ll << 20))
+            return EXIT_LOAD;       /* as an out-of-range --texture-bytes */
     }
     if (reserve_windows((size_t)texture_bytes) != 0)
         return setup_failed("cannot reserve the texture windows");
