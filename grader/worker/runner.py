@@ -512,6 +512,14 @@ class SubmissionRunner:
             self._placement = placement
         return self._worker
 
+    def prepare_next(self) -> None:
+        """Prepare the next fresh worker now, where none is prepared: for a
+        runner that will start its first worker after other, untimed work
+        (the speed check's reference and null libraries, prepared while the
+        student's worker warms up)."""
+        if self._spare is None and self._load_failure is None:
+            self._prepare_spare()
+
     def _new_worker(self) -> Worker:
         return Worker(self.library, sandbox=self.mode, limits=self.limits, preload=self.preload,
                       texture_shape=self.faces.shape[1:3], first_input_s=self.first_input_s)
