@@ -177,6 +177,9 @@ def _open_lookups(library: Path, options: GradeOptions):
 def _run_checks(result: GradeResult, checks: list[Check], selected: list[Check], library: Path,
                 options: GradeOptions, seed: int, out_dir: Path, settings: dict) -> None:
     with _open_lookups(library, options) as lookups:
+        prepare = getattr(lookups, "prepare_next", None)     # the first worker set up while the checks begin
+        if prepare is not None:
+            prepare()
         ctx = CheckContext(lookups=lookups, seed=seed, artifacts=out_dir / "images",
                            quick=options.quick, settings=settings)
         try:
