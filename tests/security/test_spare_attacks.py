@@ -16,6 +16,9 @@ HELD:
   no temporary folder and no process (the spare's shell included); when the
   grader is killed outright, its spare's shell ends at the gate's end of
   file (the folders stay, as a killed grader's worker's folder always did).
+- No uid free for the spare (privilege-drop and bubblewrap as root take one
+  each): no spare, and the next start takes the running worker's uid once
+  it is free, with no retry and the same values.
 
 OPEN, not the spare's (strict xfail): in privilege-drop mode a killed
 grader's running worker, stopped between calls, stays for good with the two
@@ -191,3 +194,31 @@ def test_faces_too_large_for_any_window_leave_no_spare_behind(reach_the_spare, o
         runner.close()
     assert os.listdir(own_tmp) == []
     assert gone_within(own_tmp, 2.0) == []
+
+
+@pytest.mark.sandbox
+@pytest.mark.parametrize("mode", MODES)
+def test_no_uid_for_the_spare_costs_nothing_but_the_spare(reach_the_spare, mode, monkeypatch, own_tmp):
+    """All worker uids in use when the spare is prepared (a busy machine, or
+    classmates' gradings holding them): no spare, and the next start, once
+    the running worker's uid is free again, takes that one."""
+    from grader.worker import uids
+    acquire, held = uids.acquire, []
+
+    def one_at_a_time():
+        if held and held[-1]._fd >= 0:
+            raise uids.UidsUnavailable("all 1 worker uids are in use")
+        held.append(acquire())
+        return held[-1]
+
+    monkeypatch.setattr(uids, "acquire", one_at_a_time)
+    with SubmissionRunner(reach_the_spare, FACES, sandbox=mode, timeout_s=1.0) as runner:
+        for restart in (False, True, True):
+            if restart:
+                runner.restart()
+            outcome = runner.fetch(DIRS)
+            assert outcome.ok, [f.describe() for f in outcome.failures]
+            np.testing.assert_allclose(outcome.values, CubeMap(FACES).fetch(DIRS), rtol=1e-12, atol=1e-12)
+            assert runner._spare is None
+    assert runner.worker_starts == 3 and runner.retries == 0 and len(held) == 3
+    assert os.listdir(own_tmp) == []
