@@ -546,7 +546,11 @@ class SubmissionRunner:
         if not spare.alive:
             spare.close()
             return None
-        spare.size_for(self.faces.shape[1:3])
+        try:
+            spare.size_for(self.faces.shape[1:3])
+        except WorkerHarnessError:
+            spare.close()       # no longer the runner's: close() would not find it
+            raise
         spare.first_input_s = self.first_input_s     # 0 once a first input spun through its allowance
         return spare
 

@@ -17,8 +17,8 @@ from grading_cache import grade_once
 from isolation import ISOLATION
 from project_paths import SUBMISSIONS
 
-ROUNDS = ("redteam", "redteam2", "redteam3", "recording", "redteam4", "redteam5")
-REDTEAM, REDTEAM2, REDTEAM3, RECORDING, REDTEAM4, REDTEAM5 = (SUBMISSIONS / name for name in ROUNDS)
+ROUNDS = ("redteam", "redteam2", "redteam3", "recording", "redteam4", "redteam5", "redteam6")
+REDTEAM, REDTEAM2, REDTEAM3, RECORDING, REDTEAM4, REDTEAM5, REDTEAM6 = (SUBMISSIONS / name for name in ROUNDS)
 
 
 def graded(path: Path, out: Path, mode: str, only: tuple[str, ...] = ()):

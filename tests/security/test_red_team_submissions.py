@@ -11,13 +11,14 @@ import test_redteam4
 import test_redteam5
 import test_report_injection_e2e
 import test_scoring_attacks
+import test_spare_attacks
 import test_speed_attacks
 import test_worker_lifetime_attacks
 from red_team import ROUNDS
 from project_paths import SUBMISSIONS
 
 CLASSES = (test_build_attacks, test_observation_attacks, test_redteam4, test_redteam5, test_report_injection_e2e,
-           test_scoring_attacks, test_speed_attacks, test_worker_lifetime_attacks)
+           test_scoring_attacks, test_spare_attacks, test_speed_attacks, test_worker_lifetime_attacks)
 
 
 @pytest.mark.parametrize("round_name", ROUNDS)
