@@ -1,11 +1,15 @@
 """Attacks on the runner's prepared spare (Worker.prepare, SubmissionRunner
 _spare, 2026-12-08; tests/submissions/redteam6/): while one worker runs, the
-next one waits prepared, a root shell at a gate (its stdin) that the grader
-writes the texture size to when it starts it. In both production modes
-(bubblewrap, and root without it: privilege-drop), each run as a test here:
+next one waits prepared: its sandbox set up and the worker exec'd, waiting
+at a gate (a pipe, --texture-bytes-fd) before its texture windows and any
+student code, for the texture size the grader writes when it starts it (the
+first form, 7fe3749, was a root shell waiting at its stdin). In both
+production modes (bubblewrap, and root without it: privilege-drop), each
+run as a test here (SubmissionRunner.prepare_next prepares the spare where
+the runner would only after its second start):
 
 HELD:
-- reach_the_spare: the running worker, told the spare shell's pid, finds no
+- reach_the_spare: the running worker, told the spare's pid, finds no
   such process in its /proc (bubblewrap: a pid namespace of its own;
   privilege-drop: a chroot without /proc) and cannot open its gate to take
   the size line; a signal to it is a forbidden-syscall failure and the
@@ -13,9 +17,9 @@ HELD:
   answers correctly; the worker's stdin is /dev/null (not the gate) and it
   holds no pipe beyond its own four.
 - What a runner's life leaves behind: after failures, restarts and close(),
-  no temporary folder and no process (the spare's shell included); when the
-  grader is killed outright, its spare's shell ends at the gate's end of
-  file (the folders stay, as a killed grader's worker's folder always did).
+  no temporary folder and no process (the spare included); when the grader
+  is killed outright, its spare ends at the gate's end of file (the folders
+  stay, as a killed grader's worker's folder always did).
 - No uid free for the spare (privilege-drop and bubblewrap as root take one
   each): no spare, and the next start takes the running worker's uid once
   it is free, with no retry and the same values.
@@ -106,6 +110,7 @@ def gone_within(folder: Path, seconds: float) -> list[int]:
 def test_the_running_worker_cannot_see_signal_or_read_the_spares_gate(reach_the_spare, mode):
     with SubmissionRunner(reach_the_spare, FACES, sandbox=mode, timeout_s=1.0) as runner:
         assert runner.fetch(DIRS).ok
+        runner.prepare_next()
         spare = runner._spare
         assert spare is not None and spare.prepared
         shell = spare._proc.pid
@@ -146,7 +151,9 @@ _KILLED_GRADER = textwrap.dedent("""
     tempfile.tempdir = sys.argv[3]
     from grader.worker import SubmissionRunner
     runner = SubmissionRunner(sys.argv[1], np.zeros((6, 8, 8, 3), np.float32), sandbox=sys.argv[2], timeout_s=1.0)
-    assert runner.fetch(np.array([[1.0, 0.2, 0.1]])).ok and runner._spare.prepared
+    assert runner.fetch(np.array([[1.0, 0.2, 0.1]])).ok
+    runner.prepare_next()
+    assert runner._spare.prepared
     print(runner._spare._proc.pid, runner._worker._proc.pid, flush=True)
     os.kill(os.getpid(), signal.SIGKILL)
 """)
@@ -171,7 +178,7 @@ def test_a_killed_grader_leaves_no_process_of_its_worker_or_spare(reach_the_spar
     spare_shell = int(done.stdout.split()[0])
     left = gone_within(own_tmp, 5.0)
     try:
-        assert spare_shell not in left           # held in both modes: the gate's end of file ends it
+        assert spare_shell not in left           # held in both modes: the gate's end of file ends the spare
         assert left == []
     finally:
         for pid in left:     # what the grader would have killed (the worker's relays and the worker)
@@ -186,7 +193,9 @@ def test_faces_too_large_for_any_window_leave_no_spare_behind(reach_the_spare, o
     mode = "sandbox" if sandbox.sandbox_problem() is None else "plain"
     runner = SubmissionRunner(reach_the_spare, FACES, sandbox=mode, limits=Limits(texture_mb=1), timeout_s=1.0)
     try:
-        assert runner.fetch(DIRS).ok and runner._spare is not None
+        assert runner.fetch(DIRS).ok
+        runner.prepare_next()
+        assert runner._spare is not None
         runner.set_faces(np.zeros((6, 128, 128, 3), np.float32))     # 1.2 MB: no 1 MiB window holds them
         with pytest.raises(WorkerHarnessError, match="do not fit"):
             runner.fetch(DIRS)
