@@ -182,8 +182,10 @@ class SubmissionRunner:
         self.close()
 
     def close(self) -> None:
-        self._drop_worker()
-        self._drop_spare()
+        try:
+            self._drop_worker()
+        finally:
+            self._drop_spare()      # even when the worker's close was interrupted (Ctrl-C)
 
     @property
     def isolation(self) -> str:
