@@ -386,7 +386,7 @@ class Worker:
         self._output: CappedOutput | None = None
         self._tmp: Path | None = None
         self._request_fd = self._response_fd = -1
-        self._gate = -1          # prepared: the write end of the shell's gate (prepare, start)
+        self._gate = -1          # prepared: the write end of the worker's gate (prepare, start)
         self._binary: Path | None = None
         self._worker_pid: int | None = None
         self._progress: mmap.mmap | None = None

@@ -167,8 +167,8 @@ class SubmissionRunner:
         self.failed_runs = 0     # worker runs that ended in a failure, over this runner's life
         self.retries = 0         # runs tried again after a grader's limit stopped them (grader_limit)
         self._worker: Worker | None = None
-        # A worker prepared (Worker.prepare) for the next fresh one of the same
-        # size: its cgroups joined while the grading did other work.
+        # A worker prepared (Worker.prepare) for the next fresh one, of any
+        # size: set up as far as its gate while the grading did other work.
         self._spare: Worker | None = None
         self._placement: str | None = None
         self._load_failure: Failure | None = None
