@@ -563,11 +563,10 @@ class Worker:
         gate, self._gate = self._gate, -1
         try:
             os.write(gate, b"%d\n" % self.texture_bytes)
-        except OSError as exc:      # ended (killed meanwhile) before any student code: not the student's doing
+        except OSError:
+            pass    # it ended before its gate (killed meanwhile): its set-up report, or its exit, says so below
+        finally:
             os.close(gate)
-            self.close()
-            raise WorkerHarnessError(f"the prepared worker had ended: {exc}") from exc
-        os.close(gate)
         try:
             self._setup(binary, deadline)
             self._limit_cpu(self._start_timeout_s)    # static initialisers: the submission's work

@@ -54,6 +54,7 @@ SUBSET = [SUBMISSIONS / name for name in (
     "redteam3/readtexture_vouches_for_cheap_lookups.cpp",
     "redteam4/correct_control.cpp",
     "redteam5/knows_the_tags.cpp",
+    "redteam6/reach_the_spare.cpp",
     "resources/pipe_filler.cpp",
     "runtime_attacks/forged_reply.cpp",
     "wrong/u-flipped-pos-x.cpp",

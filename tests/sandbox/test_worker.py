@@ -464,7 +464,7 @@ def test_a_prepared_worker_that_ended_is_the_graders_problem(stand_in):
     worker.prepare()
     os.killpg(worker._proc.pid, signal.SIGKILL)
     worker._proc.wait()
-    with pytest.raises(WorkerHarnessError, match="prepared worker had ended"):
+    with pytest.raises(WorkerHarnessError, match="exited during set-up"):
         worker.start()
     assert worker._tmp is None
 
