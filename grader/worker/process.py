@@ -562,7 +562,7 @@ class Worker:
         deadline = WallBound(wall_bound(self._start_timeout_s))
         gate, self._gate = self._gate, -1
         try:
-            os.write(gate, b"%d\n" % self.texture_bytes)
+            os.write(gate, struct.pack("=Q", self.texture_bytes))
         except OSError:
             pass    # it ended before its gate (killed meanwhile): its set-up report, or its exit, says so below
         finally:

@@ -507,28 +507,6 @@ static void preload_runtime(void)
         dlopen(names[i], RTLD_NOW | RTLD_GLOBAL);
 }
 
-/* The faces' size in bytes from the gate (--texture-bytes-fd): a line of
- * digits. -1 at end of file (the worker was never needed) or anything else. */
-static long long size_from_gate(int fd)
-{
-    char line[24];
-    size_t n = 0;
-    while (n < sizeof line) {
-        ssize_t got = read(fd, line + n, 1);
-        if (got < 0 && errno == EINTR)
-            continue;
-        if (got <= 0 || line[n] == '\n')
-            break;
-        if (line[n] < '0' || line[n] > '9')
-            return -1;
-        n++;
-    }
-    if (n == 0 || n >= sizeof line)
-        return -1;
-    line[n] = 0;
-    return atoll(line);
-}
-
 int main(int argc, char **argv)
 {
     long as_mb = 0, cpu_s = 0, nproc = -1, nofile = -1, sigpending = -1, uid = -1, gid = -1;
@@ -581,11 +559,14 @@ int main(int argc, char **argv)
     /* A worker started ahead (the grader's spare) waits here, before anything
      * depends on the faces' size and before any student code, for that size. */
     if (size_fd >= 0) {
-        texture_bytes = size_from_gate(size_fd);
+        /* The size as 8 bytes; at the gate's end of file the worker was never needed. */
+        uint64_t size = 0;
+        int got = read_exact(size_fd, &size, sizeof size);
         close(size_fd);
-        if (texture_bytes < 0)
+        if (got != 0)
             return setup_failed("no face size at the gate");
-        if (texture_bytes == 0 || texture_bytes > (4096ll << 20))
+        texture_bytes = size > (4096ull << 20) ? 0 : (long long)size;
+        if (texture_bytes == 0)
             return EXIT_LOAD;       /* as an out-of-range --texture-bytes */
     }
     if (reserve_windows((size_t)texture_bytes) != 0)

@@ -442,12 +442,18 @@ def test_a_prepared_worker_loads_nothing_of_the_submission_until_started(stand_i
         worker.close()
 
 
-def test_a_prepared_worker_takes_only_a_size_at_its_gate(stand_in):
+def test_a_prepared_worker_given_no_whole_size_says_so(stand_in):
+    from grader.worker.process import WallBound
     worker = Worker(stand_in, sandbox="plain", texture_shape=(8, 8))
     worker.prepare()
-    os.write(worker._gate, b"12; 3\n")
-    with pytest.raises(WorkerHarnessError, match="no face size at the gate"):
-        worker.start()
+    os.write(worker._gate, b"\x01\x02\x03")     # three bytes of the eight, then the gate's end
+    os.close(worker._gate)
+    worker._gate = -1
+    try:
+        with pytest.raises(WorkerHarnessError, match="no face size at the gate"):
+            worker._setup(worker._binary, WallBound(5.0))
+    finally:
+        worker.close()
     assert worker._tmp is None
 
 
