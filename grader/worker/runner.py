@@ -541,7 +541,7 @@ class SubmissionRunner:
 
     def _take_spare(self) -> Worker | None:
         """The spare, sized for the current faces; None where there is none
-        or its shell has ended (then closed)."""
+        or it has ended (then closed)."""
         spare, self._spare = self._spare, None
         if spare is None:
             return None

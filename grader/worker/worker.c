@@ -2,13 +2,14 @@
  * worker.c - the only process that runs student code.
  *
  *   worker [--as-mb N] [--cpu-s N] [--fsize N] [--nproc N] [--nofile N] [--sigpending N]
- *          [--texture-bytes N]
+ *          --texture-bytes-fd N
  *          [--chroot DIR --uid N --gid N [--pid-namespace]] [--no-seccomp] [--check-drop]
  *          [--progress-fd N]
  *          REQUEST_FD RESPONSE_FD SUBMISSION.so
  *
  * Order matters: limits, signal handlers (on an alternate stack, so a stack
- * overflow is reported too), the C++ runtime preloaded, the texture windows
+ * overflow is reported too), the C++ runtime preloaded, the faces' size read
+ * from its pipe (a worker prepared ahead waits there), the texture windows
  * reserved, privileges dropped (privilege-drop mode: chroot into a folder
  * holding only the submission, then uid/gid nobody), the seccomp filter, a
  * SANDBOXED message (the last one the grader can trust: no student code has
@@ -510,7 +511,7 @@ static void preload_runtime(void)
 int main(int argc, char **argv)
 {
     long as_mb = 0, cpu_s = 0, nproc = -1, nofile = -1, sigpending = -1, uid = -1, gid = -1;
-    long long texture_bytes = 24ll << 20;
+    long long texture_bytes = 0;
     long long fsize = 0;
     const char *chroot_dir = NULL;
     int seccomp = 1, check_drop = 0, i = 1, progress_fd = -1, pid_namespace = 0, size_fd = -1;
@@ -521,7 +522,6 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--nproc") && i + 1 < argc) nproc = atol(argv[++i]);
         else if (!strcmp(argv[i], "--nofile") && i + 1 < argc) nofile = atol(argv[++i]);
         else if (!strcmp(argv[i], "--sigpending") && i + 1 < argc) sigpending = atol(argv[++i]);
-        else if (!strcmp(argv[i], "--texture-bytes") && i + 1 < argc) texture_bytes = atoll(argv[++i]);
         else if (!strcmp(argv[i], "--texture-bytes-fd") && i + 1 < argc) size_fd = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--chroot") && i + 1 < argc) chroot_dir = argv[++i];
         else if (!strcmp(argv[i], "--uid") && i + 1 < argc) uid = atol(argv[++i]);
@@ -534,7 +534,7 @@ int main(int argc, char **argv)
     }
     if (check_drop)   /* can this machine run privilege-drop mode? */
         return drop_privileges(chroot_dir, uid, gid) == 0 && getuid() == (uid_t)uid ? 0 : EXIT_SETUP;
-    if (argc - i != 3 || (uid >= 0) != (gid >= 0) || texture_bytes <= 0 || texture_bytes > (4096ll << 20))
+    if (argc - i != 3 || (uid >= 0) != (gid >= 0) || size_fd < 0)
         return EXIT_LOAD;
     request_fd = atoi(argv[i]);
     response_fd = atoi(argv[i + 1]);
@@ -556,19 +556,17 @@ int main(int argc, char **argv)
     setvbuf(stdout, NULL, _IONBF, 0);
     install_handlers();
     preload_runtime();
-    /* A worker started ahead (the grader's spare) waits here, before anything
-     * depends on the faces' size and before any student code, for that size. */
-    if (size_fd >= 0) {
-        /* The size as 8 bytes; at the gate's end of file the worker was never needed. */
-        uint64_t size = 0;
-        int got = read_exact(size_fd, &size, sizeof size);
-        close(size_fd);
-        if (got != 0)
-            return setup_failed("no face size at the gate");
-        texture_bytes = size > (4096ull << 20) ? 0 : (long long)size;
-        if (texture_bytes == 0)
-            return EXIT_LOAD;       /* as an out-of-range --texture-bytes */
-    }
+    /* The faces' size, 8 bytes, read here: before anything depends on it and
+     * before any student code (a worker prepared ahead waits here). At the
+     * pipe's end of file the worker was never needed. */
+    uint64_t size = 0;
+    int got = read_exact(size_fd, &size, sizeof size);
+    close(size_fd);
+    if (got != 0)
+        return setup_failed("no face size at the gate");
+    if (size == 0 || size > (4096ull << 20))
+        return EXIT_LOAD;       /* as a bad argument: before the set-up report */
+    texture_bytes = (long long)size;
     if (reserve_windows((size_t)texture_bytes) != 0)
         return setup_failed("cannot reserve the texture windows");
     if (progress_fd >= 0) {
